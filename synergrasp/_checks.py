@@ -1,0 +1,72 @@
+"""Input validation shared by the public functions: clear errors, named arguments."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.ndarray:
+    """Validate a point set and return it as a float array.
+
+    Parameters
+    ----------
+    value : (n, d) array_like
+        The points.
+    name : str
+        Argument name used in error messages.
+    dim : int, optional
+        Required dimension ``d``.
+    min_dim : int
+        Smallest allowed ``d`` when ``dim`` is not given.
+
+    Returns
+    -------
+    (n, d) float ndarray
+
+    Raises
+    ------
+    TypeError
+        If the value is not numeric.
+    ValueError
+        If it is not 2-D, is empty, has the wrong dimension or a non-finite entry.
+    """
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {type(value).__name__}") from exc
+    if arr.ndim != 2:
+        raise ValueError(f"{name} must have shape (n, d), got shape {arr.shape}")
+    if arr.shape[0] == 0:
+        raise ValueError(f"{name} is empty: it needs at least one point")
+    if dim is not None and arr.shape[1] != dim:
+        raise ValueError(f"{name} has points of dimension {arr.shape[1]}, expected {dim}")
+    if arr.shape[1] < min_dim:
+        raise ValueError(f"{name} has dimension {arr.shape[1]}, at least {min_dim} is required")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or inf at rows {np.unique(np.nonzero(~np.isfinite(arr))[0]).tolist()}")
+    return arr
+
+
+def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
+    """Validate a finite 1-D vector (optionally of a given size)."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric vector, got {type(value).__name__}") from exc
+    if arr.ndim != 1 or (size is not None and arr.shape[0] != size):
+        expected = f"({size},)" if size is not None else "(n,)"
+        raise ValueError(f"{name} must have shape {expected}, got shape {arr.shape}")
+    if not np.isfinite(arr).all():
+        raise ValueError(f"{name} contains NaN or inf")
+    return arr
+
+
+def positive_scalar(value, name: str) -> float:
+    """Validate a finite, strictly positive number."""
+    try:
+        out = float(value)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a number, got {type(value).__name__}") from exc
+    if not np.isfinite(out) or out <= 0:
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return out

@@ -1,0 +1,209 @@
+"""The LP interface shared by every backend.
+
+Every backend solves the standard-form linear programme
+
+    minimise    c @ x
+    subject to  A @ x == b,   x >= 0
+
+and returns an :class:`LPSolution`. Dual sign convention (identical for all
+backends): the Lagrangian is ``c @ x - y @ (A @ x - b)``, so ``y`` is the
+sensitivity of the optimal value to the right-hand side, ``y_r = d value / d b_r``,
+the reduced costs ``c - A.T @ y`` are >= 0, and for a unique optimum
+``d value / d A[r, j] = -y[r] * x[j]``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+from typing import NamedTuple
+
+import numpy as np
+
+#: The statuses an :class:`LPSolution` can carry.
+STATUSES = ("optimal", "infeasible", "unbounded", "failed")
+
+
+class LPError(RuntimeError):
+    """An LP that had to be solved to optimality was not.
+
+    Raised by the grasp-quality layers (never by a backend's ``solve``), with
+    the backend's name and status in the message.
+    """
+
+
+@dataclass(frozen=True)
+class LPSolution:
+    """Result of one standard-form LP solve.
+
+    Attributes
+    ----------
+    status : str
+        One of ``"optimal"``, ``"infeasible"``, ``"unbounded"``, ``"failed"``.
+    x : (n,) float
+        Primal solution (NaN unless optimal).
+    objective : float
+        Optimal value ``c @ x`` (NaN unless optimal).
+    y : (m,) float
+        Duals of the equality rows, ``y_r = d objective / d b_r``
+        (Lagrangian ``c @ x - y @ (A @ x - b)``; NaN unless optimal).
+    iterations : int
+        Solver iterations (simplex or interior-point), -1 if unknown.
+    solve_time : float
+        Wall-clock seconds spent in the backend's ``solve`` call.
+    backend : str
+        Name of the backend that produced it.
+    message : str
+        The solver's own status text, for diagnostics.
+    """
+
+    status: str
+    x: np.ndarray
+    objective: float
+    y: np.ndarray
+    iterations: int
+    solve_time: float
+    backend: str
+    message: str = ""
+
+    @property
+    def optimal(self) -> bool:
+        """True when ``status == "optimal"``."""
+        return self.status == "optimal"
+
+
+@dataclass
+class Backend:
+    """Base class of the LP backends: input checks, timing, error capture.
+
+    Subclasses implement :meth:`_solve`, returning
+    ``(status, x, y, iterations, message)``; :meth:`solve` wraps it so that a
+    solver's own exception comes back as status ``"failed"``, never raised.
+
+    Attributes
+    ----------
+    name : str
+        Registry name of the backend.
+    calls : int
+        Number of solves done by this instance.
+    """
+
+    name: str = "base"
+    calls: int = field(default=0, init=False)
+
+    def solve(self, c, A, b) -> LPSolution:
+        """Solve ``min c @ x  s.t.  A @ x == b, x >= 0``.
+
+        Parameters
+        ----------
+        c : (n,) float
+            Cost vector.
+        A : (m, n) float ndarray or CSC
+            Equality-constraint matrix, dense or column-compressed (the latter
+            skips the sparsity scan for large structured LPs).
+        b : (m,) float
+            Right-hand side.
+
+        Returns
+        -------
+        LPSolution
+            Status, primal ``x``, objective, duals ``y`` (see the module
+            docstring for the sign convention), iterations, time.
+
+        Raises
+        ------
+        ValueError
+            If the shapes do not match or an entry is not finite.
+        """
+        c = np.ascontiguousarray(c, dtype=float)
+        b = np.ascontiguousarray(b, dtype=float)
+        if isinstance(A, CSC):
+            values = A.data
+        else:
+            A = np.ascontiguousarray(A, dtype=float)
+            values = A
+        if A.ndim != 2 or c.shape != (A.shape[1],) or b.shape != (A.shape[0],):
+            raise ValueError(
+                f"LP data of mismatched shapes: c {c.shape}, A {A.shape}, b {b.shape}; "
+                "expected c (n,), A (m, n), b (m,)"
+            )
+        if not (np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()):
+            raise ValueError("LP data contains NaN or inf; check the geometry passed in")
+        self.calls += 1
+        m, n = A.shape
+        start = time.perf_counter()
+        try:
+            status, x, y, iterations, message = self._solve(c, A, b)
+        except Exception as exc:  # a solver's own failure becomes a status
+            status, x, y, iterations, message = "failed", None, None, -1, f"{type(exc).__name__}: {exc}"
+        elapsed = time.perf_counter() - start
+        if status == "optimal":
+            x = np.asarray(x, dtype=float)
+            y = np.asarray(y, dtype=float)
+            objective = float(c @ x)
+        else:
+            x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")
+        return LPSolution(status, x, objective, y, int(iterations), elapsed, self.name, message)
+
+    def _solve(self, c, A, b):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+class CSC(NamedTuple):
+    """A minimal column-compressed matrix (no validation, no copies).
+
+    Attributes
+    ----------
+    indptr : (n+1,) int32
+        Column start offsets into ``indices`` and ``data``.
+    indices : (nnz,) int32
+        Row index of each entry.
+    data : (nnz,) float
+        Entry values.
+    shape : (int, int)
+        ``(m, n)``.
+    """
+
+    indptr: np.ndarray
+    indices: np.ndarray
+    data: np.ndarray
+    shape: tuple
+
+    @property
+    def ndim(self) -> int:
+        return 2
+
+    def toarray(self) -> np.ndarray:
+        """The dense (m, n) array."""
+        out = np.zeros(self.shape)
+        columns = np.repeat(np.arange(self.shape[1]), np.diff(self.indptr))
+        np.add.at(out, (self.indices, columns), self.data)
+        return out
+
+    def rmatvec(self, y) -> np.ndarray:
+        """``A.T @ y`` as an (n,) array."""
+        columns = np.repeat(np.arange(self.shape[1]), np.diff(self.indptr))
+        return np.bincount(columns, weights=self.data * y[self.indices], minlength=self.shape[1])
+
+
+def csc_arrays(A):
+    """Column-compressed arrays ``(indptr, indices, data)`` of a dense or CSC matrix.
+
+    Parameters
+    ----------
+    A : (m, n) float ndarray or CSC
+
+    Returns
+    -------
+    indptr : (n+1,) int32
+    indices : (nnz,) int32
+    data : (nnz,) float
+    """
+    if isinstance(A, CSC):
+        return A.indptr, A.indices, A.data
+    At = A.T
+    nonzero = At != 0
+    indptr = np.zeros(A.shape[1] + 1, dtype=np.int32)
+    np.cumsum(nonzero.sum(axis=1), out=indptr[1:])
+    return indptr, np.nonzero(nonzero)[1].astype(np.int32), At[nonzero]

@@ -1,0 +1,59 @@
+"""Clarabel backend through clarabel's own API (interior point).
+
+The LP is passed as ``A x + s = b`` with ``s`` in the zero cone (equalities)
+and ``-x + s = 0`` with ``s`` in the non-negative cone (``x >= 0``). Clarabel's
+duals ``z`` follow ``q + A.T z = 0`` for this form, so ``y = -z`` on the equality
+rows. Interior-point methods have no basis to warm-start from; the solver
+object is rebuilt for each LP.
+"""
+
+from __future__ import annotations
+
+import clarabel
+import numpy as np
+import scipy.sparse as sp
+
+from .base import Backend, csc_arrays
+
+_STATUS = {
+    "Solved": "optimal",
+    "AlmostSolved": "optimal",
+    "PrimalInfeasible": "infeasible",
+    "AlmostPrimalInfeasible": "infeasible",
+    "DualInfeasible": "unbounded",
+    "AlmostDualInfeasible": "unbounded",
+}
+
+
+class ClarabelBackend(Backend):
+    """LP backend on Clarabel (interior point, tight tolerances).
+
+    Parameters
+    ----------
+    tol : float
+        Used for Clarabel's gap and feasibility tolerances.
+    """
+
+    def __init__(self, tol: float = 1e-10):
+        super().__init__(name="clarabel")
+        settings = clarabel.DefaultSettings()
+        settings.verbose = False
+        settings.tol_gap_abs = settings.tol_gap_rel = tol
+        settings.tol_feas = settings.tol_ktratio = tol
+        self._settings = settings
+
+    def _solve(self, c, A, b):
+        m, n = A.shape
+        P = sp.csc_matrix((n, n))
+        indptr, indices, data = csc_arrays(A)
+        G = sp.vstack([sp.csc_matrix((data, indices, indptr), shape=(m, n)), -sp.identity(n, format="csc")], format="csc")
+        h = np.concatenate([b, np.zeros(n)])
+        cones = [clarabel.ZeroConeT(m), clarabel.NonnegativeConeT(n)]
+        solver = clarabel.DefaultSolver(P, c, G, h, cones, self._settings)
+        solution = solver.solve()
+        text = str(solution.status)
+        status = _STATUS.get(text, "failed")
+        if status != "optimal":
+            return status, None, None, solution.iterations, text
+        z = np.asarray(solution.z)
+        return status, np.asarray(solution.x), -z[:m], solution.iterations, text

@@ -1,0 +1,62 @@
+"""cvxpy backend: a parametrised cvxpy model, compiled once per LP shape.
+
+The model ``min c @ x  s.t.  A @ x == b, x >= 0`` is built with ``c``, ``A`` and
+``b`` as cvxpy Parameters, so each shape is canonicalised once and later solves
+only update the parameters. cvxpy's equality duals follow the Lagrangian
+``c @ x + y @ (A @ x - b)``; they are negated to the library's convention.
+"""
+
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+
+from .base import CSC, Backend
+
+_STATUS = {
+    cp.OPTIMAL: "optimal",
+    cp.OPTIMAL_INACCURATE: "optimal",
+    cp.INFEASIBLE: "infeasible",
+    cp.INFEASIBLE_INACCURATE: "infeasible",
+    cp.UNBOUNDED: "unbounded",
+    cp.UNBOUNDED_INACCURATE: "unbounded",
+}
+
+
+class CvxpyBackend(Backend):
+    """LP backend on a cvxpy model (solver chosen by ``solver``).
+
+    Parameters
+    ----------
+    solver : str
+        cvxpy solver name, ``"CLARABEL"`` by default (ships with cvxpy).
+    solver_options : dict
+        Passed to ``Problem.solve``.
+    """
+
+    def __init__(self, solver: str = "CLARABEL", **solver_options):
+        super().__init__(name="cvxpy")
+        self.solver = solver
+        if solver == "CLARABEL" and not solver_options:
+            solver_options = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10}
+        self.solver_options = solver_options
+        self._models = {}
+
+    def _model(self, m, n):
+        if (m, n) not in self._models:
+            x = cp.Variable(n, nonneg=True)
+            c, A, b = cp.Parameter(n), cp.Parameter((m, n)), cp.Parameter(m)
+            equality = A @ x == b
+            problem = cp.Problem(cp.Minimize(c @ x), [equality])
+            self._models[(m, n)] = (problem, x, c, A, b, equality)
+        return self._models[(m, n)]
+
+    def _solve(self, c, A, b):
+        problem, x, c_par, A_par, b_par, equality = self._model(*A.shape)
+        c_par.value, A_par.value, b_par.value = c, A.toarray() if isinstance(A, CSC) else A, b
+        problem.solve(solver=self.solver, **self.solver_options)
+        status = _STATUS.get(problem.status, "failed")
+        iterations = problem.solver_stats.num_iters if problem.solver_stats else -1
+        if status != "optimal":
+            return status, None, None, iterations or -1, str(problem.status)
+        return status, x.value, -np.asarray(equality.dual_value), iterations or -1, str(problem.status)

@@ -1,0 +1,312 @@
+"""Pseudo-distance between convex polytopes (paper Eqs. 1-3) with dual-based derivatives.
+
+For point sets A = conv{a_i} and B = conv{b_j} in R^d and a simplex
+Q = conv{q_k} (k = 1..d+1) containing the origin:
+
+* separation (Eq. 1): ``d_s = min sum rho  s.t.  sum rho_k q_k = sum beta_j b_j - sum alpha_i a_i``,
+  i.e. the smallest gauge_Q(b - a) over a in A, b in B (>= 0);
+* penetration (Eqs. 2-3), used when d_s = 0:
+  ``d_p = max_k d_p(k)``, ``d_p(k) = min -rho  s.t.  rho q_k = sum alpha_i a_i - sum beta_j b_j`` (<= 0).
+
+The pseudo-distance is d_s when positive, else d_p: positive apart, 0 touching,
+negative overlapping, continuous throughout. Note the paper's order: separation
+measures b - a, penetration a - b; the gauge of a simplex is not symmetric.
+
+Derivatives come from the LP duals: for ``min c@x s.t. G x = h, x >= 0`` with a
+unique optimum, ``d value / d G[r, c] = -y_r x_c`` (``y = d value / d h``), so
+``d d_s / d a_i = -alpha_i y`` and ``d d_s / d b_j = beta_j y`` (y: the duals of the
+d coordinate rows), and with opposite signs for the active penetration LP.
+Where the LP is degenerate (non-unique primal or dual, or several k attaining
+the max) the derivative does not exist; a valid one-sided choice is returned and
+``degenerate`` is set.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from . import lp
+from ._checks import as_points
+
+#: Relative tolerance deciding that an LP quantity is zero.
+ZERO_TOL = 1e-9
+#: Tolerance on primal weights and reduced costs in the degeneracy test.
+DEGENERACY_TOL = 1e-7
+
+
+@lru_cache(maxsize=None)
+def _regular_simplex(d: int) -> np.ndarray:
+    # Helmert basis of the sum-zero subspace of R^(d+1): deterministic orientation.
+    helmert = np.zeros((d, d + 1))
+    for j in range(1, d + 1):
+        helmert[j - 1, :j] = 1.0
+        helmert[j - 1, j] = -j
+        helmert[j - 1] /= np.sqrt(j * (j + 1))
+    vertices = helmert.T * np.sqrt((d + 1) / d)
+    vertices.setflags(write=False)
+    return vertices
+
+
+def regular_simplex(d: int) -> np.ndarray:
+    """The default simplex Q: regular, centred at the origin, circumradius 1.
+
+    Parameters
+    ----------
+    d : int
+        Dimension, ``d >= 2``.
+
+    Returns
+    -------
+    (d+1, d) float ndarray
+        Vertices ``q_k`` with ``|q_k| = 1`` and ``q_i . q_k = -1/d`` for ``i != k``.
+
+    Examples
+    --------
+    >>> Q = regular_simplex(3)
+    >>> Q.shape, bool(np.allclose(np.linalg.norm(Q, axis=1), 1.0))
+    ((4, 3), True)
+    """
+    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 2:
+        raise ValueError(f"d must be an integer >= 2, got {d!r}")
+    return _regular_simplex(int(d)).copy()
+
+
+def check_simplex(simplex, d: int) -> np.ndarray:
+    """Validate a user simplex: shape (d+1, d), finite, origin strictly inside.
+
+    Returns
+    -------
+    (d+1, d) float ndarray
+
+    Raises
+    ------
+    ValueError
+        If the shape is wrong, the simplex is degenerate or the origin is not
+        strictly inside it.
+    """
+    Q = as_points(simplex, "simplex", dim=d)
+    if Q.shape[0] != d + 1:
+        raise ValueError(f"simplex must have d+1 = {d + 1} vertices in R^{d}, got {Q.shape[0]}")
+    M = np.vstack([Q.T, np.ones(d + 1)])
+    if np.linalg.cond(M) > 1e12:
+        raise ValueError("simplex is degenerate (its vertices lie in a hyperplane)")
+    barycentric = np.linalg.solve(M, np.r_[np.zeros(d), 1.0])
+    if barycentric.min() <= 1e-12:
+        raise ValueError(
+            "simplex must contain the origin strictly inside; its barycentric coordinates "
+            f"of the origin are {np.round(barycentric, 6).tolist()}. Centre it at the origin."
+        )
+    return Q
+
+
+@dataclass(frozen=True)
+class PseudoDistance:
+    """Result of :func:`pseudo_distance`.
+
+    Attributes
+    ----------
+    value : float
+        Pseudo-distance: > 0 separated, 0 touching, < 0 overlapping.
+    kind : str
+        ``"separation"`` (Eq. 1) or ``"penetration"`` (Eqs. 2-3).
+    grad_a : (na, d) float
+        d value / d a_i.
+    grad_b : (nb, d) float
+        d value / d b_j.
+    simplex : (d+1, d) float
+        The simplex Q used.
+    degenerate : bool
+        True when the derivative does not exist (non-unique LP solution, or a
+        tie between penetration directions); the gradients are then a valid
+        one-sided choice.
+    lp_solves : int
+        Number of solver calls made (the d+1 penetration LPs of Eq. 3 are
+        independent and solved together as one block-diagonal LP).
+    alpha : (na,) float
+        Optimal weights of A's vertices.
+    beta : (nb,) float
+        Optimal weights of B's vertices.
+    point_a, point_b : (d,) float
+        Witness points ``sum alpha_i a_i`` and ``sum beta_j b_j``.
+    normal_b : (d,) float
+        Unit inward normal of B at ``point_b`` (the supporting hyperplane of the
+        LP dual), oriented so that moving B along ``-normal_b`` increases the value.
+    active : int
+        Index k of the active penetration direction (-1 for separation).
+    """
+
+    value: float
+    kind: str
+    grad_a: np.ndarray
+    grad_b: np.ndarray
+    simplex: np.ndarray
+    degenerate: bool
+    lp_solves: int
+    alpha: np.ndarray
+    beta: np.ndarray
+    point_a: np.ndarray
+    point_b: np.ndarray
+    normal_b: np.ndarray
+    active: int
+
+
+def _degenerate(x, reduced, m) -> bool:
+    """Not a vertex optimum with exactly m positive primal and m zero reduced costs."""
+    positive = int((x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max()))).sum())
+    tight = int((np.abs(reduced) <= DEGENERACY_TOL).sum())
+    return positive != m or tight != m
+
+
+@lru_cache(maxsize=256)
+def _structure(na: int, nb: int, d: int):
+    """Row indices and column pointers of the Eq. 1 and stacked Eq. 3 matrices.
+
+    Column rho_k has d entries (the coordinate rows); column alpha_i has d + 1
+    (coordinates, then the row ``sum alpha = 1``); column beta_j has d + 1
+    (coordinates, then the row ``sum beta = 1``). Cached per shape.
+    """
+    nq, mk = d + 1, d + 2
+    coordinate = np.arange(d)
+    weights = np.concatenate([np.tile(np.append(coordinate, d), na), np.tile(np.append(coordinate, d + 1), nb)])
+    counts = np.full(na + nb, d + 1)
+    sep_rows = np.concatenate([np.tile(coordinate, nq), weights]).astype(np.int32)
+    sep_ptr = np.concatenate([[0], np.cumsum(np.concatenate([np.full(nq, d), counts]))]).astype(np.int32)
+    block = np.concatenate([coordinate, weights])
+    pen_rows = (block[None, :] + mk * np.arange(nq)[:, None]).ravel().astype(np.int32)
+    pen_ptr = np.concatenate([[0], np.cumsum(np.tile(np.concatenate([[d], counts]), nq))]).astype(np.int32)
+    return sep_rows, sep_ptr, pen_rows, pen_ptr
+
+
+def _weight_data(A, B, sign):
+    """Entries of the alpha columns (``sign * a_i``, 1) and beta columns (``-sign * b_j``, 1)."""
+    (na, d), nb = A.shape, len(B)
+    alpha = np.empty((na, d + 1))
+    alpha[:, :d], alpha[:, d] = sign * A, 1.0
+    beta = np.empty((nb, d + 1))
+    beta[:, :d], beta[:, d] = -sign * B, 1.0
+    return np.concatenate([alpha.ravel(), beta.ravel()])
+
+
+def _require_optimal(sol, what: str):
+    if not sol.optimal:
+        raise lp.LPError(
+            f"the {what} LP was not solved: backend {sol.backend!r} returned status "
+            f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
+        )
+
+
+def _unit(v):
+    n = np.linalg.norm(v)
+    return v / n if n > 0 else v
+
+
+def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
+    """Pseudo-distance between conv(A) and conv(B), with gradients (paper Eqs. 1-3).
+
+    Parameters
+    ----------
+    A : (na, d) array_like
+        Vertices of the first set (any points; their convex hull is used).
+    B : (nb, d) array_like
+        Vertices of the second set, same dimension d >= 2.
+    simplex : (d+1, d) array_like, optional
+        The simplex Q, origin strictly inside; default ``regular_simplex(d)``.
+        Scaling Q by c divides every value by c.
+    backend : str or synergrasp.lp.Backend
+        LP backend name (see ``synergrasp.lp.available_backends()``).
+
+    Returns
+    -------
+    PseudoDistance
+        ``value``, ``kind``, ``grad_a`` (na, d), ``grad_b`` (nb, d), ``simplex``,
+        ``degenerate``, ``lp_solves`` and the witness data.
+
+    Raises
+    ------
+    ValueError
+        NaN/inf, wrong shapes, mismatched dimensions, empty sets, a simplex that
+        does not contain the origin, an unknown backend.
+    synergrasp.lp.LPError
+        If the backend fails to solve an LP (its status is in the message).
+
+    Examples
+    --------
+    Two points 3 apart along the first axis, regular simplex in the plane:
+    the gauge of b - a = (3, 0) is -2 * min_k q_k . (3, 0) = 3.
+
+    >>> r = pseudo_distance([[0.0, 0.0]], [[3.0, 0.0]])
+    >>> r.kind, round(r.value, 9)
+    ('separation', 3.0)
+    """
+    A = as_points(A, "A", min_dim=2)
+    B = as_points(B, "B", dim=A.shape[1])
+    d = A.shape[1]
+    Q = _regular_simplex(d) if simplex is None else check_simplex(simplex, d)
+    solver = lp.get_backend(backend)
+    na, nb, nq = len(A), len(B), d + 1
+    coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
+    zero = ZERO_TOL * coord_scale * d / np.linalg.norm(Q, axis=1).min()
+
+    # Eq. 1: x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
+    h = np.zeros(d + 2)
+    h[d:] = 1.0
+    c = np.zeros(nq + na + nb)
+    c[:nq] = 1.0
+    sep_rows, sep_ptr, pen_rows, pen_ptr = _structure(na, nb, d)
+    G = lp.CSC(sep_ptr, sep_rows, np.concatenate([Q.ravel(), _weight_data(A, B, 1.0)]), (d + 2, nq + na + nb))
+    sol = solver.solve(c, G, h)
+    _require_optimal(sol, "separation (Eq. 1)")
+    if sol.objective > zero:
+        alpha, beta, y = sol.x[nq : nq + na], sol.x[nq + na :], sol.y[:d]
+        return PseudoDistance(
+            value=sol.objective,
+            kind="separation",
+            grad_a=-alpha[:, None] * y,
+            grad_b=beta[:, None] * y,
+            simplex=Q,
+            degenerate=_degenerate(sol.x, c - G.rmatvec(sol.y), d + 2),
+            lp_solves=1,
+            alpha=alpha,
+            beta=beta,
+            point_a=alpha @ A,
+            point_b=beta @ B,
+            normal_b=_unit(y),
+            active=-1,
+        )
+
+    # Eqs. 2-3: the nq LPs are independent; stack them block-diagonally.
+    # Block k: x = [rho, alpha (na), beta (nb)], rho q_k - sum alpha a + sum beta b = 0.
+    nk, mk = 1 + na + nb, d + 2
+    data = np.empty((nq, d + (na + nb) * (d + 1)))
+    data[:, :d], data[:, d:] = Q, _weight_data(A, B, -1.0)
+    Gp = lp.CSC(pen_ptr, pen_rows, data.ravel(), (nq * mk, nq * nk))
+    hp = np.tile(h, nq)
+    cp = np.zeros(nq * nk)
+    cp[::nk] = -1.0
+    psol = solver.solve(cp, Gp, hp)
+    _require_optimal(psol, "penetration (Eq. 3)")
+    values = -psol.x[::nk]
+    k = int(np.argmax(values))
+    rows, cols = slice(k * mk, (k + 1) * mk), slice(k * nk, (k + 1) * nk)
+    x, y = psol.x[cols], psol.y[rows]
+    alpha, beta = x[1 : 1 + na], x[1 + na :]
+    ties = int((values >= values[k] - zero).sum()) > 1
+    reduced = (cp - Gp.rmatvec(psol.y))[cols]
+    return PseudoDistance(
+        value=float(values[k]),
+        kind="penetration",
+        grad_a=alpha[:, None] * y[:d],
+        grad_b=-beta[:, None] * y[:d],
+        simplex=Q,
+        degenerate=ties or _degenerate(x, reduced, mk),
+        lp_solves=2,
+        alpha=alpha,
+        beta=beta,
+        point_a=alpha @ A,
+        point_b=beta @ B,
+        normal_b=_unit(-y[:d]),
+        active=k,
+    )

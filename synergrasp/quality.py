@@ -1,0 +1,297 @@
+"""Grasp quality: friction cones, contact wrenches and the Q distance (paper Eqs. 4-10).
+
+Contact i sits at ``p_i`` with unit normal ``n_i`` pointing INTO the object.
+Its linearised friction cone has the m edges
+
+    d_ij = n_i + mu (cos t_j e1_i + sin t_j e2_i),   t_j = 2 pi j / m,
+
+so ``d_ij . n_i = 1`` (Eq. 4), with ``(e1_i, e2_i)`` a tangent basis of ``n_i``
+(e1 = normalise(a x n), a the coordinate axis least aligned with n; e2 = n x e1).
+The primitive wrenches are ``w_ij = [d_ij ; (p_i - c) x d_ij / L]`` with the
+object's reference point c and torque scale L, and the Q distance is the
+pseudo-distance between W = conv{w_ij} and the origin of wrench space (Eqs. 9-10):
+positive when the grasp is not force-closed, negative when it is, more negative
+for a larger margin. Its gradients with respect to the contact points and
+normals follow from the LP duals through ``w_ij(p_i, n_i)``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from ._checks import as_points, as_vector, positive_scalar
+from .pseudo_distance import pseudo_distance
+
+#: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
+FORCE_CLOSURE_TOL = 1e-9
+
+
+def _cross(a, b):
+    """Cross product over the last axis (faster than numpy.cross for small arrays)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+def _cross_matrix(v):
+    """(n, 3, 3) matrices [v]x with [v]x u = v x u."""
+    out = np.zeros((len(v), 3, 3))
+    out[:, 0, 1], out[:, 0, 2] = -v[:, 2], v[:, 1]
+    out[:, 1, 0], out[:, 1, 2] = v[:, 2], -v[:, 0]
+    out[:, 2, 0], out[:, 2, 1] = -v[:, 1], v[:, 0]
+    return out
+
+
+_AXIS_CROSS = _cross_matrix(np.eye(3))
+
+
+def _unit_normals(normals, n_points):
+    normals = as_points(normals, "normals", dim=3)
+    if len(normals) != n_points:
+        raise ValueError(f"normals has {len(normals)} rows but points has {n_points}; give one normal per contact")
+    length = np.linalg.norm(normals, axis=1)
+    if (length < 1e-12).any():
+        raise ValueError(f"normals has zero-length rows {np.nonzero(length < 1e-12)[0].tolist()}; each contact needs a direction")
+    return normals / length[:, None], length
+
+
+def _tangent_basis(nhat):
+    """Tangent basis (e1, e2) of unit normals and their derivatives d e / d nhat.
+
+    Returns
+    -------
+    e1, e2 : (n, 3) float
+    de1, de2 : (n, 3, 3) float
+        ``de[i, a, b] = d e_a / d nhat_b`` for contact i.
+    """
+    n = len(nhat)
+    which = np.argmin(np.abs(nhat), axis=1)
+    axis = np.zeros((n, 3))
+    axis[np.arange(n), which] = 1.0
+    v = _cross(axis, nhat)
+    vnorm = np.sqrt(np.einsum("ij,ij->i", v, v))
+    e1 = v / vnorm[:, None]
+    e2 = _cross(nhat, e1)
+    proj = (np.eye(3) - e1[:, :, None] * e1[:, None, :]) / vnorm[:, None, None]
+    de1 = proj @ _AXIS_CROSS[which]
+    de2 = -_cross_matrix(e1) + _cross_matrix(nhat) @ de1
+    return e1, e2, de1, de2
+
+
+def _angles(edges):
+    """(cos t_j, sin t_j), t_j = 2 pi j / m, for a valid edge count m."""
+    if isinstance(edges, bool) or not isinstance(edges, (int, np.integer)) or edges < 3:
+        raise ValueError(f"edges must be an integer >= 3 (sides of the linearised friction cone), got {edges!r}")
+    return _cos_sin(int(edges))
+
+
+@lru_cache(maxsize=32)
+def _cos_sin(edges):
+    t = 2.0 * np.pi * np.arange(edges) / edges
+    return np.cos(t), np.sin(t)
+
+
+def _edges(nhat, e1, e2, mu, cos, sin):
+    """(n, m, 3) cone edges n + mu (cos t e1 + sin t e2)."""
+    return nhat[:, None, :] + mu * (cos[None, :, None] * e1[:, None, :] + sin[None, :, None] * e2[:, None, :])
+
+
+def friction_cone_edges(normals, mu=0.3, edges=8):
+    """Edges of the linearised friction cones (paper Eq. 4).
+
+    Parameters
+    ----------
+    normals : (n, 3) array_like
+        Contact normals pointing into the object (normalised here).
+    mu : float
+        Coulomb friction coefficient, > 0.
+    edges : int
+        Number m of cone edges, >= 3.
+
+    Returns
+    -------
+    (n, m, 3) float ndarray
+        ``d_ij = n_i + mu (cos t_j e1_i + sin t_j e2_i)``, with ``d_ij . n_i = 1``.
+
+    Examples
+    --------
+    >>> d = friction_cone_edges([[0.0, 0.0, 1.0]], mu=0.5, edges=4)
+    >>> d.shape, bool(np.allclose(d[0, :, 2], 1.0))
+    ((1, 4, 3), True)
+    """
+    normals = as_points(normals, "normals", dim=3)
+    nhat, _ = _unit_normals(normals, len(normals))
+    e1, e2, _, _ = _tangent_basis(nhat)
+    return _edges(nhat, e1, e2, positive_scalar(mu, "mu"), *_angles(edges))
+
+
+def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale=None):
+    """Primitive contact wrenches ``w_ij = [d_ij ; (p_i - c) x d_ij / L]`` (paper Eq. 7).
+
+    Parameters
+    ----------
+    points : (n, 3) array_like
+        Contact points (mm).
+    normals : (n, 3) array_like
+        Contact normals pointing into the object.
+    mu : float
+        Friction coefficient, > 0.
+    edges : int
+        Cone edges m, >= 3.
+    center : (3,) array_like, optional
+        Torque reference point c; default the origin.
+    torque_scale : float, optional
+        Torque scale L (mm); default the largest ``|p_i - c|``.
+
+    Returns
+    -------
+    (n*m, 6) float ndarray
+        Wrenches in contact-major order (all edges of contact 0 first).
+    """
+    points, nhat, _, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    return _wrenches(points, friction_cone_edges(nhat, mu, edges), c, L)
+
+
+def _prepare(points, normals, mu, edges, center, torque_scale):
+    points = as_points(points, "points", dim=3)
+    nhat, length = _unit_normals(normals, len(points))
+    positive_scalar(mu, "mu")
+    _angles(edges)
+    c = np.zeros(3) if center is None else as_vector(center, "center", 3)
+    if torque_scale is None:
+        L = float(np.linalg.norm(points - c, axis=1).max())
+        if L <= 0:
+            raise ValueError("every contact lies at the centre, so the default torque_scale is 0; pass torque_scale")
+    else:
+        L = positive_scalar(torque_scale, "torque_scale")
+    return points, nhat, length, c, L
+
+
+def _wrenches(points, d, c, L):
+    n, m, _ = d.shape
+    arm = (points - c)[:, None, :]
+    torque = _cross(arm, d) / L
+    return np.concatenate([d, torque], axis=2).reshape(n * m, 6)
+
+
+@dataclass(frozen=True)
+class QDistance:
+    """Result of :func:`q_distance`.
+
+    Attributes
+    ----------
+    value : float
+        Q distance: > 0 not force-closed, < 0 force-closed (more negative =
+        larger margin; about -0.1 is a good grasp).
+    grad_points : (n, 3) float
+        d value / d p_i, with ``center`` and ``torque_scale`` held fixed.
+    grad_normals : (n, 3) float
+        d value / d n_i (through the normalisation of n_i, so orthogonal to a
+        unit n_i), with ``center`` and ``torque_scale`` held fixed.
+    wrenches : (n*edges, 6) float
+        Primitive wrenches, contact-major.
+    simplex : (7, 6) float
+        The simplex Q used in wrench space.
+    center : (3,) float
+        Torque reference point c.
+    torque_scale : float
+        Torque scale L.
+    force_closure : bool
+        ``value < -FORCE_CLOSURE_TOL`` (1e-9: solver round-off at the boundary
+        does not count as a margin).
+    kind : str
+        ``"separation"`` (Q+) or ``"penetration"`` (Q-).
+    degenerate : bool
+        The derivative does not exist at this grasp (see :class:`PseudoDistance`).
+    lp_solves : int
+        Solver calls made.
+    """
+
+    value: float
+    grad_points: np.ndarray
+    grad_normals: np.ndarray
+    wrenches: np.ndarray
+    simplex: np.ndarray
+    center: np.ndarray
+    torque_scale: float
+    force_closure: bool
+    kind: str
+    degenerate: bool
+    lp_solves: int
+
+
+def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="highs") -> QDistance:
+    """Q distance of a grasp and its gradients (paper Eqs. 4-10).
+
+    Parameters
+    ----------
+    points : (n, 3) array_like
+        Contact points (mm).
+    normals : (n, 3) array_like
+        Contact normals pointing INTO the object (any length > 0; normalised).
+    mu : float
+        Coulomb friction coefficient, > 0.
+    edges : int
+        Sides m of the linearised friction cone, >= 3.
+    center : (3,) array_like, optional
+        Torque reference point; default the origin.
+    torque_scale : float, optional
+        Torque scale L (mm); default the largest distance of a contact from ``center``.
+    backend : str or synergrasp.lp.Backend
+        LP backend.
+
+    Returns
+    -------
+    QDistance
+
+    Raises
+    ------
+    ValueError
+        NaN/inf, wrong shapes, zero normals, ``mu <= 0``, ``edges < 3``, bad
+        ``center``/``torque_scale``, unknown backend.
+    synergrasp.lp.LPError
+        If the LP backend fails.
+
+    Examples
+    --------
+    Two opposite point contacts can never resist every wrench:
+
+    >>> r = q_distance([[0, 0, 1.0], [0, 0, -1.0]], [[0, 0, -1.0], [0, 0, 1.0]])
+    >>> r.force_closure
+    False
+    """
+    points, nhat, length, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    mu = float(mu)
+    cos, sin = _angles(edges)
+    e1, e2, de1, de2 = _tangent_basis(nhat)
+    d = _edges(nhat, e1, e2, mu, cos, sin)
+    W = _wrenches(points, d, c, L)
+    res = pseudo_distance(W, np.zeros((1, 6)), backend=backend)
+
+    n, m = d.shape[:2]
+    g = res.grad_a.reshape(n, m, 6)
+    gf, gt = g[..., :3], g[..., 3:]
+    arm = (points - c)[:, None, :]
+    grad_points = _cross(d, gt).sum(axis=1) / L
+    grad_d = gf + _cross(gt, arm) / L  # (n, m, 3)
+    gsum = grad_d.sum(axis=1)
+    gcos = np.einsum("j,ija->ia", mu * cos, grad_d)
+    gsin = np.einsum("j,ija->ia", mu * sin, grad_d)
+    grad_nhat = gsum + np.einsum("iab,ia->ib", de1, gcos) + np.einsum("iab,ia->ib", de2, gsin)
+    grad_normals = (grad_nhat - np.sum(grad_nhat * nhat, axis=1, keepdims=True) * nhat) / length[:, None]
+    return QDistance(
+        value=res.value,
+        grad_points=grad_points,
+        grad_normals=grad_normals,
+        wrenches=W,
+        simplex=res.simplex,
+        center=c,
+        torque_scale=L,
+        force_closure=res.value < -FORCE_CLOSURE_TOL,
+        kind=res.kind,
+        degenerate=res.degenerate,
+        lp_solves=res.lp_solves,
+    )

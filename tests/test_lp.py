@@ -1,0 +1,112 @@
+"""LP backends: registry, solution object, dual sign convention, statuses."""
+
+import numpy as np
+import pytest
+
+import synergrasp as sg
+from synergrasp.lp import CSC, Backend, LPSolution
+from synergrasp.lp.base import csc_arrays
+
+
+def random_lp(rng, m=5, n=12):
+    A = rng.normal(size=(m, n))
+    b = A @ rng.random(n)
+    c = rng.random(n) + 0.1
+    return c, A, b
+
+
+def test_registry_lists_all_three_backends():
+    assert sg.lp.available_backends() == ["highs", "clarabel", "cvxpy"]
+
+
+def test_unknown_backend_lists_available():
+    with pytest.raises(ValueError, match="available.*highs"):
+        sg.lp.get_backend("gurobi")
+    with pytest.raises(ValueError, match="unknown LP backend"):
+        sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend="nope")
+
+
+def test_backend_instances_are_reused():
+    assert sg.lp.get_backend("highs") is sg.lp.get_backend("highs")
+
+
+def test_solution_fields_and_dual_convention(backend, rng):
+    c, A, b = random_lp(rng)
+    be = sg.lp.get_backend(backend)
+    sol = be.solve(c, A, b)
+    assert isinstance(sol, LPSolution) and sol.status == "optimal" and sol.backend == backend
+    assert sol.x.shape == (12,) and sol.y.shape == (5,)
+    assert np.allclose(A @ sol.x, b, atol=1e-8) and (sol.x >= -1e-9).all()
+    assert sol.objective == pytest.approx(c @ sol.x)
+    assert sol.solve_time > 0 and sol.iterations >= 0
+    # y = d objective / d b, checked by central differences on every row
+    for r in range(len(b)):
+        e = np.zeros_like(b)
+        e[r] = 1e-5
+        fd = (be.solve(c, A, b + e).objective - be.solve(c, A, b - e).objective) / 2e-5
+        assert sol.y[r] == pytest.approx(fd, rel=1e-4, abs=1e-6)
+    # dual feasibility: reduced costs c - A^T y >= 0
+    assert (c - A.T @ sol.y >= -1e-7).all()
+
+
+def test_backends_agree(rng):
+    c, A, b = random_lp(rng, 6, 20)
+    sols = [sg.lp.get_backend(name).solve(c, A, b) for name in sg.lp.available_backends()]
+    for sol in sols[1:]:
+        assert sol.objective == pytest.approx(sols[0].objective, abs=1e-7)
+        assert np.allclose(sol.y, sols[0].y, atol=1e-6)
+
+
+def test_infeasible_and_unbounded_are_statuses(backend):
+    be = sg.lp.get_backend(backend)
+    infeasible = be.solve([1.0, 1.0], [[1.0, 1.0]], [-1.0])
+    assert infeasible.status == "infeasible" and np.isnan(infeasible.objective)
+    unbounded = be.solve([-1.0, 0.0], [[1.0, -1.0]], [0.0])
+    assert unbounded.status == "unbounded"
+
+
+def test_solver_exception_becomes_failed_status(backend, monkeypatch):
+    be = sg.lp.get_backend(backend)
+
+    def boom(c, A, b):
+        raise RuntimeError("solver crashed")
+
+    monkeypatch.setattr(be, "_solve", boom)
+    sol = be.solve([1.0], [[1.0]], [1.0])
+    assert sol.status == "failed" and "solver crashed" in sol.message
+
+
+def test_csc_input_matches_dense(backend, rng):
+    c, A, b = random_lp(rng)
+    A[A < 0] = 0.0
+    b = A @ rng.random(12)
+    indptr, indices, data = csc_arrays(A)
+    csc = CSC(indptr, indices, data, A.shape)
+    assert np.allclose(csc.toarray(), A)
+    y = rng.normal(size=5)
+    assert np.allclose(csc.rmatvec(y), A.T @ y)
+    be = sg.lp.get_backend(backend)
+    assert be.solve(c, csc, b).objective == pytest.approx(be.solve(c, A, b).objective, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    "c, A, b, match",
+    [
+        ([1.0, 1.0], [[1.0, 1.0]], [1.0, 2.0], "mismatched shapes"),
+        ([1.0], [[1.0, 1.0]], [1.0], "mismatched shapes"),
+        ([np.nan, 1.0], [[1.0, 1.0]], [1.0], "NaN or inf"),
+        ([1.0, 1.0], [[np.inf, 1.0]], [1.0], "NaN or inf"),
+    ],
+)
+def test_bad_lp_data(backend, c, A, b, match):
+    with pytest.raises(ValueError, match=match):
+        sg.lp.get_backend(backend).solve(c, A, b)
+
+
+def test_custom_backend_object_is_accepted():
+    class Fixed(Backend):
+        def _solve(self, c, A, b):
+            return "failed", None, None, 0, "always fails"
+
+    with pytest.raises(sg.lp.LPError, match="'failed'"):
+        sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend=Fixed(name="fixed"))

@@ -1,0 +1,178 @@
+"""Pseudo-distance (paper Eqs. 1-3): closed forms, continuity, derivatives, invariances, bad input."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+import synergrasp as sg
+from synergrasp.lp import Backend
+
+from .conftest import BACKENDS, assert_gradient, central_difference
+
+
+def gauge(Q, x):
+    """Closed form for the regular simplex: gauge_Q(x) = -d min_k q_k . x."""
+    return -Q.shape[1] * (Q @ x).min()
+
+
+@pytest.mark.parametrize("d", [2, 3, 4, 6, 7])
+def test_regular_simplex(d):
+    Q = sg.regular_simplex(d)
+    assert Q.shape == (d + 1, d)
+    assert np.allclose(np.linalg.norm(Q, axis=1), 1.0)
+    G = Q @ Q.T
+    assert np.allclose(G[~np.eye(d + 1, dtype=bool)], -1.0 / d)
+    assert np.allclose(Q.sum(axis=0), 0.0)
+
+
+@pytest.mark.parametrize("d", [2, 3, 6])
+def test_point_to_point_is_the_gauge(backend, rng, d):
+    Q = sg.regular_simplex(d)
+    for _ in range(5):
+        a, b = rng.normal(size=d), rng.normal(size=d)
+        r = sg.pseudo_distance(a[None], b[None], backend=backend)
+        assert r.kind == "separation"
+        assert r.value == pytest.approx(gauge(Q, b - a), abs=1e-7)
+        # the paper's order: separation measures b - a, so swapping changes the value
+        assert sg.pseudo_distance(b[None], a[None], backend=backend).value == pytest.approx(gauge(Q, a - b), abs=1e-7)
+        # norm bounds ||x|| <= gauge <= d ||x||
+        assert np.linalg.norm(b - a) - 1e-9 <= r.value <= d * np.linalg.norm(b - a) + 1e-9
+
+
+def test_point_to_simplex_closed_form(backend, rng):
+    """B = c - t Q: separation max(0, gauge(c - p) - t); from the centre, penetration -t."""
+    Q = sg.regular_simplex(3)
+    c, t = np.array([1.0, -2.0, 0.5]), 2.0
+    B = c - t * Q
+    for _ in range(5):
+        p = c + rng.normal(size=3) * 6
+        expected = gauge(Q, c - p) - t
+        if expected < 0.1:
+            continue
+        r = sg.pseudo_distance(p[None], B, backend=backend)
+        assert r.kind == "separation" and r.value == pytest.approx(expected, abs=1e-7)
+    inside = sg.pseudo_distance(c[None], B, backend=backend)
+    assert inside.kind == "penetration" and inside.value == pytest.approx(-t, abs=1e-7)
+    assert inside.degenerate  # all d+1 directions tie
+
+
+def test_scaling_the_simplex_divides_the_value(backend, rng):
+    A, B = rng.normal(size=(4, 3)), rng.normal(size=(5, 3)) + 2.0
+    Q = sg.regular_simplex(3)
+    for shift in (2.0, 0.2):  # separated and overlapping
+        B2 = B - 2.0 + shift
+        base = sg.pseudo_distance(A, B2, backend=backend).value
+        assert sg.pseudo_distance(A, B2, simplex=3.0 * Q, backend=backend).value == pytest.approx(base / 3.0, abs=1e-8)
+
+
+def test_continuity_across_touching(backend):
+    cube = np.array(np.meshgrid([0, 1], [0, 1], [0, 1])).reshape(3, -1).T.astype(float)
+    values = []
+    for s in np.linspace(-0.3, 0.3, 13):
+        values.append(sg.pseudo_distance(cube, cube + [1.0 + s, 0.2, 0.1], backend=backend).value)
+    values = np.array(values)
+    assert values[0] < 0 and values[-1] > 0
+    assert np.abs(values[6]) < 1e-7  # touching
+    assert np.abs(np.diff(values)).max() < 0.2  # no jump (steps of 0.05 in s, gauge <= 3 |x|)
+    assert (np.diff(values) > 0).all()
+
+
+def test_witness_points_and_normal(backend):
+    cube = np.array(np.meshgrid([0, 1], [0, 1], [0, 1])).reshape(3, -1).T.astype(float)
+    p = np.array([[0.5, 0.4, 3.0]])
+    r = sg.pseudo_distance(p, cube, backend=backend)
+    assert np.allclose(r.point_a, p[0])
+    assert r.point_b[2] == pytest.approx(1.0)  # on the top face
+    assert np.allclose(r.normal_b, [0, 0, -1], atol=1e-7)  # inward normal of the top face
+    inside = sg.pseudo_distance(np.array([[0.5, 0.45, 0.9]]), cube, backend=backend)
+    assert inside.kind == "penetration" and inside.value < 0
+
+
+@pytest.mark.parametrize("shift", [3.0, 0.0])
+def test_gradients_match_finite_differences(backend, rng, shift):
+    for _ in range(2):
+        A = rng.normal(size=(8, 3))
+        B = rng.normal(size=(8, 3)) + shift
+        r = sg.pseudo_distance(A, B, backend=backend)
+        assert r.kind == ("separation" if shift > 1 else "penetration")
+        assert not r.degenerate
+        ga = central_difference(lambda X: sg.pseudo_distance(X, B, backend=backend).value, A)
+        gb = central_difference(lambda X: sg.pseudo_distance(A, X, backend=backend).value, B)
+        assert_gradient(r.grad_a, ga)
+        assert_gradient(r.grad_b, gb)
+
+
+def test_gradients_in_higher_dimension(backend, rng):
+    A, B = rng.normal(size=(8, 6)), rng.normal(size=(3, 6)) + 0.3
+    r = sg.pseudo_distance(A, B, backend=backend)
+    ga = central_difference(lambda X: sg.pseudo_distance(X, B, backend=backend).value, A)
+    assert_gradient(r.grad_a, ga)
+
+
+def test_all_backends_agree(rng):
+    for shift in (3.0, 0.3):
+        A, B = rng.normal(size=(7, 3)), rng.normal(size=(9, 3)) + shift
+        results = [sg.pseudo_distance(A, B, backend=name) for name in BACKENDS]
+        for r in results[1:]:
+            assert r.value == pytest.approx(results[0].value, abs=1e-7)
+            assert np.allclose(r.grad_a, results[0].grad_a, atol=1e-6)
+            assert np.allclose(r.grad_b, results[0].grad_b, atol=1e-6)
+
+
+def test_degenerate_vertex_direction_is_flagged():
+    Q = sg.regular_simplex(3)
+    r = sg.pseudo_distance(np.zeros((1, 3)), Q[:1] * 2.0)
+    assert r.value == pytest.approx(2.0)  # along a vertex the gauge is the norm
+    assert r.degenerate
+    assert np.isfinite(r.grad_a).all()
+
+
+points = arrays(np.float64, st.tuples(st.integers(1, 5), st.just(3)), elements=st.floats(-5, 5))
+
+
+@settings(max_examples=25, deadline=None)
+@given(A=points, B=points, shift=arrays(np.float64, 3, elements=st.floats(-10, 10)))
+def test_translation_invariance(A, B, shift):
+    base = sg.pseudo_distance(A, B).value
+    assert sg.pseudo_distance(A + shift, B + shift).value == pytest.approx(base, abs=1e-7)
+
+
+@settings(max_examples=25, deadline=None)
+@given(A=points, B=points, seed=st.integers(0, 1000))
+def test_permutation_invariance(A, B, seed):
+    perm = np.random.default_rng(seed)
+    base = sg.pseudo_distance(A, B)
+    moved = sg.pseudo_distance(perm.permutation(A), perm.permutation(B))
+    assert moved.value == pytest.approx(base.value, abs=1e-7)
+
+
+@pytest.mark.parametrize(
+    "A, B, kwargs, error, match",
+    [
+        ([[np.nan, 0.0]], [[1.0, 0.0]], {}, ValueError, "A contains NaN"),
+        ([[0.0, 0.0]], [[np.inf, 0.0]], {}, ValueError, "B contains NaN or inf"),
+        ([0.0, 0.0], [[1.0, 0.0]], {}, ValueError, r"A must have shape \(n, d\)"),
+        ([[0.0, 0.0]], [[1.0, 0.0, 0.0]], {}, ValueError, "B has points of dimension 3, expected 2"),
+        (np.zeros((0, 2)), [[1.0, 0.0]], {}, ValueError, "A is empty"),
+        ([[0.0]], [[1.0]], {}, ValueError, "at least 2"),
+        ([["a", "b"]], [[1.0, 0.0]], {}, TypeError, "A must be a numeric array"),
+        ([[0.0, 0.0]], [[1.0, 0.0]], {"simplex": [[1, 0], [0, 1], [1, 1]]}, ValueError, "origin strictly inside"),
+        ([[0.0, 0.0]], [[1.0, 0.0]], {"simplex": [[1, 0], [0, 1]]}, ValueError, "d\\+1 = 3 vertices"),
+        ([[0.0, 0.0]], [[1.0, 0.0]], {"simplex": [[1, 0], [2, 0], [-1, 0]]}, ValueError, "degenerate"),
+        ([[0.0, 0.0]], [[1.0, 0.0]], {"backend": "mosek"}, ValueError, "available"),
+    ],
+)
+def test_bad_input(A, B, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        sg.pseudo_distance(A, B, **kwargs)
+
+
+def test_solver_failure_raises_library_error():
+    class Infeasible(Backend):
+        def _solve(self, c, A, b):
+            return "infeasible", None, None, 3, "claims infeasible"
+
+    with pytest.raises(sg.lp.LPError, match="status 'infeasible'"):
+        sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend=Infeasible(name="broken"))

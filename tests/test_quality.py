@@ -1,0 +1,153 @@
+"""Friction cones, contact wrenches and the Q distance (paper Eqs. 4-10)."""
+
+import numpy as np
+import pytest
+from scipy.spatial import ConvexHull, QhullError
+
+import synergrasp as sg
+
+from .conftest import BACKENDS, assert_gradient, central_difference
+
+
+def sphere_grasp(rng, n, radius=40.0, noise=0.0):
+    P = rng.normal(size=(n, 3))
+    P = radius * P / np.linalg.norm(P, axis=1)[:, None]
+    N = -P / radius + noise * rng.normal(size=(n, 3))
+    return P, N
+
+
+def box_grasp(rng, n, half=(30.0, 20.0, 15.0)):
+    half = np.asarray(half)
+    face = rng.integers(0, 6, size=n)
+    axis, sign = face % 3, np.where(face < 3, 1.0, -1.0)
+    P = (rng.random((n, 3)) * 2 - 1) * half
+    P[np.arange(n), axis] = sign * half[axis]
+    N = np.zeros((n, 3))
+    N[np.arange(n), axis] = -sign
+    return P, N
+
+
+def hull_contains_origin(W, tol=1e-9):
+    """Independent force-closure test: origin strictly inside conv(W)."""
+    try:
+        hull = ConvexHull(W)
+    except QhullError:  # flat wrench set: the origin cannot be strictly inside
+        return False
+    return bool((hull.equations[:, -1] < -tol).all())
+
+
+def test_cone_edges():
+    N = np.array([[0.0, 0.0, 2.0], [1.0, 1.0, 0.0], [0.3, -0.2, 0.9]])
+    d = sg.friction_cone_edges(N, mu=0.4, edges=6)
+    nhat = N / np.linalg.norm(N, axis=1)[:, None]
+    assert d.shape == (3, 6, 3)
+    assert np.allclose(np.einsum("ija,ia->ij", d, nhat), 1.0)  # Eq. 4
+    tangential = d - nhat[:, None, :]
+    assert np.allclose(np.linalg.norm(tangential, axis=2), 0.4)
+    assert np.allclose(tangential.sum(axis=1), 0.0)  # evenly spread around the normal
+
+
+def test_wrenches_are_contact_major_with_scaled_torques():
+    P = np.array([[10.0, 0.0, 0.0], [0.0, 20.0, 0.0]])
+    N = np.array([[-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+    c = np.array([1.0, 2.0, 3.0])
+    W = sg.contact_wrenches(P, N, mu=0.3, edges=4, center=c, torque_scale=5.0)
+    d = sg.friction_cone_edges(N, mu=0.3, edges=4)
+    assert W.shape == (8, 6)
+    assert np.allclose(W[:4, :3], d[0]) and np.allclose(W[4:, :3], d[1])
+    assert np.allclose(W[5, 3:], np.cross(P[1] - c, d[1, 1]) / 5.0)
+
+
+def test_default_center_and_torque_scale():
+    P, N = sphere_grasp(np.random.default_rng(0), 4)
+    r = sg.q_distance(P * [1, 1, 0.5], N)
+    assert np.allclose(r.center, 0.0)
+    assert r.torque_scale == pytest.approx(np.linalg.norm(P * [1, 1, 0.5], axis=1).max())
+    assert r.simplex.shape == (7, 6) and r.wrenches.shape == (32, 6)
+
+
+@pytest.mark.parametrize("n, noise", [(5, 0.1), (3, 0.3), (2, 0.2)])
+def test_gradients_match_finite_differences(backend, n, noise):
+    rng = np.random.default_rng(n)
+    P, N = sphere_grasp(rng, n, noise=noise)
+    P = P + rng.normal(size=P.shape)
+    r = sg.q_distance(P, N, backend=backend)
+    L = r.torque_scale
+    gp = central_difference(lambda X: sg.q_distance(X, N, torque_scale=L, backend=backend).value, P)
+    gn = central_difference(lambda X: sg.q_distance(P, X, torque_scale=L, backend=backend).value, N)
+    assert_gradient(r.grad_points, gp)
+    assert_gradient(r.grad_normals, gn)
+
+
+def test_backends_agree_on_values_and_gradients():
+    rng = np.random.default_rng(7)
+    for n in (2, 3, 5, 16):
+        P, N = sphere_grasp(rng, n, noise=0.2)
+        results = [sg.q_distance(P, N, backend=name) for name in BACKENDS]
+        for r in results[1:]:
+            assert r.value == pytest.approx(results[0].value, abs=1e-7)
+            assert np.allclose(r.grad_points, results[0].grad_points, atol=1e-6)
+            assert np.allclose(r.grad_normals, results[0].grad_normals, atol=1e-6)
+
+
+def test_two_point_contacts_are_never_force_closed(backend):
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        P, N = sphere_grasp(rng, 2, noise=0.3)
+        assert not sg.q_distance(P, N, backend=backend).force_closure
+    antipodal = sg.q_distance([[0, 0, 40.0], [0, 0, -40.0]], [[0, 0, -1.0], [0, 0, 1.0]], backend=backend)
+    assert antipodal.value == pytest.approx(0.0, abs=1e-8)  # cannot resist torque about the axis
+
+
+@pytest.mark.parametrize("n, low, high", [(3, -0.25, -0.1), (5, -0.3, -0.15)])
+def test_well_spread_contacts_with_friction_are_force_closed(backend, n, low, high):
+    t = 2 * np.pi * np.arange(n) / n
+    P = 40.0 * np.c_[np.cos(t), np.sin(t), np.zeros(n)]
+    r = sg.q_distance(P, -P, backend=backend)
+    assert r.force_closure and low < r.value < high
+    # with vanishing friction, normals through the centre resist no torque about it: no margin left
+    assert sg.q_distance(P, -P, mu=1e-9, backend=backend).value > -1e-6
+
+
+def test_force_closure_agrees_with_convex_hull():
+    rng = np.random.default_rng(2024)
+    checked, closed = 0, 0
+    for trial in range(140):
+        n = int(rng.integers(2, 7))
+        P, N = sphere_grasp(rng, n, noise=0.25) if trial % 2 else box_grasp(rng, n)
+        r = sg.q_distance(P, N, mu=0.3, edges=8)
+        if abs(r.value) < 1e-6:  # on the boundary: either answer is within tolerance
+            continue
+        assert r.force_closure == hull_contains_origin(r.wrenches), f"trial {trial}: Q = {r.value}"
+        checked += 1
+        closed += r.force_closure
+    assert checked >= 100 and 20 <= closed <= checked - 20  # both outcomes well represented
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"normals": [[0, 0, 0.0], [0, 0, 1.0]]}, ValueError, "zero-length rows \\[0\\]"),
+        ({"normals": [[0, 0, 1.0]]}, ValueError, "one normal per contact"),
+        ({"points": [[0, 0, np.nan], [1, 0, 0]]}, ValueError, "points contains NaN"),
+        ({"points": [[0, 0], [1, 0]]}, ValueError, "dimension 2, expected 3"),
+        ({"points": np.zeros((0, 3)), "normals": np.zeros((0, 3))}, ValueError, "points is empty"),
+        ({"mu": 0.0}, ValueError, "mu must be a finite number > 0"),
+        ({"mu": -0.3}, ValueError, "mu must be"),
+        ({"edges": 2}, ValueError, "edges must be an integer >= 3"),
+        ({"edges": 4.5}, ValueError, "edges must be an integer"),
+        ({"center": [0, 0]}, ValueError, "center must have shape \\(3,\\)"),
+        ({"torque_scale": 0.0}, ValueError, "torque_scale must be"),
+        ({"backend": "glpk"}, ValueError, "unknown LP backend"),
+    ],
+)
+def test_bad_input(kwargs, error, match):
+    args = {"points": [[0, 0, 10.0], [0, 0, -10.0]], "normals": [[0, 0, -1.0], [0, 0, 1.0]]}
+    args.update(kwargs)
+    with pytest.raises(error, match=match):
+        sg.q_distance(args.pop("points"), args.pop("normals"), **args)
+
+
+def test_contacts_at_the_centre_need_a_torque_scale():
+    with pytest.raises(ValueError, match="pass torque_scale"):
+        sg.q_distance([[0, 0, 0.0]], [[0, 0, 1.0]])
