@@ -30,22 +30,14 @@ FORCE_CLOSURE_TOL = 1e-9
 
 
 def _cross(a, b):
-    """Cross product over the last axis (faster than numpy.cross for small arrays)."""
+    """Cross product over the last axis, broadcasting (faster than numpy.cross on small arrays)."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
-
-
-def _cross_matrix(v):
-    """(n, 3, 3) matrices [v]x with [v]x u = v x u."""
-    out = np.zeros((len(v), 3, 3))
-    out[:, 0, 1], out[:, 0, 2] = -v[:, 2], v[:, 1]
-    out[:, 1, 0], out[:, 1, 2] = v[:, 2], -v[:, 0]
-    out[:, 2, 0], out[:, 2, 1] = -v[:, 1], v[:, 0]
+    out[..., 0] = a1 * b2 - a2 * b1
+    out[..., 1] = a2 * b0 - a0 * b2
+    out[..., 2] = a0 * b1 - a1 * b0
     return out
-
-
-_AXIS_CROSS = _cross_matrix(np.eye(3))
 
 
 def _unit_normals(normals, n_points):
@@ -59,26 +51,38 @@ def _unit_normals(normals, n_points):
 
 
 def _tangent_basis(nhat):
-    """Tangent basis (e1, e2) of unit normals and their derivatives d e / d nhat.
+    """Tangent basis of unit normals: e1 = normalise(a x n), e2 = n x e1.
+
+    ``a`` is the coordinate axis least aligned with n (piecewise constant).
 
     Returns
     -------
     e1, e2 : (n, 3) float
-    de1, de2 : (n, 3, 3) float
-        ``de[i, a, b] = d e_a / d nhat_b`` for contact i.
+    axis : (n, 3) float
+        The axis a of each contact.
+    vnorm : (n,) float
+        ``|a x n|``.
     """
     n = len(nhat)
-    which = np.argmin(np.abs(nhat), axis=1)
     axis = np.zeros((n, 3))
-    axis[np.arange(n), which] = 1.0
+    axis[np.arange(n), np.argmin(np.abs(nhat), axis=1)] = 1.0
     v = _cross(axis, nhat)
     vnorm = np.sqrt(np.einsum("ij,ij->i", v, v))
     e1 = v / vnorm[:, None]
-    e2 = _cross(nhat, e1)
-    proj = (np.eye(3) - e1[:, :, None] * e1[:, None, :]) / vnorm[:, None, None]
-    de1 = proj @ _AXIS_CROSS[which]
-    de2 = -_cross_matrix(e1) + _cross_matrix(nhat) @ de1
-    return e1, e2, de1, de2
+    return e1, _cross(nhat, e1), axis, vnorm
+
+
+def _basis_vjp(nhat, e1, axis, vnorm, g1, g2):
+    """Vector-Jacobian product of the tangent basis: ``(de1/dn)^T g1 + (de2/dn)^T g2``.
+
+    With de1/dn = (I - e1 e1^T) [a]x / |a x n| and e2 = n x e1, so
+    de2/dn = -[e1]x + [n]x de1/dn.
+    """
+
+    def e1_vjp(g):
+        return _cross(g - e1 * np.einsum("ij,ij->i", e1, g)[:, None], axis) / vnorm[:, None]
+
+    return e1_vjp(g1 - _cross(nhat, g2)) + _cross(e1, g2)
 
 
 def _angles(edges):
@@ -94,9 +98,31 @@ def _cos_sin(edges):
     return np.cos(t), np.sin(t)
 
 
-def _edges(nhat, e1, e2, mu, cos, sin):
-    """(n, m, 3) cone edges n + mu (cos t e1 + sin t e2)."""
-    return nhat[:, None, :] + mu * (cos[None, :, None] * e1[:, None, :] + sin[None, :, None] * e2[:, None, :])
+def _cone(nhat, mu, edges):
+    """Cone edges as combinations of (n, e1, e2).
+
+    Edge j of contact i is ``sum_k M[k, j] basis[k, i]`` with
+    ``M[:, j] = (1, mu cos t_j, mu sin t_j)`` and ``basis = (n, e1, e2)``.
+
+    Returns
+    -------
+    M : (3, m) float
+    basis : (3, n, 3) float
+    tangent : tuple
+        ``(e1, axis, vnorm)`` for :func:`_basis_vjp`.
+    """
+    cos, sin = _angles(edges)
+    e1, e2, axis, vnorm = _tangent_basis(nhat)
+    return np.stack([np.ones_like(cos), mu * cos, mu * sin]), np.stack([nhat, e1, e2]), (e1, axis, vnorm)
+
+
+def _wrenches(M, basis, arm, L):
+    """(n*m, 6) wrenches ``[d_ij ; arm_i x d_ij / L]``, contact-major."""
+    (_, m), n = M.shape, basis.shape[1]
+    W = np.empty((n, m, 6))
+    W[..., :3] = np.einsum("kj,kia->ija", M, basis)
+    W[..., 3:] = np.einsum("kj,kia->ija", M, _cross(arm, basis)) / L
+    return W.reshape(n * m, 6)
 
 
 def friction_cone_edges(normals, mu=0.3, edges=8):
@@ -124,8 +150,8 @@ def friction_cone_edges(normals, mu=0.3, edges=8):
     """
     normals = as_points(normals, "normals", dim=3)
     nhat, _ = _unit_normals(normals, len(normals))
-    e1, e2, _, _ = _tangent_basis(nhat)
-    return _edges(nhat, e1, e2, positive_scalar(mu, "mu"), *_angles(edges))
+    M, basis, _ = _cone(nhat, positive_scalar(mu, "mu"), edges)
+    return np.einsum("kj,kia->ija", M, basis)
 
 
 def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale=None):
@@ -151,15 +177,16 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     (n*m, 6) float ndarray
         Wrenches in contact-major order (all edges of contact 0 first).
     """
-    points, nhat, _, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
-    return _wrenches(points, friction_cone_edges(nhat, mu, edges), c, L)
+    points, nhat, _, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    M, basis, _ = _cone(nhat, mu, edges)
+    return _wrenches(M, basis, points - c, L)
 
 
 def _prepare(points, normals, mu, edges, center, torque_scale):
     points = as_points(points, "points", dim=3)
     nhat, length = _unit_normals(normals, len(points))
-    positive_scalar(mu, "mu")
-    _angles(edges)
+    mu = positive_scalar(mu, "mu")
+    _angles(edges)  # validated here, before any work
     c = np.zeros(3) if center is None else as_vector(center, "center", 3)
     if torque_scale is None:
         L = float(np.linalg.norm(points - c, axis=1).max())
@@ -167,14 +194,7 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
             raise ValueError("every contact lies at the centre, so the default torque_scale is 0; pass torque_scale")
     else:
         L = positive_scalar(torque_scale, "torque_scale")
-    return points, nhat, length, c, L
-
-
-def _wrenches(points, d, c, L):
-    n, m, _ = d.shape
-    arm = (points - c)[:, None, :]
-    torque = _cross(arm, d) / L
-    return np.concatenate([d, torque], axis=2).reshape(n * m, 6)
+    return points, nhat, length, mu, c, L
 
 
 @dataclass(frozen=True)
@@ -263,25 +283,20 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     >>> r.force_closure
     False
     """
-    points, nhat, length, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
-    mu = float(mu)
-    cos, sin = _angles(edges)
-    e1, e2, de1, de2 = _tangent_basis(nhat)
-    d = _edges(nhat, e1, e2, mu, cos, sin)
-    W = _wrenches(points, d, c, L)
+    points, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    M, basis, tangent = _cone(nhat, mu, edges)
+    arm = points - c
+    n, m = len(points), M.shape[1]
+    W = _wrenches(M, basis, arm, L)
     res = pseudo_distance(W, np.zeros((1, 6)), backend=backend)
 
-    n, m = d.shape[:2]
-    g = res.grad_a.reshape(n, m, 6)
-    gf, gt = g[..., :3], g[..., 3:]
-    arm = (points - c)[:, None, :]
-    grad_points = _cross(d, gt).sum(axis=1) / L
-    grad_d = gf + _cross(gt, arm) / L  # (n, m, 3)
-    gsum = grad_d.sum(axis=1)
-    gcos = np.einsum("j,ija->ia", mu * cos, grad_d)
-    gsin = np.einsum("j,ija->ia", mu * sin, grad_d)
-    grad_nhat = gsum + np.einsum("iab,ia->ib", de1, gcos) + np.einsum("iab,ia->ib", de2, gsin)
-    grad_normals = (grad_nhat - np.sum(grad_nhat * nhat, axis=1, keepdims=True) * nhat) / length[:, None]
+    # edges, torques and so the gradients' sums over edges all go through M
+    S = np.einsum("kj,ija->kia", M, res.grad_a.reshape(n, m, 6))  # (3, n, 6)
+    Sf, St = S[..., :3], S[..., 3:]
+    grad_points = _cross(basis, St).sum(axis=0) / L  # sum_j d_j x gt_j / L
+    grad_basis = Sf + _cross(St, arm) / L  # d value / d (n, e1, e2) through the edges
+    grad_nhat = grad_basis[0] + _basis_vjp(nhat, *tangent, grad_basis[1], grad_basis[2])
+    grad_normals = (grad_nhat - np.einsum("ij,ij->i", grad_nhat, nhat)[:, None] * nhat) / length[:, None]
     return QDistance(
         value=res.value,
         grad_points=grad_points,

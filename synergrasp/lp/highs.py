@@ -63,7 +63,7 @@ class HighsBackend(Backend):
         h.run()
         model_status = h.getModelStatus()
         status = _STATUS.get(model_status, "failed")
-        iterations = h.getInfo().simplex_iteration_count
+        iterations = h.getInfoValue("simplex_iteration_count")[1]
         message = h.modelStatusToString(model_status)
         if status != "optimal":
             self._basis.pop((m, n), None)
