@@ -2,21 +2,29 @@
 
 Grasp quality by the pseudo-distance formulation (separation and penetration
 distances, the Q distance in wrench space) with exact dual-based derivatives,
-on interchangeable LP backends (``synergrasp.lp``).
+on interchangeable LP backends (``synergrasp.lp``); the synergy hand
+(``SynergyHand``), objects (``synergrasp.objects``) and the reach-to-grasp
+planner (``plan``).
 """
 
-from . import lp
+from . import lp, objects
+from .hand import SynergyHand
+from .planner import PlanResult, plan
 from .pseudo_distance import PseudoDistance, pseudo_distance, regular_simplex
 from .quality import QDistance, contact_wrenches, friction_cone_edges, q_distance
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "PlanResult",
     "PseudoDistance",
     "QDistance",
+    "SynergyHand",
     "contact_wrenches",
     "friction_cone_edges",
     "lp",
+    "objects",
+    "plan",
     "pseudo_distance",
     "q_distance",
     "regular_simplex",

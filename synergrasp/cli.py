@@ -21,6 +21,54 @@ def _demo(args) -> int:
     return 0
 
 
+def _vector(text):
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected three numbers x,y,z, got {text!r}") from None
+    if len(values) != 3:
+        raise argparse.ArgumentTypeError(f"expected three numbers x,y,z, got {text!r}")
+    return values
+
+
+def _plan(args) -> int:
+    from pathlib import Path
+
+    from tqdm import tqdm
+
+    from . import objects, viz
+    from .hand import SynergyHand
+    from .planner import plan
+
+    obj = objects.get(args.object)
+    hand = SynergyHand.default()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
+               bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
+
+    def progress(check, status):
+        bar.update(1)
+        q = "  -   " if check.q != check.q else f"{check.q:+.3f}"
+        bar.set_postfix_str(f"contacts {check.n_contacts}  g_sQ {status.g[-1]:+.3f}  g_Q {q}")
+
+    result = plan(obj, args.grasp, backend=args.backend, approach=args.approach, max_iter=args.max_iter,
+                  hand=hand, progress=progress)
+    bar.close()
+    stem = f"{Path(str(args.object)).stem}_{args.grasp}"
+    files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png"),
+             viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
+    if not args.no_animation:
+        files += [viz.animate(result, obj, hand, out / f"{stem}_reach.gif"),
+                  viz.write_html(obj, hand, result.u, out / f"{stem}_grasp.html")]
+    print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
+    print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {result.final_q:+.4f}, "
+          f"contacts {', '.join(result.contact_labels) or 'none'}, penetration {result.penetration:.1f} mm")
+    print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
+    print("wrote " + ", ".join(str(f) for f in files))
+    return 0 if result.success else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``synergrasp`` command."""
     parser = argparse.ArgumentParser(
@@ -33,6 +81,25 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
     demo.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
     demo.set_defaults(func=_demo)
+
+    p = sub.add_parser(
+        "plan",
+        help="plan a reach-to-grasp motion and write the result and its figures",
+        description="Plan a precision or power grasp of an object with the synergy hand (paper Sec. 3.2). "
+        "Writes DIR/NAME_GRASP.json (the PlanResult), the status figure, the poses figure, a GIF of the reach "
+        "and an interactive 3-D page of the final grasp. Exit status 0 on success, 1 if no stable grasp was found.",
+    )
+    p.add_argument("--object", default="ellipsoid",
+                   help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
+    p.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type (default precision)")
+    p.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
+    p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
+                   help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
+    p.add_argument("--max-iter", type=int, default=600, help="cap on the iterations over all attempts (default 600)")
+    p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
+    p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_plan)
     return parser
 
 
@@ -41,7 +108,7 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (ValueError, TypeError) as exc:
+    except (ValueError, TypeError, OSError) as exc:
         print(f"synergrasp: error: {exc}", file=sys.stderr)
         return 2
 

@@ -310,6 +310,9 @@ class SynergyHand:
             "power": [(f"{self.finger_names[c]}{k}", {node[c, j]: 0.5, node[c, j + 1]: 0.5}, c, j + 1)
                       for c, k, j in segments]
                      + [("P", {n_nodes - 1: 1.0}, 0, 0)],
+            # the two ends of every capsule (on the axis), for collision avoidance
+            "_capsules": [(f"{self.finger_names[c]}{k}{end}", {node[c, j + e]: 1.0}, c, j + 1)
+                          for c, k, j in segments for e, end in ((0, "a"), (1, "b"))],
         }
         # the palmar side of link j: where its far end moves when joint j flexes, axis_j x e_y
         palmar = np.cross(self._axes, [0.0, 1.0, 0.0])
@@ -318,6 +321,7 @@ class SynergyHand:
         links = {  # kind -> per point (chain, link) carrying the palmar offset, None for the palm point
             "precision": [(c, last[c]) for c in range(n_c)],
             "power": [(c, j) for c, _, j in segments] + [None],
+            "_capsules": [None] * (2 * len(segments)),
         }
         self._kinds = {}
         for kind, rows in points.items():
@@ -401,7 +405,7 @@ class SynergyHand:
         return u
 
     def _check_kind(self, kind):
-        if kind not in self._kinds:
+        if kind not in self._kinds or (kind.startswith("_") and kind != "_capsules"):
             raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
         return self._kinds[kind]
 
@@ -547,6 +551,24 @@ class SynergyHand:
     def points_jacobian(self, u, kind="precision"):
         """Analytic Jacobian of :meth:`points`, ``(n, 3, 6 + n_syn)`` (see :meth:`points_and_jacobian`)."""
         return self.points_and_jacobian(u, kind)[1]
+
+    def segments_and_jacobian(self, u):
+        """Capsule axes of the phalanges and the Jacobians of their end points.
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+
+        Returns
+        -------
+        ends : (k, 2, 3) float
+            Start and end of every segment's axis (as ``segments(u).capsules``).
+        jacobian : (k, 2, 3, 6 + n_syn) float
+            ``d ends / d u``; a point ``(1 - s) a + s b`` of a segment moves with
+            ``(1 - s) J_a + s J_b``.
+        """
+        points, jac = self.points_and_jacobian(u, "_capsules")
+        return points.reshape(-1, 2, 3), jac.reshape(-1, 2, 3, self.n_u)
 
     def segments(self, u):
         """Capsules of the phalanges and the palm box, in the world frame.

@@ -325,3 +325,14 @@ def test_unknown_kind_lists_kinds(hand):
         hand.points(np.zeros(8), "pinch")
     with pytest.raises(ValueError, match="precision.*power"):
         hand.point_labels("grip")
+
+
+def test_segment_end_jacobians_match_finite_differences(hand):
+    for u in random_configs(3, seed=11):
+        ends, jac = hand.segments_and_jacobian(u)
+        np.testing.assert_allclose(ends, hand.segments(u).capsules, atol=1e-12)
+        for k in range(len(u)):
+            step = np.zeros(len(u))
+            step[k] = 1e-6
+            fd = (hand.segments_and_jacobian(u + step)[0] - hand.segments_and_jacobian(u - step)[0]) / 2e-6
+            np.testing.assert_allclose(jac[..., k], fd, atol=1e-6)

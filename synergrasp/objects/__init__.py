@@ -1,0 +1,39 @@
+"""Objects to grasp: built-in shapes, mesh and point-cloud loading, cP and sQ queries.
+
+An object is a union of convex pieces with a centre and a torque scale
+(:class:`GraspObject`, DESIGN.md Sec. 5). Units: mm.
+
+>>> import synergrasp.objects as so
+>>> obj = so.get("ellipsoid")
+>>> r = obj.contact_distance([[0.0, 0.0, 60.0]])
+>>> bool(abs(r.value[0] - 10.0) < 0.5)   # 10 mm above the 50 mm pole, within the faceting
+True
+"""
+
+from .convex import ConvexPiece
+from .grasp_object import GraspObject
+from .loading import MESH_FORMATS, POINT_FORMATS, SUPPORTED_FORMATS, cache_dir, from_mesh, from_points, get, load
+from .proximity import ContactDistance, Penetration, ScaledContacts
+from .shapes import BUILTINS, bell, cup, ellipsoid, goblet, revolve
+
+__all__ = [
+    "BUILTINS",
+    "ContactDistance",
+    "ConvexPiece",
+    "GraspObject",
+    "MESH_FORMATS",
+    "POINT_FORMATS",
+    "Penetration",
+    "SUPPORTED_FORMATS",
+    "ScaledContacts",
+    "bell",
+    "cache_dir",
+    "cup",
+    "ellipsoid",
+    "from_mesh",
+    "from_points",
+    "get",
+    "goblet",
+    "load",
+    "revolve",
+]

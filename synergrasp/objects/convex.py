@@ -1,0 +1,173 @@
+"""Convex pieces: a vertex set with its hull planes, facets and fcl geometry.
+
+An object is a union of convex pieces. Each :class:`ConvexPiece` keeps
+
+* ``vertices`` (k, 3): the hull's vertices (interior points dropped), the
+  vertex set the LPs of :mod:`synergrasp.objects.proximity` work on;
+* ``planes`` (f, 4): the hull's facet planes ``[n, o]`` with unit outward
+  normal n, so that ``x`` is inside iff ``n . x + o <= 0`` for every facet;
+* ``facets`` (f, 3): the triangles (indices into ``vertices``), outward wound;
+* ``fcl`` : the piece as an ``fcl.Convex`` for python-fcl's distance queries.
+"""
+
+from __future__ import annotations
+
+import fcl
+import numpy as np
+from scipy.spatial import ConvexHull, QhullError
+
+from .._checks import as_points
+
+#: Relative size (to the piece's extent) below which a piece is flat.
+FLAT_TOL = 1e-6
+
+
+def _no_volume(name: str, detail: str) -> ValueError:
+    return ValueError(f"{name} has no volume: {detail}; a grasp object needs a 3-D solid")
+
+
+def _hull(points: np.ndarray, name: str) -> ConvexHull:
+    """Convex hull of ``points`` with a clear error when they span no volume."""
+    if len(points) < 4:
+        raise _no_volume(name, f"it has only {len(points)} distinct point(s), at least 4 are needed")
+    centred = points - points.mean(axis=0)
+    extent = float(np.ptp(points, axis=0).max())
+    if extent <= 0:
+        raise _no_volume(name, "all its points coincide")
+    sv = np.linalg.svd(centred, compute_uv=False)
+    if sv[-1] <= FLAT_TOL * extent * np.sqrt(len(points)):
+        what = "all its points lie on a line" if sv[1] <= FLAT_TOL * extent * np.sqrt(len(points)) else "all its points lie on a plane"
+        raise _no_volume(name, what)
+    try:
+        return ConvexHull(points)
+    except QhullError as exc:  # pragma: no cover - guarded by the SVD test above
+        raise _no_volume(name, f"qhull failed ({str(exc).splitlines()[0]})") from exc
+
+
+def farthest_point_subset(points: np.ndarray, k: int) -> np.ndarray:
+    """Indices of ``k`` points chosen by farthest-point sampling (deterministic).
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    k : int
+
+    Returns
+    -------
+    (min(k, n),) int ndarray
+    """
+    n = len(points)
+    if k >= n:
+        return np.arange(n)
+    centre = points.mean(axis=0)
+    chosen = np.empty(k, dtype=int)
+    chosen[0] = int(np.argmax(np.einsum("ij,ij->i", points - centre, points - centre)))
+    dist = np.einsum("ij,ij->i", points - points[chosen[0]], points - points[chosen[0]])
+    for i in range(1, k):
+        chosen[i] = int(np.argmax(dist))
+        diff = points - points[chosen[i]]
+        np.minimum(dist, np.einsum("ij,ij->i", diff, diff), out=dist)
+    return np.sort(chosen)
+
+
+class ConvexPiece:
+    """A convex piece of an object: hull vertices, facet planes, fcl geometry.
+
+    Parameters
+    ----------
+    points : (n, 3) array_like
+        Any points; the piece is their convex hull.
+    name : str
+        Used in error messages.
+    max_vertices : int, optional
+        If the hull has more vertices, keep this many by farthest-point
+        sampling (the result is inscribed in the full hull).
+
+    Attributes
+    ----------
+    vertices : (k, 3) float
+        Hull vertices.
+    planes : (f, 4) float
+        Facet planes ``[n, o]``, unit outward ``n``; inside iff ``n . x + o <= 0``.
+    facets : (f, 3) int
+        Outward-wound triangles, indices into ``vertices``.
+    volume : float
+        Volume (mm^3).
+    centroid : (3,) float
+        Volume centroid.
+
+    Raises
+    ------
+    ValueError
+        If the points are fewer than 4, non-finite, or span no volume.
+    """
+
+    def __init__(self, points, name: str = "piece", max_vertices: int | None = None):
+        points = as_points(points, name, dim=3)
+        hull = _hull(np.unique(points, axis=0), name)
+        verts = hull.points[hull.vertices]
+        if max_vertices is not None and len(verts) > max_vertices:
+            verts = verts[farthest_point_subset(verts, int(max_vertices))]
+            hull = _hull(verts, name)
+            verts = hull.points[hull.vertices]
+        remap = np.full(len(hull.points), -1)
+        remap[hull.vertices] = np.arange(len(hull.vertices))
+        facets = remap[hull.simplices]
+        planes = hull.equations.copy()
+        # qhull's simplices are not consistently wound: orient each triangle outward
+        tri = verts[facets]
+        normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        flip = np.einsum("ij,ij->i", normal, planes[:, :3]) < 0
+        facets[flip] = facets[flip][:, ::-1]
+        self.vertices = verts
+        self.planes = planes
+        self.facets = facets
+        self.volume = float(hull.volume)
+        # centroid: tetrahedra from an interior point to each (outward-wound) facet
+        inner = verts.mean(axis=0)
+        tri = verts[facets]
+        vol = np.einsum("ij,ij->i", tri[:, 0] - inner, np.cross(tri[:, 1] - inner, tri[:, 2] - inner)) / 6.0
+        tet_centroid = (tri.sum(axis=1) + inner) / 4.0
+        self.centroid = (vol[:, None] * tet_centroid).sum(axis=0) / vol.sum()
+        for arr in (self.vertices, self.planes, self.facets):
+            arr.setflags(write=False)
+        self._fcl = None
+        self._incidence = None
+
+    def __repr__(self) -> str:
+        return f"ConvexPiece({len(self.vertices)} vertices, {len(self.facets)} facets, volume {self.volume:.1f})"
+
+    @property
+    def fcl(self) -> fcl.CollisionObject:
+        """The piece as an ``fcl.CollisionObject`` (an ``fcl.Convex``, identity transform)."""
+        if self._fcl is None:
+            faces = np.hstack([np.full((len(self.facets), 1), 3), self.facets]).ravel()
+            geom = fcl.Convex(np.ascontiguousarray(self.vertices), len(self.facets), faces)
+            self._fcl = fcl.CollisionObject(geom, fcl.Transform())
+        return self._fcl
+
+    @property
+    def incidence(self) -> np.ndarray:
+        """(f, k) bool: facet f uses vertex v."""
+        if self._incidence is None:
+            inc = np.zeros((len(self.facets), len(self.vertices)), dtype=bool)
+            inc[np.arange(len(self.facets))[:, None], self.facets] = True
+            self._incidence = inc
+        return self._incidence
+
+    def signed_distance_bound(self, points: np.ndarray) -> np.ndarray:
+        """``max_f (n_f . p + o_f)`` for each point: <= 0 inside, else a lower bound of the distance.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+
+        Returns
+        -------
+        (n,) float
+        """
+        return (points @ self.planes[:, :3].T + self.planes[:, 3]).max(axis=1)
+
+    def transformed(self, rotation: np.ndarray, translation: np.ndarray, scale: float = 1.0) -> "ConvexPiece":
+        """The piece moved by ``x -> scale * R x + t``."""
+        return ConvexPiece(scale * self.vertices @ rotation.T + translation)

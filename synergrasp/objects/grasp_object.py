@@ -1,0 +1,326 @@
+"""The grasp object: a union of convex pieces with a centre and a torque scale."""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import fcl
+import numpy as np
+import trimesh
+
+from .._checks import as_vector, positive_scalar
+from . import proximity
+from .convex import ConvexPiece
+
+
+class GraspObject:
+    """An object to grasp: a union of convex pieces, its centre c and torque scale L (mm).
+
+    Parameters
+    ----------
+    pieces : sequence of (k_i, 3) array_like or ConvexPiece
+        The convex pieces, each given by any points (its convex hull is used).
+    center : (3,) array_like, optional
+        Reference point c for torques and for the sQ scaling. Default: the
+        volume centroid of the pieces (the mesh's centre of mass when a
+        watertight ``mesh`` is given). When that point is outside the object
+        (a torus, a mug), c is moved inside: to the point a quarter of the way
+        from the surface point nearest the centroid towards the centroid of
+        the piece it lies on. The sQ rays need c inside the object.
+    torque_scale : float, optional
+        Characteristic length L dividing torques in the wrenches. Default:
+        the radius of the bounding sphere about c, ``max |v - c|`` over all
+        vertices (the semi-axis c = 50 mm for the paper's ellipsoid).
+    name : str
+        Display name.
+    mesh : trimesh.Trimesh, optional
+        The surface the pieces approximate (kept for display).
+    info : dict, optional
+        Provenance (source file, method, cache use...).
+
+    Attributes
+    ----------
+    convex : tuple of ConvexPiece
+        The pieces with their planes and fcl geometry.
+    center : (3,) float
+    torque_scale : float
+    name : str
+    mesh : trimesh.Trimesh or None
+    info : dict
+
+    Raises
+    ------
+    ValueError
+        If there are no pieces, or a piece is non-finite or has no volume.
+    """
+
+    def __init__(self, pieces, *, center=None, torque_scale=None, name: str = "object", mesh=None, info=None):
+        if isinstance(pieces, np.ndarray) and pieces.ndim == 2:
+            pieces = [pieces]
+        pieces = list(pieces)
+        if not pieces:
+            raise ValueError("pieces is empty: an object needs at least one convex piece")
+        self.convex = tuple(
+            p if isinstance(p, ConvexPiece) else ConvexPiece(p, name=f"pieces[{i}]") for i, p in enumerate(pieces)
+        )
+        self.name = str(name)
+        self.mesh = mesh
+        self.info = dict(info or {})
+        self._planes = np.vstack([p.planes for p in self.convex])
+        self._plane_starts = np.cumsum([0] + [len(p.planes) for p in self.convex[:-1]])
+        self._exit_cache: dict[tuple[int, int], np.ndarray] = {}
+        if center is None:
+            self.center = self._default_center()
+        else:
+            self.center = as_vector(center, "center", 3).copy()
+        if torque_scale is None:
+            self.torque_scale = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
+        else:
+            self.torque_scale = positive_scalar(torque_scale, "torque_scale")
+        self.center.setflags(write=False)
+
+    # ----------------------------------------------------------------- geometry
+
+    @property
+    def pieces(self) -> list[np.ndarray]:
+        """Vertex arrays of the convex pieces, ``[(k_i, 3) float, ...]``."""
+        return [p.vertices for p in self.convex]
+
+    @property
+    def n_pieces(self) -> int:
+        """Number of convex pieces."""
+        return len(self.convex)
+
+    @cached_property
+    def bounds(self) -> np.ndarray:
+        """(2, 3) float: axis-aligned bounding box ``[min, max]``."""
+        allv = np.vstack(self.pieces)
+        return np.array([allv.min(axis=0), allv.max(axis=0)])
+
+    @property
+    def extents(self) -> np.ndarray:
+        """(3,) float: bounding-box side lengths (mm)."""
+        return self.bounds[1] - self.bounds[0]
+
+    @property
+    def size(self) -> float:
+        """Largest bounding-box side (mm)."""
+        return float(self.extents.max())
+
+    @property
+    def volume(self) -> float:
+        """Sum of the pieces' volumes (mm^3; overlapping pieces count twice)."""
+        return float(sum(p.volume for p in self.convex))
+
+    def __repr__(self) -> str:
+        ext = " x ".join(f"{e:.0f}" for e in self.extents)
+        return f"GraspObject({self.name!r}, {self.n_pieces} pieces, {ext} mm, L={self.torque_scale:.1f})"
+
+    def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
+        """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
+        s = points @ self._planes[:, :3].T + self._planes[:, 3]
+        return np.maximum.reduceat(s, self._plane_starts, axis=1)
+
+    @cached_property
+    def _vertices_all(self):
+        verts = np.vstack([p.vertices for p in self.convex])
+        starts = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
+        return verts, (verts**2).sum(axis=1), starts
+
+    def _vertex_distance(self, points: np.ndarray) -> np.ndarray:
+        """(n, J): distance from each point to the nearest vertex of each piece (an upper bound)."""
+        verts, sq, starts = self._vertices_all
+        d2 = (points**2).sum(axis=1)[:, None] - 2.0 * points @ verts.T + sq
+        return np.sqrt(np.maximum(np.minimum.reduceat(d2, starts, axis=1), 0.0))
+
+    def _exit_vertices(self, j: int, k: int) -> np.ndarray:
+        """(m, 3): vertices of piece j on the facets a ray along -q_k can leave through."""
+        key = (j, k)
+        if key not in self._exit_cache:
+            piece = self.convex[j]
+            leaving = piece.planes[:, :3] @ proximity._Q[k] < 1e-12
+            self._exit_cache[key] = proximity._facet_vertices(piece, leaving[None])[0]
+        return self._exit_cache[key]
+
+    def contains(self, points) -> np.ndarray:
+        """Whether each point is inside (or on) some piece.
+
+        Parameters
+        ----------
+        points : (n, 3) array_like
+
+        Returns
+        -------
+        (n,) bool
+        """
+        return (self._plane_bounds(proximity._check_points(points)) <= 0).any(axis=1)
+
+    def _default_center(self) -> np.ndarray:
+        if isinstance(self.mesh, trimesh.Trimesh) and self.mesh.is_watertight and self.mesh.volume > 0:
+            g = np.asarray(self.mesh.center_mass, dtype=float)
+        else:
+            vol = np.array([p.volume for p in self.convex])
+            g = (vol[:, None] * np.array([p.centroid for p in self.convex])).sum(axis=0) / vol.sum()
+        margin = 1e-3 * float(np.ptp(np.vstack([p.vertices for p in self.convex]), axis=0).max())
+        if self._plane_bounds(g[None])[0].min() <= -margin:
+            return g
+        # the centroid is outside (or on the skin of) the object: move it inside
+        query = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform(g))
+        request = fcl.DistanceRequest(enable_nearest_points=True)
+        best = (np.inf, None, None)
+        for piece in self.convex:
+            result = fcl.DistanceResult()
+            dist = fcl.distance(query, piece.fcl, request, result)
+            if dist < best[0]:
+                best = (dist, np.asarray(result.nearest_points[1], dtype=float), piece)
+        _, nearest, piece = best
+        return nearest + 0.25 * (piece.centroid - nearest)
+
+    @cached_property
+    def _fcl_manager(self):
+        manager = fcl.DynamicAABBTreeCollisionManager()
+        manager.registerObjects([p.fcl for p in self.convex])
+        manager.setup()
+        return manager
+
+    def piece_meshes(self) -> list[trimesh.Trimesh]:
+        """The convex pieces as trimesh meshes (outward-wound hulls)."""
+        return [trimesh.Trimesh(p.vertices, p.facets, process=False) for p in self.convex]
+
+    def to_mesh(self) -> trimesh.Trimesh:
+        """``mesh`` if there is one, else the pieces' hulls concatenated (for display)."""
+        if self.mesh is not None:
+            return self.mesh
+        return trimesh.util.concatenate(self.piece_meshes())
+
+    def transformed(self, matrix) -> "GraspObject":
+        """A copy moved by a rigid transform.
+
+        Parameters
+        ----------
+        matrix : (4, 4) array_like
+            Homogeneous rigid transform (rotation and translation).
+
+        Returns
+        -------
+        GraspObject
+            Pieces, centre and mesh moved; same torque scale and name.
+
+        Raises
+        ------
+        ValueError
+            If ``matrix`` is not a finite 4x4 rigid transform.
+        """
+        M = np.asarray(matrix, dtype=float)
+        if M.shape != (4, 4) or not np.isfinite(M).all():
+            raise ValueError(f"matrix must be a finite (4, 4) homogeneous transform, got shape {M.shape}")
+        R, t = M[:3, :3], M[:3, 3]
+        if not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0 or not np.allclose(M[3], [0, 0, 0, 1]):
+            raise ValueError("matrix must be a rigid transform: orthonormal rotation with det +1, last row [0, 0, 0, 1]")
+        mesh = None
+        if self.mesh is not None:
+            mesh = self.mesh.copy()
+            mesh.apply_transform(M)
+        return GraspObject(
+            [p.transformed(R, t) for p in self.convex],
+            center=R @ self.center + t,
+            torque_scale=self.torque_scale,
+            name=self.name,
+            mesh=mesh,
+            info=self.info,
+        )
+
+    # ----------------------------------------------------------------- queries
+
+    def contact_distance(self, points, backend="highs") -> "proximity.ContactDistance":
+        """cP: pseudo-distance from each hand point to the object, with gradients.
+
+        For each point p the pseudo-distance between A = {p} and every
+        candidate piece B (paper Eqs. 1-3, default regular simplex), the
+        minimum over the pieces: > 0 outside, 0 on the surface, < 0 inside.
+        python-fcl's distances and the pieces' planes prune the pieces that
+        cannot be the minimiser (DESIGN.md Sec. 5); all the LPs of the call
+        are solved as one block-diagonal LP.
+
+        Parameters
+        ----------
+        points : (n, 3) array_like
+            Hand points (mm).
+        backend : str or synergrasp.lp.Backend
+            LP backend.
+
+        Returns
+        -------
+        ContactDistance
+            ``value`` (n,), ``grad`` (n, 3), ``nearest`` (n, 3),
+            ``normal`` (n, 3), ``piece``, ``inside``, ``degenerate``,
+            ``candidates``, ``lp_solves``.
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not a finite (n, 3) array, or the backend is unknown.
+        synergrasp.lp.LPError
+            If the backend fails to solve the LP.
+        """
+        return proximity.contact_distance(self, points, backend)
+
+    def scaled_contacts(self, points, backend="highs") -> "proximity.ScaledContacts":
+        """sQ contacts: scale the object about its centre until it touches each hand point.
+
+        For each point p, ``t = max {t : c + t (p - c) in a piece}`` (one LP
+        per piece the ray leaves last, ``max t s.t. c + t (p - c) = sum
+        lambda_v v, sum lambda = 1``), the scale ``s = 1 / t``, the contact
+        carried back to the object's scale ``c + t (p - c)`` (on its surface),
+        and the inward normal from the LP dual. The planner's
+        ``g_sQ = q_distance(contact, normal, center=obj.center,
+        torque_scale=obj.torque_scale)`` chains its point gradient through
+        ``jac_contact`` (``jac_normal`` is zero almost everywhere).
+
+        Parameters
+        ----------
+        points : (n, 3) array_like
+            Hand points (mm), none at the centre.
+        backend : str or synergrasp.lp.Backend
+            LP backend.
+
+        Returns
+        -------
+        ScaledContacts
+            ``scale`` (n,), ``contact`` (n, 3), ``normal`` (n, 3),
+            ``point`` (n, 3), ``grad_scale`` (n, 3), ``jac_contact`` (n, 3, 3),
+            ``jac_normal`` (n, 3, 3), ``piece``, ``inside``, ``degenerate``,
+            ``lp_solves``.
+
+        Raises
+        ------
+        ValueError
+            If ``points`` is not a finite (n, 3) array, a point coincides with
+            the centre, or a ray misses the object (centre outside it).
+        synergrasp.lp.LPError
+            If the backend fails to solve the LP.
+        """
+        return proximity.scaled_contacts(self, points, backend)
+
+    def penetration(self, segments, radius) -> "proximity.Penetration":
+        """Deepest penetration of capsules (hand links) into the object, by python-fcl.
+
+        Parameters
+        ----------
+        segments : (k, 2, 3) array_like
+            End points of the capsules' axes (mm).
+        radius : float or (k,) array_like
+            Capsule radii (mm), > 0.
+
+        Returns
+        -------
+        Penetration
+            ``depth`` (mm, 0 if none), ``index`` of the deepest capsule (-1 if
+            none), per-capsule ``depths`` and signed ``distances``, ``piece``.
+
+        Raises
+        ------
+        ValueError
+            If ``segments`` is not a finite (k, 2, 3) array or a radius is not > 0.
+        """
+        return proximity.penetration(self, segments, radius)

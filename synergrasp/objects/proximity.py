@@ -1,0 +1,650 @@
+"""Hand points against an object: cP (contact pseudo-distance), sQ contacts, capsule penetration.
+
+The object is a union of convex pieces (:class:`~synergrasp.objects.convex.ConvexPiece`).
+Everything here is vectorised over the hand points and solves all the LPs of
+one call as ONE block-diagonal LP: the blocks are independent, so each block's
+optimum and duals are exactly those of the LP on its own, and the per-call
+overhead of the solver is paid once. Only ``backend.solve`` is used, so any
+backend of :mod:`synergrasp.lp` works.
+
+cP of a point p (paper Sec. 3.2, DESIGN.md Sec. 5)
+    The pseudo-distance between A = {p} and each piece B (the simplex Q is
+    the default regular simplex of :func:`synergrasp.regular_simplex`), the
+    minimum over pieces: > 0 outside the object, < 0 inside a piece (the most
+    negative piece wins). With the single point as A its weight is 1, so the
+    separation LP (Eq. 1) is ``min sum rho s.t. Q^T rho - V^T beta = -p,
+    sum beta = 1`` and each penetration LP (Eq. 3) is ``min -rho s.t.
+    rho q_k + V^T beta = p, sum beta = 1``: 4 rows each, the witness only on B.
+    Gradient: ``d value / d p = -y`` (separation) or ``+y`` (penetration, the
+    active k), y the duals of the 3 coordinate rows.
+
+Candidate pieces (the broad phase)
+    For the regular simplex ``|x| <= gauge_Q(x) <= 3 |x|``, so if e_j is the
+    Euclidean distance from p to piece j, the piece's value lies in
+    ``[e_j, 3 e_j]``: a piece with ``e_j > 3 min_i e_i`` cannot be the
+    minimiser and is skipped. The facet planes give a cheap lower bound of e_j
+    (and decide exactly whether p is inside a piece); python-fcl's GJK
+    distance gives e_j for the pieces the bound cannot rule out. A point inside
+    some piece only needs the pieces containing it (the others have values
+    >= 0). The vertices passed to the LP are only those of the facets that can
+    carry the optimum (facets facing p for separation, facets facing -q_k
+    for penetration): the optimal face lies on such a facet, so the value and,
+    when the LP is not degenerate, the duals are unchanged.
+
+Known limitation: inside the object, the value is the penetration into the
+single piece in which the point is deepest, not into the union; a point just
+behind an internal cut between two pieces reads as shallow.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import fcl
+import numpy as np
+
+from .. import lp
+from .._checks import as_points, positive_scalar
+from ..pseudo_distance import regular_simplex
+
+_Q = regular_simplex(3)
+#: Lipschitz ratio of the regular-simplex gauge to the Euclidean norm in 3-D.
+GAUGE_RATIO = 3.0
+_ROWS = 4  # 3 coordinate rows + 1 convexity row per block
+#: Tolerance on primal weights and reduced costs in the degeneracy test.
+DEGENERACY_TOL = 1e-7
+
+
+@dataclass(frozen=True)
+class ContactDistance:
+    """Result of :meth:`GraspObject.contact_distance` (cP, one row per hand point).
+
+    Attributes
+    ----------
+    value : (n,) float
+        Pseudo-distance from each point to the object (mm of the simplex
+        gauge): > 0 outside, 0 on the surface, < 0 inside.
+    grad : (n, 3) float
+        d value / d p.
+    nearest : (n, 3) float
+        Witness point on the object (the LP's ``point_b``).
+    normal : (n, 3) float
+        Unit inward normal of the object at ``nearest`` (the supporting plane
+        from the LP dual).
+    piece : (n,) int
+        Index of the minimising piece.
+    inside : (n,) bool
+        The point is inside (or on) a piece: penetration LPs were used.
+    degenerate : (n,) bool
+        The derivative does not exist (degenerate LP, or a tie between
+        pieces or penetration directions); ``grad`` is a valid one-sided choice.
+    candidates : (n,) int
+        Number of pieces that survived the broad phase.
+    lp_solves : int
+        Solver calls made (1 per call, all blocks stacked).
+    """
+
+    value: np.ndarray
+    grad: np.ndarray
+    nearest: np.ndarray
+    normal: np.ndarray
+    piece: np.ndarray
+    inside: np.ndarray
+    degenerate: np.ndarray
+    candidates: np.ndarray
+    lp_solves: int
+
+
+@dataclass(frozen=True)
+class ScaledContacts:
+    """Result of :meth:`GraspObject.scaled_contacts` (sQ contacts, one row per hand point).
+
+    The object scaled by ``scale`` about its centre c touches the hand point
+    p; along the ray from c, ``t = 1 / scale`` is the largest t with
+    ``c + t (p - c)`` in the object.
+
+    Attributes
+    ----------
+    scale : (n,) float
+        Scale s at which the scaled object touches p (< 1 if p is inside).
+    contact : (n, 3) float
+        The contact carried back to the object's own scale:
+        ``c + t (p - c)``, on the surface of the original object.
+    normal : (n, 3) float
+        Unit inward normal there (the dual's supporting plane). Scaling
+        about c preserves normals, so it is also the normal of the scaled
+        object at p.
+    point : (n, 3) float
+        The scaled contact itself, equal to p.
+    grad_scale : (n, 3) float
+        d scale / d p.
+    jac_contact : (n, 3, 3) float
+        d contact / d p (``[i, a, b] = d contact_a / d p_b``).
+    jac_normal : (n, 3, 3) float
+        d normal / d p: zero. The normal is piecewise constant (constant on
+        each facet of the polytope) and jumps across edges, where the
+        derivative does not exist (``degenerate`` is then set).
+    piece : (n,) int
+        Piece where the ray leaves the object.
+    inside : (n,) bool
+        p is inside the object (``scale < 1``).
+    degenerate : (n,) bool
+        The ray leaves through an edge or vertex (or ties between pieces):
+        the derivatives are a valid one-sided choice.
+    lp_solves : int
+        Solver calls made (1 per call, all blocks stacked).
+
+    Notes
+    -----
+    The scaled contact ``point`` is p itself (d point / d p = identity) and
+    its normal is ``normal``.
+    """
+
+    scale: np.ndarray
+    contact: np.ndarray
+    normal: np.ndarray
+    point: np.ndarray
+    grad_scale: np.ndarray
+    jac_contact: np.ndarray
+    jac_normal: np.ndarray
+    piece: np.ndarray
+    inside: np.ndarray
+    degenerate: np.ndarray
+    lp_solves: int
+
+
+@dataclass(frozen=True)
+class Penetration:
+    """Result of :meth:`GraspObject.penetration` (capsules against the object).
+
+    Attributes
+    ----------
+    depth : float
+        Deepest penetration depth over all capsules (mm), 0 if none collides.
+    index : int
+        Index of the deepest capsule, -1 if none collides.
+    depths : (k,) float
+        Penetration depth of each capsule (0 when clear).
+    distances : (k,) float
+        Signed distance of each capsule to the object (negative = penetration).
+    piece : int
+        Piece the deepest capsule penetrates most, -1 if none.
+
+    Notes
+    -----
+    The depth is fcl's signed distance (GJK/EPA), the translation that frees
+    the capsule from one convex piece; for a capsule through several pieces it
+    is the largest such depth, a lower bound of the depth into the union.
+    """
+
+    depth: float
+    index: int
+    depths: np.ndarray
+    distances: np.ndarray
+    piece: int
+
+    @property
+    def collision(self) -> bool:
+        """True when some capsule penetrates the object."""
+        return self.index >= 0
+
+
+# --------------------------------------------------------------------------- LP assembly
+
+
+class _Blocks:
+    """Independent 4-row LP blocks, solved together as one block-diagonal LP.
+
+    Blocks come in batches. Every block of a batch has the same ``L`` lead
+    columns (entries in the 3 coordinate rows only, costs ``cost``), followed
+    by one column per vertex v of the block's own vertex list (entries
+    ``sign * v`` in the coordinate rows, 1 in the convexity row, cost 0); the
+    right-hand side is ``[h, 1]``: ``lead x_L + sign V^T x_V = h``,
+    ``sum x_V = 1``.
+
+    Each block is written relative to an origin o (the hand point, or the
+    object's centre): subtracting ``sign * o`` times the convexity row from
+    the coordinate rows gives entries ``sign * (v - o)`` and right-hand side
+    ``h - sign * o``. That is a row operation: the primal solution and the
+    duals of the coordinate rows are unchanged, and the LP data become
+    distances rather than coordinates (better conditioned).
+
+    After the solve, each block is polished onto its optimal basis: the 4
+    columns with the largest values form a basis B; if ``B x = b`` and
+    ``B^T y = c_B`` give a primal and dual feasible pair (reduced costs >= 0),
+    that exact vertex solution replaces the solver's. Interior-point backends
+    then agree with the simplex to round-off, and the derivatives are the
+    exact ones of the basis.
+    """
+
+    def __init__(self):
+        self.batches = []
+
+    def add(self, lead, cost, vertices, counts, sign, rhs, origin) -> int:
+        """Add a batch of B blocks; returns the batch index.
+
+        Parameters
+        ----------
+        lead : (B, L, 3) float
+            Coordinate entries of the lead columns of each block.
+        cost : (L,) float
+            Costs of the lead columns.
+        vertices : (sum(counts), 3) float
+            The blocks' vertex lists, concatenated in block order.
+        counts : (B,) int
+            Vertices per block (each >= 3).
+        sign : float
+            +1 or -1, the sign of the vertex entries.
+        rhs : (B, 3) float
+            Right-hand sides h of the coordinate rows.
+        origin : (B, 3) float
+            Origin o of each block.
+        """
+        counts = np.asarray(counts)
+        origin = np.broadcast_to(origin, (len(counts), 3))
+        relative = sign * (vertices - np.repeat(origin, counts, axis=0))
+        shifted = np.asarray(rhs) - sign * origin
+        self.batches.append((np.asarray(lead, dtype=float), np.asarray(cost, dtype=float), vertices, counts, relative, shifted))
+        return len(self.batches) - 1
+
+    def solve(self, solver, what: str):
+        """Solve all blocks as one LP.
+
+        Returns
+        -------
+        list of (lead_x, witness, y, degenerate) per batch
+            ``lead_x`` (B, L) the lead variables, ``witness`` (B, 3) the
+            point ``sum_v x_v v``, ``y`` (B, 3) the duals of the coordinate
+            rows, ``degenerate`` (B,) bool.
+        """
+        batches = self.batches
+        n_lead = np.concatenate([np.full(len(b[3]), b[0].shape[1]) for b in batches])
+        n_vert = np.concatenate([b[3] for b in batches])
+        width = n_lead + n_vert
+        start = np.concatenate([[0], np.cumsum(width)])
+        n_blocks, n_cols = len(width), int(start[-1])
+        block_of = np.repeat(np.arange(n_blocks), width)
+        is_lead = np.arange(n_cols) - start[block_of] < n_lead[block_of]
+        entries = np.zeros((n_cols, _ROWS))
+        entries[is_lead, :3] = np.concatenate([b[0].reshape(-1, 3) for b in batches])
+        entries[~is_lead, :3] = np.concatenate([b[4] for b in batches])
+        entries[~is_lead, 3] = 1.0
+        rows = _ROWS * block_of[:, None] + np.arange(_ROWS)
+        nonzero = entries != 0.0
+        indptr = np.zeros(n_cols + 1, dtype=np.int32)
+        np.cumsum(nonzero.sum(axis=1), out=indptr[1:])
+        A = lp.CSC(indptr, rows[nonzero].astype(np.int32), entries[nonzero], (_ROWS * n_blocks, n_cols))
+        c = np.zeros(n_cols)
+        c[is_lead] = np.concatenate([np.tile(b[1], len(b[3])) for b in batches])
+        rhs = np.ones((n_blocks, _ROWS))
+        rhs[:, :3] = np.concatenate([b[5] for b in batches])
+        sol = solver.solve(c, A, rhs.ravel())
+        if not sol.optimal:
+            raise lp.LPError(
+                f"the {what} LP was not solved: backend {sol.backend!r} returned status "
+                f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
+            )
+        x, y = _polish(entries, c, rhs, sol.x.copy(), sol.y.reshape(n_blocks, _ROWS).copy(), start, block_of)
+        # The derivatives with respect to the hand point need only the duals y. They are unique
+        # when the optimum has 4 positive variables in the block (a non-degenerate basis: B^T y = c_B);
+        # several primal optima (a face of B parallel to one of Q's) leave y unique and are not flagged.
+        xmax = np.maximum.reduceat(np.abs(x), start[:-1])
+        positive = np.add.reduceat(x > DEGENERACY_TOL * np.maximum(1.0, xmax)[block_of], start[:-1])
+        degenerate = positive < _ROWS
+        vstart = np.concatenate([[0], np.cumsum(n_vert)[:-1]])
+        witness = np.add.reduceat(x[~is_lead, None] * np.concatenate([b[2] for b in batches]), vstart, axis=0)
+        lead_x = x[is_lead]
+        out, first, lead_first = [], 0, 0
+        for lead, _, _, counts, _, _ in batches:
+            B, L = len(counts), lead.shape[1]
+            part = slice(first, first + B)
+            out.append((lead_x[lead_first : lead_first + B * L].reshape(B, L), witness[part], y[part, :3], degenerate[part]))
+            first, lead_first = first + B, lead_first + B * L
+        return out
+
+
+def _polish(entries, c, rhs, x, y, start, block_of):
+    """Replace each block's solution by the exact one of its optimal basis, where that is feasible.
+
+    Parameters
+    ----------
+    entries : (n, 4) float
+        Column entries in their block's 4 rows.
+    c : (n,) float
+    rhs : (B, 4) float
+    x : (n,) float
+        Solver's primal solution (updated in place).
+    y : (B, 4) float
+        Solver's duals per block (updated in place).
+    start : (B+1,) int
+        First column of each block.
+    block_of : (n,) int
+    """
+    n_blocks = len(rhs)
+    order = np.lexsort((-x, block_of))  # per block, columns by decreasing value
+    rank = np.arange(len(x)) - start[block_of[order]]
+    basis = order[rank < _ROWS].reshape(n_blocks, _ROWS)
+    M = entries[basis]  # (B, 4 columns, 4 rows): M[b].T is the basis matrix
+    det = np.linalg.det(M)
+    scale = np.abs(M).max(axis=(1, 2)) ** _ROWS
+    ok = np.abs(det) > 1e-12 * np.maximum(scale, 1e-300)
+    M_safe = np.where(ok[:, None, None], M, np.eye(_ROWS))
+    xb = np.linalg.solve(np.swapaxes(M_safe, 1, 2), rhs[..., None])[..., 0]
+    yb = np.linalg.solve(M_safe, c[basis][..., None])[..., 0]
+    xscale = np.maximum(1.0, np.abs(xb).max(axis=1))
+    ok &= xb.min(axis=1) >= -1e-12 * xscale
+    reduced = c - np.einsum("nr,nr->n", entries, yb[block_of])
+    yscale = np.maximum(1.0, np.abs(yb).max(axis=1))
+    ok &= np.minimum.reduceat(reduced, start[:-1]) >= -1e-9 * yscale
+    if ok.any():
+        cols = np.nonzero(ok[block_of])[0]
+        x[cols] = 0.0
+        x[basis[ok]] = np.maximum(xb[ok], 0.0)
+        y[ok] = yb[ok]
+    return x, y
+
+
+def _unit_rows(v):
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
+
+
+def _check_points(points):
+    try:
+        return as_points(points, "points", dim=3)
+    except ValueError as exc:
+        raise ValueError(f"{exc}; hand points must be an (n, 3) array in mm") from None
+
+
+def _facet_vertices(piece, facet_mask):
+    """Vertex lists of the facets selected per row.
+
+    Parameters
+    ----------
+    piece : ConvexPiece
+    facet_mask : (m, f) bool
+        Selected facets, one row per block.
+
+    Returns
+    -------
+    vertices : (sum(counts), 3) float
+        The selected vertices of each row, concatenated.
+    counts : (m,) int
+    """
+    rows, facet = np.nonzero(facet_mask)
+    used = np.zeros((len(facet_mask), len(piece.vertices)), dtype=bool)
+    used[rows[:, None], piece.facets[facet]] = True
+    r, v = np.nonzero(used)
+    return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
+
+
+def _first_per_group(group, key):
+    """Index of the smallest ``key`` within each group (and the order used)."""
+    order = np.lexsort((key, group))
+    first = np.r_[True, group[order][1:] != group[order][:-1]]
+    return order, first
+
+
+# --------------------------------------------------------------------------- cP
+
+
+def _candidates(obj, P, S):
+    """(n, J) bool: the pieces that can be each point's cP minimiser (DESIGN.md Sec. 5 rule).
+
+    Inside some piece: the pieces containing the point (the others have
+    values >= 0). Outside: a piece whose Euclidean distance exceeds
+    ``GAUGE_RATIO`` times the smallest one is dropped. The facet planes give
+    lower bounds of the distances and the nearest vertices upper bounds;
+    python-fcl's exact (GJK) distances settle the pieces the bounds leave open.
+    """
+    n, J = S.shape
+    inside = S <= 0.0
+    if J == 1:
+        return np.ones((n, 1), dtype=bool)
+    lower = np.maximum(S, 0.0)
+    cand = lower <= GAUGE_RATIO * obj._vertex_distance(P).min(axis=1, keepdims=True)
+    out = inside.any(axis=1)
+    cand[out] = inside[out]
+    query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
+    for i in np.nonzero(~out & (cand.sum(axis=1) > 1))[0]:
+        js = np.nonzero(cand[i])[0]
+        query.setTranslation(P[i])
+        exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
+        exact = np.maximum(exact, lower[i, js])
+        best = exact.min()
+        cand[i, js] = exact <= GAUGE_RATIO * best + 1e-6 * (1.0 + best)
+    return cand
+
+
+def contact_distance(obj, points, backend="highs") -> ContactDistance:
+    """cP of hand points against an object; see :meth:`GraspObject.contact_distance`."""
+    P = _check_points(points)
+    solver = lp.get_backend(backend)
+    n = len(P)
+    S = obj._plane_bounds(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
+    cand = _candidates(obj, P, S)
+
+    blocks = _Blocks()
+    batches = []  # (batch index, points, piece, separation?)
+    for j, piece in enumerate(obj.convex):
+        sep = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
+        if len(sep):  # Eq. 1: min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
+            facing = P[sep] @ piece.planes[:, :3].T + piece.planes[:, 3] > 0.0
+            verts, counts = _facet_vertices(piece, facing)
+            lead = np.broadcast_to(_Q, (len(sep), 4, 3))
+            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[sep], P[sep]), sep, j, True))
+        pen = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
+        for k in range(4) if len(pen) else ():  # Eq. 3: min -rho  s.t.  rho q_k + V^T beta = p
+            exits = obj._exit_vertices(j, k)
+            verts = np.tile(exits, (len(pen), 1))
+            counts = np.full(len(pen), len(exits))
+            lead = np.broadcast_to(_Q[k], (len(pen), 1, 3))
+            batches.append((blocks.add(lead, [-1.0], verts, counts, 1.0, P[pen], P[pen]), pen, j, False))
+    solved = blocks.solve(solver, "cP")
+
+    # one row per (point, piece[, k]) LP, then penetration = max over k, cP = min over pieces
+    pts, pcs, vals, grads, wits, nrms, degs, ks = [], [], [], [], [], [], [], []
+    for b, rows, j, separation in batches:
+        lead_x, witness, y, deg = solved[b]
+        pts.append(rows)
+        pcs.append(np.full(len(rows), j))
+        vals.append(lead_x.sum(axis=1) if separation else -lead_x[:, 0])
+        grads.append(-y if separation else y)
+        nrms.append(y if separation else -y)
+        wits.append(witness)
+        degs.append(deg)
+        ks.append(np.full(len(rows), separation))
+    pts, pcs, vals = np.concatenate(pts), np.concatenate(pcs), np.concatenate(vals)
+    grads, wits, nrms = np.concatenate(grads), np.concatenate(wits), np.concatenate(nrms)
+    degs, sep_rows = np.concatenate(degs), np.concatenate(ks)
+
+    # penetration: the max over k (ties between k make the derivative one-sided)
+    pair = pts * len(obj.convex) + pcs
+    order, first = _first_per_group(pair, -vals)
+    head = np.nonzero(first)[0]
+    best_rows = order[head]
+    follower = np.minimum(head + 1, len(order) - 1)
+    same = (follower != head) & (pair[order[follower]] == pair[best_rows])
+    tie_k = same & (np.abs(vals[order[follower]] - vals[best_rows]) <= 1e-9 * (1 + np.abs(vals[best_rows])))
+    degs = degs.copy()
+    degs[best_rows] |= tie_k
+    # cP: the min over the candidate pieces (rows come out sorted by point)
+    order2, first2 = _first_per_group(pts[best_rows], vals[best_rows])
+    chosen = best_rows[order2[first2]]
+    degenerate = degs[chosen].copy()
+    # a tie between pieces with different gradients: the derivative is one-sided
+    nxt = first2 & np.r_[~first2[1:], False]
+    if nxt.any():
+        a, b = best_rows[order2[nxt]], best_rows[order2[np.nonzero(nxt)[0] + 1]]
+        close = np.abs(vals[b] - vals[a]) <= 1e-9 * (1 + np.abs(vals[a]))
+        differ = np.abs(grads[b] - grads[a]).max(axis=1) > 1e-9 * (1 + np.abs(grads[a]).max(axis=1))
+        degenerate[pts[a[close & differ]]] = True
+
+    return ContactDistance(
+        value=vals[chosen],
+        grad=grads[chosen],
+        nearest=wits[chosen],
+        normal=_unit_rows(nrms[chosen]),
+        piece=pcs[chosen],
+        inside=~sep_rows[chosen],
+        degenerate=degenerate,
+        candidates=cand.sum(axis=1),
+        lp_solves=1,
+    )
+
+
+# --------------------------------------------------------------------------- sQ
+
+
+def _ray_exits(obj, u):
+    """Closed-form exit parameter of the rays c + t u (t >= 0) from every piece.
+
+    Returns
+    -------
+    t_exit : (n, J) float
+        Largest t with ``c + t u`` in piece j; -inf when the ray misses it.
+    """
+    c = obj.center
+    N, o = obj._planes[:, :3], obj._planes[:, 3]
+    a = u @ N.T  # (n, F)
+    b = -(N @ c + o)  # (F,)  >= 0 where c is inside the facet's half-space
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = b / a
+    upper = np.where(a > 0, ratio, np.inf)
+    lower = np.where(a < 0, ratio, -np.inf)
+    blocked = (a == 0) & (b < 0)
+    starts = obj._plane_starts
+    t_hi = np.minimum.reduceat(upper, starts, axis=1)
+    t_lo = np.maximum(np.maximum.reduceat(lower, starts, axis=1), 0.0)
+    miss = np.logical_or.reduceat(blocked, starts, axis=1) | (t_lo > t_hi * (1 + 1e-12) + 1e-12)
+    return np.where(miss, -np.inf, t_hi)
+
+
+def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
+    """sQ contacts of hand points; see :meth:`GraspObject.scaled_contacts`."""
+    P = _check_points(points)
+    solver = lp.get_backend(backend)
+    c0 = obj.center
+    U = P - c0
+    length = np.linalg.norm(U, axis=1)
+    at_centre = length <= 1e-9 * obj.torque_scale
+    if at_centre.any():
+        raise ValueError(
+            f"points rows {np.nonzero(at_centre)[0].tolist()} coincide with the object's centre "
+            f"{c0.tolist()}: the ray from the centre through the point, and so the sQ scale, is undefined"
+        )
+    T = _ray_exits(obj, U)
+    best = T.max(axis=1)
+    missed = ~np.isfinite(best)
+    if missed.any():
+        raise ValueError(
+            f"the rays from the object's centre {c0.tolist()} through points rows "
+            f"{np.nonzero(missed)[0].tolist()} miss the object; the centre must lie inside the object"
+        )
+    # the LP only for the pieces the ray leaves last (closed form, within a tolerance)
+    cand = T >= (best * (1 - 1e-7) - 1e-9)[:, None]
+    blocks = _Blocks()
+    batches = []
+    for j, piece in enumerate(obj.convex):
+        rows = np.nonzero(cand[:, j])[0]
+        if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
+            leaving = U[rows] @ piece.planes[:, :3].T > 0.0
+            verts, counts = _facet_vertices(piece, leaving)
+            rhs = np.broadcast_to(-c0, (len(rows), 3))
+            batches.append((blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0), rows, j))
+    solved = blocks.solve(solver, "sQ ray")
+
+    pts = np.concatenate([rows for _, rows, _ in batches])
+    pcs = np.concatenate([np.full(len(rows), j) for _, rows, j in batches])
+    ts = np.concatenate([solved[b][0][:, 0] for b, _, _ in batches])
+    ys = np.concatenate([solved[b][2] for b, _, _ in batches])
+    degs = np.concatenate([solved[b][3] for b, _, _ in batches])
+    order, first = _first_per_group(pts, -ts)
+    chosen = order[first]
+    degenerate = degs[chosen].copy()
+    nxt = first & np.r_[~first[1:], False]
+    if nxt.any():  # the ray leaves two pieces at once: one-sided derivatives unless the planes agree
+        a, b = order[nxt], order[np.nonzero(nxt)[0] + 1]
+        close = np.abs(ts[b] - ts[a]) <= 1e-9 * (1 + np.abs(ts[a]))
+        differ = np.abs(ys[b] - ys[a]).max(axis=1) > 1e-9 * (1 + np.abs(ys[a]).max(axis=1))
+        degenerate[pts[a[close & differ]]] = True
+    t, y = ts[chosen], ys[chosen]
+    n = len(P)
+    dt = t[:, None] * y  # d t / d p
+    contact = c0 + t[:, None] * U
+    eye = np.eye(3)
+    jac_contact = t[:, None, None] * (eye + U[:, :, None] * y[:, None, :])
+    return ScaledContacts(
+        scale=1.0 / t,
+        contact=contact,
+        normal=_unit_rows(y),
+        point=P.copy(),
+        grad_scale=-dt / t[:, None] ** 2,
+        jac_contact=jac_contact,
+        jac_normal=np.zeros((n, 3, 3)),
+        piece=pcs[chosen],
+        inside=t > 1.0,
+        degenerate=degenerate,
+        lp_solves=1,
+    )
+
+
+# --------------------------------------------------------------------------- capsules
+
+
+def _frame(direction):
+    """Rotation whose z axis is the unit ``direction``."""
+    z = direction
+    a = np.eye(3)[int(np.argmin(np.abs(z)))]
+    x = np.cross(a, z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def penetration(obj, segments, radius) -> Penetration:
+    """Deepest capsule penetration; see :meth:`GraspObject.penetration`."""
+    try:
+        seg = np.asarray(segments, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"segments must be a numeric (k, 2, 3) array, got {type(segments).__name__}") from exc
+    if seg.ndim != 3 or seg.shape[1:] != (2, 3) or len(seg) == 0:
+        raise ValueError(f"segments must have shape (k, 2, 3) (end points of k capsule axes), got {seg.shape}")
+    if not np.isfinite(seg).all():
+        raise ValueError("segments contains NaN or inf")
+    k = len(seg)
+    r = np.asarray(radius, dtype=float)
+    if r.ndim == 0:
+        r = np.full(k, positive_scalar(float(r), "radius"))
+    elif r.shape != (k,):
+        raise ValueError(f"radius must be a number or shape ({k},), got shape {r.shape}")
+    elif not (np.isfinite(r).all() and (r > 0).all()):
+        raise ValueError("radius must be finite and > 0 for every capsule")
+    request = fcl.DistanceRequest(enable_signed_distance=True)
+    distances = np.empty(k)
+    deepest_piece = np.full(k, -1)
+    manager = obj._fcl_manager
+    for i in range(k):
+        a, b = seg[i]
+        axis = b - a
+        length = float(np.linalg.norm(axis))
+        if length <= 1e-12:
+            geom, rot = fcl.Sphere(float(r[i])), np.eye(3)
+        else:
+            geom, rot = fcl.Capsule(float(r[i]), length), _frame(axis / length)
+        capsule = fcl.CollisionObject(geom, fcl.Transform(rot, 0.5 * (a + b)))
+        data = fcl.DistanceData(request=request)
+        manager.distance(capsule, data, fcl.defaultDistanceCallback)
+        distances[i] = data.result.min_distance
+        if distances[i] < 0:
+            per = [fcl.distance(capsule, piece.fcl, request, fcl.DistanceResult()) for piece in obj.convex]
+            distances[i] = min(per)
+            deepest_piece[i] = int(np.argmin(per))
+    depths = np.maximum(-distances, 0.0)
+    index = int(np.argmax(depths)) if (depths > 0).any() else -1
+    return Penetration(
+        depth=float(depths[index]) if index >= 0 else 0.0,
+        index=index,
+        depths=depths,
+        distances=distances,
+        piece=int(deepest_piece[index]) if index >= 0 else -1,
+    )

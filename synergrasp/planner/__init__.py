@@ -1,0 +1,20 @@
+"""The reach-to-grasp planner (paper Sec. 3.2): status vector, step, stop rules, results."""
+
+from .core import APPROACHES, GRASPS, PlannerOptions, plan, start_configuration
+from .result import PlanResult
+from .status import Status, grasp_status, smoothed_normals
+from .stop import GraspCheck, check_grasp
+
+__all__ = [
+    "APPROACHES",
+    "GRASPS",
+    "GraspCheck",
+    "PlanResult",
+    "PlannerOptions",
+    "Status",
+    "check_grasp",
+    "grasp_status",
+    "plan",
+    "smoothed_normals",
+    "start_configuration",
+]

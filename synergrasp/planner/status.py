@@ -1,0 +1,132 @@
+"""The grasp status vector g (paper Eqs. 12-14) and its Jacobian dg/du.
+
+g = [cP of each hand point ; g_sQ]: the contact pseudo-distance of the 5
+fingertips (precision) or the 16 phalanx and palm points (power), then the
+Q distance of the contacts the hand would make with the object scaled about
+its centre (sQ). The Jacobian chains the dual-based derivatives of cP and of
+the Q distance with the hand's analytic point Jacobians; nothing is
+differentiated numerically.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..quality import q_distance
+
+
+@dataclass(frozen=True)
+class Status:
+    """The grasp status at one configuration.
+
+    Attributes
+    ----------
+    g : (n+1,) float
+        cP of each hand point (mm), then g_sQ.
+    J : (n+1, len(u)) float
+        dg/du.
+    points : (n, 3) float
+        The hand points.
+    nearest : (n, 3) float
+        Nearest object point of each hand point.
+    normals : (n, 3) float
+        Inward object normal at ``nearest``.
+    lp_solves : int
+        Solver calls made.
+    """
+
+    g: np.ndarray
+    J: np.ndarray
+    points: np.ndarray
+    nearest: np.ndarray
+    normals: np.ndarray
+    lp_solves: int
+
+
+def smoothed_normals(obj, x, pieces, length):
+    """Inward normals of a smoothed surface and their derivatives.
+
+    The facet normals of a polytope are piecewise constant, so their derivative
+    along the surface is zero almost everywhere and the way a smooth object's
+    normal turns as a contact slides is lost. Each piece's surface is smoothed by
+    the log-sum-exp of its facet planes, ``f(x) = h log sum_f exp((n_f . x + o_f) / h)``,
+    whose gradient is a softmax-weighted average of the facet normals.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    x : (n, 3) float
+        Points on (or near) the surface.
+    pieces : (n,) int
+        The piece of each point.
+    length : float
+        Smoothing length h (mm).
+
+    Returns
+    -------
+    normals : (n, 3) float
+        Unit inward normals.
+    jac : (n, 3, 3) float
+        d normal / d x.
+    """
+    normals = np.empty((len(x), 3))
+    jac = np.empty((len(x), 3, 3))
+    for i, (xi, k) in enumerate(zip(x, pieces)):
+        planes = obj.convex[k].planes
+        s = (planes[:, :3] @ xi + planes[:, 3]) / length
+        w = np.exp(s - s.max())
+        w /= w.sum()
+        a = planes[:, :3]
+        m = w @ a
+        dm = (a.T * w) @ a / length - np.outer(m, m) / length
+        norm = np.linalg.norm(m)
+        n_out = m / norm
+        normals[i] = -n_out
+        jac[i] = -(np.eye(3) - np.outer(n_out, n_out)) @ dm / norm
+    return normals, jac
+
+
+def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
+    """Status vector and Jacobian at configuration u.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (8,) float
+        Configuration (mm, rad, synergies).
+    kind : {"precision", "power"}
+        Which hand points.
+    mu, edges : float, int
+        Friction model of the sQ term.
+    backend : str
+        LP backend.
+
+    Returns
+    -------
+    Status
+    """
+    points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
+    cp = obj.contact_distance(points, backend=backend)
+    sc = obj.scaled_contacts(points, backend=backend)
+    if smoothing:
+        normals, jac_n = smoothed_normals(obj, sc.contact, sc.piece, smoothing)
+        jac_normal = jac_n @ sc.jac_contact
+    else:
+        normals, jac_normal = sc.normal, sc.jac_normal
+    sq = q_distance(
+        sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend
+    )
+    # d g_sQ / d p_i through the contact carried back to the object and its normal
+    grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
+    J = np.vstack([np.einsum("ia,iab->ib", cp.grad, jac), np.einsum("ia,iab->b", grad_sq, jac)])
+    return Status(
+        g=np.append(cp.value, sq.value),
+        J=J,
+        points=points,
+        nearest=cp.nearest,
+        normals=cp.normal,
+        lp_solves=cp.lp_solves + sc.lp_solves + sq.lp_solves,
+    )

@@ -1,0 +1,78 @@
+"""The stop criteria of the paper (Fig. 6) and the grasp quality of the real contacts."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..quality import q_distance
+
+
+@dataclass(frozen=True)
+class GraspCheck:
+    """The real grasp at one iteration.
+
+    Attributes
+    ----------
+    contact : (n,) bool
+        Hand points in contact: cP < eps_c.
+    n_contacts : int
+        N_c of the paper.
+    q : float
+        g_Q: Q distance of the contacts at their nearest object points, with
+        the object's normals there (NaN without contacts).
+    palm : bool
+        The palm point is in contact (power grasps need it; precision grasps
+        must not end with it).
+    done : bool
+        The paper's stop criterion holds.
+    lp_solves : int
+    """
+
+    contact: np.ndarray
+    n_contacts: int
+    q: float
+    palm: bool
+    done: bool
+    lp_solves: int
+
+
+def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs", palm_cp=None) -> GraspCheck:
+    """Evaluate the paper's stop criterion at a status.
+
+    Precision: N_c >= 3 and g_Q < -0.1, or N_c >= 4 and g_Q < 0, and no palm
+    contact. Power: |g_P| < eps_c first (a palm contact), then N_c >= 4 and
+    g_Q < -0.1, or N_c >= 6 and g_Q < 0.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    status : Status
+        From :func:`synergrasp.planner.status.grasp_status`.
+    kind : {"precision", "power"}
+    eps_c : float
+        Contact threshold (mm).
+    palm_cp : float, optional
+        cP of the palm point, for precision grasps (power grasps carry it as
+        their last hand point).
+
+    Returns
+    -------
+    GraspCheck
+    """
+    cp = status.g[:-1]
+    contact = cp < eps_c
+    n_c = int(contact.sum())
+    q, solves = np.nan, 0
+    if n_c:
+        res = q_distance(status.nearest[contact], status.normals[contact], mu=mu, edges=edges,
+                         center=obj.center, torque_scale=obj.torque_scale, backend=backend)
+        q, solves = res.value, res.lp_solves
+    if kind == "power":
+        palm = bool(abs(cp[-1]) < eps_c)
+        done = palm and ((n_c >= 4 and q < -0.1) or (n_c >= 6 and q < 0))
+    else:
+        palm = palm_cp is not None and palm_cp < eps_c
+        done = not palm and ((n_c >= 3 and q < -0.1) or (n_c >= 4 and q < 0))
+    return GraspCheck(contact, n_c, float(q), palm, bool(done), solves)

@@ -1,0 +1,213 @@
+"""Figures and animations of plans: status histories, hand poses, a GIF and an HTML scene.
+
+All functions draw headless (matplotlib's Agg backend) and write files.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import trimesh  # noqa: E402
+from matplotlib import animation  # noqa: E402
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+
+_FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
+
+
+def plot_status(result, path, labels=None):
+    """The status vector against iterations, like the paper's Figs. 7b-14b.
+
+    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
+    g_Q with the -0.1 level of a good grasp.
+
+    Parameters
+    ----------
+    result : PlanResult
+    path : str or Path
+        Output image (.png, .svg, .pdf).
+    labels : list of str, optional
+        Names of the cP rows; default from the hand's point labels.
+
+    Returns
+    -------
+    Path
+    """
+    from .hand import SynergyHand
+
+    labels = labels or SynergyHand.default().point_labels(result.grasp)
+    status = np.asarray(result.status)
+    k = np.arange(len(status))
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    for i, label in enumerate(labels):
+        top.plot(k, status[:, i], color=_FINGER_COLORS.get(label[0], "gray"), lw=1.4,
+                 ls=["-", "--", ":", "-."][int(label[1]) % 4] if label[1:].isdigit() else "-", label=f"$g_{{{label}}}$")
+    eps_c = result.options.get("eps_c", 5.0)
+    top.axhline(eps_c, color="k", lw=0.8, ls="--", label=r"$\varepsilon_c$")
+    top.axhline(0.0, color="gray", lw=0.6)
+    top.set_ylabel("cP (mm)")
+    top.set_yscale("symlog", linthresh=10.0)
+    top.legend(ncol=6 if len(labels) > 6 else 4, fontsize=7, loc="upper right")
+    top.set_title(f"{result.object_name}, {result.grasp} grasp: {'success' if result.success else 'no grasp'} "
+                  f"after {result.iterations} iterations")
+    bottom.plot(k, status[:, -1], color="tab:blue", lw=1.6, label=r"$g_{sQ}$")
+    bottom.plot(k, result.q_history, color="tab:red", lw=1.2, label=r"$g_Q$ (real contacts)")
+    bottom.axhline(-0.1, color="k", lw=0.8, ls="--", label="-0.1")
+    bottom.axhline(0.0, color="gray", lw=0.6)
+    bottom.set_ylabel("Q distance")
+    bottom.set_xlabel("iteration k")
+    bottom.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def _draw_object(ax, obj):
+    mesh = obj.mesh if obj.mesh is not None else obj.to_mesh()
+    poly = Poly3DCollection(mesh.vertices[mesh.faces], facecolor=(0.85, 0.75, 0.55, 0.35), edgecolor=(0.5, 0.4, 0.3, 0.15), lw=0.2)
+    ax.add_collection3d(poly)
+
+
+def _draw_hand(ax, hand, u, alpha=1.0, lw=4.0):
+    geo = hand.segments(u)
+    artists = []
+    for (a, b), label in zip(geo.capsules, geo.labels):
+        artists += ax.plot(*np.c_[a, b], color=_FINGER_COLORS[label[0]], lw=lw, alpha=alpha, solid_capstyle="round")
+    corners = geo.palm_corners
+    top = corners[[0, 1, 3, 2, 0]] if len(corners) == 8 else corners
+    artists += ax.plot(*top.T, color="k", lw=1.0, alpha=alpha)
+    return artists
+
+
+def _frame_axes(ax, obj, points):
+    lo = np.minimum(obj.bounds[0], points.min(axis=0))
+    hi = np.maximum(obj.bounds[1], points.max(axis=0))
+    centre, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
+        setter(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_zlabel("z (mm)")
+
+
+def plot_poses(result, obj, hand, path, count=5):
+    """Hand poses at several iterations around the object, like the paper's Figs. 7a-14a.
+
+    Parameters
+    ----------
+    result : PlanResult
+    obj : GraspObject
+    hand : SynergyHand
+    path : str or Path
+    count : int
+        Number of poses drawn, evenly spread over the trajectory (last included).
+
+    Returns
+    -------
+    Path
+    """
+    traj = np.asarray(result.trajectory)
+    picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
+    fig = plt.figure(figsize=(7, 7))
+    ax = fig.add_subplot(projection="3d")
+    _draw_object(ax, obj)
+    points = []
+    for rank, k in enumerate(picks):
+        alpha = 0.25 + 0.75 * (rank + 1) / len(picks)
+        _draw_hand(ax, hand, traj[k], alpha=alpha, lw=2.5 + 2.0 * (k == picks[-1]))
+        points.append(hand.segments(traj[k]).capsules.reshape(-1, 3))
+    if len(result.contact_points):
+        ax.scatter(*np.asarray(result.contact_points).T, color="k", s=18, depthshade=False)
+    _frame_axes(ax, obj, np.vstack(points))
+    ax.set_title(f"{result.object_name}, {result.grasp}: iterations {', '.join(map(str, picks))}")
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def animate(result, obj, hand, path, fps=15, max_frames=120):
+    """GIF animation of the whole reach.
+
+    Parameters
+    ----------
+    result : PlanResult
+    obj : GraspObject
+    hand : SynergyHand
+    path : str or Path
+        Output ``.gif``.
+    fps : int
+    max_frames : int
+        Longer trajectories are subsampled.
+
+    Returns
+    -------
+    Path
+    """
+    traj = np.asarray(result.trajectory)
+    frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
+    fig = plt.figure(figsize=(5.5, 5.5))
+    ax = fig.add_subplot(projection="3d")
+    _draw_object(ax, obj)
+    _frame_axes(ax, obj, np.vstack([hand.segments(traj[k]).capsules.reshape(-1, 3) for k in frames[[0, -1]]]))
+    artists = []
+
+    def draw(k):
+        for artist in artists:
+            artist.remove()
+        artists[:] = _draw_hand(ax, hand, traj[k])
+        ax.set_title(f"k = {k}   g_sQ = {result.status[k, -1]:+.3f}")
+        return artists
+
+    anim = animation.FuncAnimation(fig, draw, frames=frames, blit=False)
+    path = Path(path)
+    anim.save(path, writer=animation.PillowWriter(fps=fps))
+    plt.close(fig)
+    return path
+
+
+def scene(obj, hand, u):
+    """A trimesh scene of the object and the hand at configuration u.
+
+    Returns
+    -------
+    trimesh.Scene
+    """
+    meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
+    meshes[0].visual.face_colors = [220, 190, 140, 160]
+    geo = hand.segments(u)
+    for (a, b), label in zip(geo.capsules, geo.labels):
+        capsule = trimesh.creation.capsule(height=float(np.linalg.norm(b - a)), radius=geo.radius, count=[12, 12])
+        capsule.apply_transform(trimesh.geometry.align_vectors([0, 0, 1], b - a))
+        capsule.apply_translation((a + b) / 2)
+        capsule.visual.face_colors = (np.array(matplotlib.colors.to_rgba(_FINGER_COLORS[label[0]])) * 255).astype(int)
+        meshes.append(capsule)
+    palm = trimesh.creation.box(extents=2 * geo.palm_half_extents)
+    transform = np.eye(4)
+    transform[:3, :3], transform[:3, 3] = geo.palm_axes, geo.palm_center
+    palm.apply_transform(transform)
+    palm.visual.face_colors = [90, 90, 90, 255]
+    meshes.append(palm)
+    return trimesh.Scene(meshes)
+
+
+def write_html(obj, hand, u, path):
+    """An interactive 3-D page (three.js through trimesh) of the final grasp.
+
+    Returns
+    -------
+    Path
+    """
+    from trimesh.viewer.notebook import scene_to_html
+
+    path = Path(path)
+    path.write_text(scene_to_html(scene(obj, hand, u)))
+    return path

@@ -1,0 +1,384 @@
+"""synergrasp.objects: built-ins, cP, sQ contacts and capsule penetration."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import synergrasp as sg
+import synergrasp.objects as so
+from tests.conftest import BACKENDS, assert_gradient, central_difference
+
+Q = sg.regular_simplex(3)
+
+
+def gauge(x):
+    """Gauge of the default regular simplex: -3 min_k q_k . x."""
+    return -3.0 * np.min(Q @ np.asarray(x, dtype=float))
+
+
+def box(half=10.0, center=(0.0, 0.0, 0.0)):
+    corners = np.array(np.meshgrid([-1, 1], [-1, 1], [-1, 1])).reshape(3, -1).T
+    return half * corners + np.asarray(center)
+
+
+def ray_exit_box(p, direction, half):
+    """Largest r with p + r * direction inside the cube [-half, half]^3 (p inside)."""
+    with np.errstate(divide="ignore"):
+        t = np.where(direction > 0, (half - p) / direction, np.where(direction < 0, (-half - p) / direction, np.inf))
+    return t.min()
+
+
+@pytest.fixture(scope="module")
+def goblet():
+    return so.goblet()
+
+
+@pytest.fixture(scope="module")
+def ellipsoid():
+    return so.ellipsoid()
+
+
+@pytest.fixture(scope="module")
+def cube():
+    return so.GraspObject([box(10.0)], name="cube")
+
+
+def around(obj, n, rng, gap=(0.5, 40.0)):
+    """n points gap mm off the object's surface along outward normals."""
+    mesh = obj.to_mesh()
+    import trimesh
+
+    pts, face = trimesh.sample.sample_surface(mesh, n, seed=int(rng.integers(1 << 30)))
+    return pts + rng.uniform(*gap, size=(n, 1)) * mesh.face_normals[face]
+
+
+# --------------------------------------------------------------------------- built-ins
+
+
+@pytest.mark.parametrize("name", list(so.BUILTINS))
+def test_builtins_are_sized_for_a_hand(name):
+    obj = so.get(name)
+    assert isinstance(obj, so.GraspObject) and obj.name.startswith(name)
+    assert 60 <= obj.size <= 170
+    assert obj.contains([obj.center])[0], "the sQ rays need the centre inside"
+    assert obj.torque_scale == pytest.approx(max(np.linalg.norm(v - obj.center, axis=1).max() for v in obj.pieces))
+    assert obj.mesh is not None and obj.mesh.is_watertight
+    # the pieces tile the solid: their volumes add up to the polygonal solid's
+    assert obj.volume == pytest.approx(obj.mesh.volume, rel=1e-6)
+
+
+def test_builtin_sizes():
+    cup, bell, goblet = so.cup(), so.bell(), so.goblet()
+    assert cup.extents == pytest.approx([75, 75, 80], abs=0.5)
+    assert cup.n_pieces > 1  # flared: non-convex
+    assert bell.extents[:2] == pytest.approx([90, 90], abs=0.5) and bell.n_pieces > 3
+    assert goblet.extents == pytest.approx([76, 76, 160], abs=0.5) and goblet.n_pieces == 3
+
+
+def test_ellipsoid_is_accurate_to_half_a_mm(ellipsoid):
+    assert ellipsoid.n_pieces == 1
+    assert ellipsoid.center == pytest.approx([0, 0, 0])
+    assert ellipsoid.torque_scale == pytest.approx(50.0)
+    v = ellipsoid.pieces[0]
+    assert np.sum((v / [30, 40, 50]) ** 2, axis=1) == pytest.approx(1.0)  # vertices on the surface
+    assert ellipsoid.info["max_gap"] <= 0.5
+    # cP from outside along the axes: the Euclidean gap is within the faceting
+    rng = np.random.default_rng(0)
+    d = rng.normal(size=(50, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    surface = d / np.sqrt(np.sum((d / [30, 40, 50]) ** 2, axis=1, keepdims=True))
+    assert (ellipsoid.contains(surface * 0.99)).all()
+    assert not ellipsoid.contains(surface * 1.0 + 0.5 * d).any()
+
+
+def test_get_and_errors():
+    assert so.get("GOBLET").name == "goblet"
+    with pytest.raises(ValueError, match="not a built-in"):
+        so.get("teapot")
+    with pytest.raises(ValueError, match="no volume"):
+        so.GraspObject([[[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]])
+    with pytest.raises(ValueError, match="empty"):
+        so.GraspObject([])
+    with pytest.raises(ValueError, match="NaN"):
+        so.GraspObject([box() * np.nan])
+
+
+def test_revolve_cuts_at_convex_kinks():
+    # an hourglass: two cones tip to tip are two convex pieces
+    hourglass = so.revolve([[20, 0], [5, 20], [20, 40]], name="hourglass")
+    assert hourglass.n_pieces == 2
+    # a barrel (concave profile) is one convex piece
+    barrel = so.revolve([[10, 0], [15, 10], [16, 20], [15, 30], [10, 40]])
+    assert barrel.n_pieces == 1
+    with pytest.raises(ValueError, match="strictly increasing"):
+        so.revolve([[10, 0], [10, 0]])
+    with pytest.raises(ValueError, match="negative"):
+        so.revolve([[10, 0], [-1, 5], [10, 10]])
+
+
+def test_transformed(goblet):
+    R = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]])
+    M = np.eye(4)
+    M[:3, :3], M[:3, 3] = R, [100, 0, 0]
+    moved = goblet.transformed(M)
+    p = np.array([[50.0, 10.0, 120.0]])
+    assert moved.center == pytest.approx(R @ goblet.center + [100, 0, 0])
+    assert moved.contains(p @ R.T + [100, 0, 0])[0] == goblet.contains(p)[0]
+    # the simplex gauge is not rotation invariant, but it is translation invariant
+    shifted = np.eye(4)
+    shifted[:3, 3] = [5, -3, 2]
+    t = goblet.transformed(shifted)
+    assert t.contact_distance(p + [5, -3, 2]).value == pytest.approx(goblet.contact_distance(p).value, abs=1e-7)
+    with pytest.raises(ValueError, match="rigid"):
+        goblet.transformed(np.diag([2.0, 1, 1, 1]))
+
+
+# --------------------------------------------------------------------------- cP
+
+
+def test_cp_closed_forms_on_a_cube(cube, backend):
+    # outside along +z: b - p points along -z, a vertex direction of Q: gauge = Euclidean
+    # outside along -z: b - p along +z, opposite a vertex: gauge = 3 x Euclidean
+    pts = np.array([[0, 0, 25.0], [0, 0, -25.0], [1.0, -2.0, 14.0]])
+    r = cube.contact_distance(pts, backend=backend)
+    assert r.value[:2] == pytest.approx([15.0, 45.0], abs=1e-7)
+    assert r.value[2] == pytest.approx(4.0, abs=1e-7)  # straight above the top face, 4 mm
+    assert r.nearest[0] == pytest.approx([0, 0, 10], abs=1e-6)
+    assert r.normal[0] == pytest.approx([0, 0, -1], abs=1e-7)  # inward
+    assert r.grad[1] == pytest.approx([0, 0, -3], abs=1e-7)
+    assert not r.inside.any()
+
+
+def test_cp_point_to_point_closed_form(backend):
+    # a tiny piece around b: the value tends to gauge(b - p)
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        b, p = rng.normal(size=3) * 20, rng.normal(size=3) * 20
+        tiny = so.GraspObject([box(1e-4, b)])
+        r = tiny.contact_distance([p], backend=backend)
+        assert r.value[0] == pytest.approx(gauge(b - p), abs=1e-3)
+
+
+def test_cp_inside_cube_closed_form(cube, backend):
+    rng = np.random.default_rng(4)
+    pts = rng.uniform(-9.5, 9.5, size=(12, 3))
+    r = cube.contact_distance(pts, backend=backend)
+    expected = [-min(ray_exit_box(p, -q, 10.0) for q in Q) for p in pts]
+    assert r.value == pytest.approx(expected, abs=1e-7)
+    assert r.inside.all()
+    assert r.value[np.argmin(np.abs(pts).max(axis=1))] < 0
+
+
+def test_cp_matches_core_pseudo_distance(goblet, backend):
+    rng = np.random.default_rng(5)
+    pts = np.vstack([around(goblet, 12, rng), goblet.center + rng.normal(size=(4, 3)) * 5])
+    r = goblet.contact_distance(pts, backend=backend)
+    for i, p in enumerate(pts):
+        per_piece = [sg.pseudo_distance([p], V, backend=backend) for V in goblet.pieces]
+        best = min(per_piece, key=lambda x: x.value)
+        assert r.value[i] == pytest.approx(best.value, abs=1e-7)
+        if not r.degenerate[i]:
+            assert r.grad[i] == pytest.approx(best.grad_a[0], abs=1e-6)
+    assert (r.value[-4:] < 0).all() and r.inside[-4:].all()
+    assert r.lp_solves == 1
+
+
+def test_cp_sign_and_continuity_across_the_surface(goblet, backend):
+    # walk along an outward normal through the bowl's surface
+    p0 = np.array([0.0, 0.0, goblet.center[2]])
+    direction = np.array([1.0, 0.3, 0.1])
+    direction /= np.linalg.norm(direction)
+    s = np.linspace(20.0, 50.0, 61)
+    r = goblet.contact_distance(p0 + s[:, None] * direction, backend=backend)
+    inside = goblet.contains(p0 + s[:, None] * direction)
+    assert (np.sign(r.value[inside]) <= 0).all() and (r.value[~inside] > 0).all()
+    assert inside[0] and not inside[-1]
+    # continuous: the value changes at most 3x (gauge bound) the step
+    assert np.abs(np.diff(r.value)).max() <= 3.0 * (s[1] - s[0]) + 1e-9
+    k = np.argmax(~inside)
+    assert abs(r.value[k]) <= 3 * (s[1] - s[0]) and abs(r.value[k - 1]) <= 3 * (s[1] - s[0])
+
+
+def test_cp_gradients_match_finite_differences(goblet, ellipsoid, backend):
+    rng = np.random.default_rng(6)
+    for obj in (goblet, ellipsoid):
+        pts = np.vstack([around(obj, 6, rng), obj.center + rng.normal(size=(2, 3)) * 4])
+        r = obj.contact_distance(pts, backend=backend)
+        for i in np.nonzero(~r.degenerate)[0]:
+            f = lambda p: obj.contact_distance(p[None], backend=backend).value[0]  # noqa: E731
+            assert_gradient(r.grad[i], central_difference(f, pts[i], h=1e-5), rtol=1e-5, atol=1e-7)
+
+
+def test_cp_rejects_bad_points(goblet):
+    with pytest.raises(ValueError, match=r"\(n, 3\)"):
+        goblet.contact_distance([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match="dimension 2"):
+        goblet.contact_distance([[1.0, 2.0]])
+    with pytest.raises(ValueError, match="NaN"):
+        goblet.contact_distance([[1.0, np.nan, 3.0]])
+    with pytest.raises(ValueError, match="empty"):
+        goblet.contact_distance(np.zeros((0, 3)))
+    with pytest.raises(ValueError, match="unknown LP backend"):
+        goblet.contact_distance([[0, 0, 300.0]], backend="simplex-by-hand")
+
+
+@pytest.mark.skipif(len(BACKENDS) < 2, reason="needs two backends")
+def test_backends_agree(goblet):
+    rng = np.random.default_rng(7)
+    pts = np.vstack([around(goblet, 10, rng), goblet.center + rng.normal(size=(3, 3)) * 4])
+    ref = goblet.contact_distance(pts, backend=BACKENDS[0])
+    sref = goblet.scaled_contacts(pts, backend=BACKENDS[0])
+    for name in BACKENDS[1:]:
+        r = goblet.contact_distance(pts, backend=name)
+        assert r.value == pytest.approx(ref.value, abs=1e-7)
+        ok = ~ref.degenerate
+        assert r.grad[ok] == pytest.approx(ref.grad[ok], abs=1e-7)
+        s = goblet.scaled_contacts(pts, backend=name)
+        assert s.scale == pytest.approx(sref.scale, abs=1e-7)
+        assert s.contact == pytest.approx(sref.contact, abs=1e-6)
+        ok = ~sref.degenerate
+        assert s.normal[ok] == pytest.approx(sref.normal[ok], abs=1e-7)
+
+
+def _random_object(seed):
+    """A few random convex pieces (random point sets) scattered in a 100 mm box."""
+    rng = np.random.default_rng(seed)
+    pieces = []
+    for _ in range(rng.integers(2, 6)):
+        centre = rng.uniform(-40, 40, size=3)
+        pieces.append(centre + rng.normal(size=(int(rng.integers(6, 15)), 3)) * rng.uniform(3, 15, size=3))
+    return so.GraspObject(pieces), rng
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_broad_phase_pruning_never_changes_the_value(seed):
+    obj, rng = _random_object(seed)
+    pts = rng.uniform(-70, 70, size=(6, 3))
+    pts[:2] = obj.pieces[0].mean(axis=0) + rng.normal(size=(2, 3))  # inside or near a piece
+    r = obj.contact_distance(pts)
+    brute = np.array([min(sg.pseudo_distance([p], V).value for V in obj.pieces) for p in pts])
+    assert r.value == pytest.approx(brute, abs=1e-7 * (1 + np.abs(brute).max()))
+    assert (r.candidates >= 1).all() and (r.candidates <= obj.n_pieces).all()
+
+
+def test_broad_phase_prunes_far_pieces(goblet):
+    # beside the bowl the foot is far: only the bowl is solved
+    r = goblet.contact_distance([[45.0, 0.0, 120.0]])
+    assert r.candidates[0] == 1 and r.piece[0] == 2
+
+
+# --------------------------------------------------------------------------- sQ
+
+
+def test_sq_contacts_lie_on_the_surface_and_the_ray(ellipsoid, backend):
+    rng = np.random.default_rng(8)
+    pts = np.vstack([around(ellipsoid, 8, rng, gap=(1, 80)), rng.normal(size=(3, 3)) * 5])
+    s = ellipsoid.scaled_contacts(pts, backend=backend)
+    # on the polytope's surface, within the faceting of the ellipsoid
+    level = np.sqrt(np.sum((s.contact / [30, 40, 50]) ** 2, axis=1))
+    assert ((level <= 1 + 1e-9) & (level >= 1 - 0.5 / 30)).all()
+    # on the ray from the centre, at the scale
+    c = ellipsoid.center
+    assert (s.contact - c) == pytest.approx((pts - c) / s.scale[:, None], abs=1e-8)
+    assert s.point == pytest.approx(pts)
+    assert (s.inside == (s.scale < 1)).all() and s.inside[-3:].all()
+    # the normal points inward and supports the piece at the contact
+    assert np.sum(s.normal * (c - s.contact), axis=1).min() > 0
+    V = ellipsoid.pieces[0]
+    support = (V @ s.normal.T).min(axis=0)
+    assert support == pytest.approx(np.sum(s.normal * s.contact, axis=1), abs=1e-7)
+    assert s.jac_normal == pytest.approx(0.0)
+
+
+def test_sq_cube_closed_form(cube, backend):
+    s = cube.scaled_contacts([[0, 0, 40.0], [20, 10, 0.0], [0, 5, 5.0]], backend=backend)
+    assert s.scale == pytest.approx([4.0, 2.0, 0.5])
+    assert s.contact[0] == pytest.approx([0, 0, 10])
+    assert s.normal[0] == pytest.approx([0, 0, -1])
+    assert s.normal[1] == pytest.approx([-1, 0, 0])
+    assert s.degenerate[2]  # the ray leaves through an edge
+    # d scale / d p for the +z face: s = p_z / 10
+    assert s.grad_scale[0] == pytest.approx([0, 0, 0.1])
+
+
+def test_sq_derivatives_match_finite_differences(goblet, ellipsoid, backend):
+    rng = np.random.default_rng(9)
+    for obj in (goblet, ellipsoid):
+        pts = np.vstack([around(obj, 6, rng), obj.center + rng.normal(size=(2, 3)) * 6])
+        s = obj.scaled_contacts(pts, backend=backend)
+        for i in np.nonzero(~s.degenerate)[0]:
+            scale = lambda p: obj.scaled_contacts(p[None], backend=backend).scale[0]  # noqa: E731
+            assert_gradient(s.grad_scale[i], central_difference(scale, pts[i], h=1e-5))
+            for a in range(3):
+                contact = lambda p: obj.scaled_contacts(p[None], backend=backend).contact[0, a]  # noqa: E731
+                assert_gradient(s.jac_contact[i, a], central_difference(contact, pts[i], h=1e-5))
+
+
+def test_sq_q_distance_chain(goblet):
+    """g_sQ's gradient with respect to the hand points through jac_contact (the planner's chain)."""
+    rng = np.random.default_rng(10)
+    pts = around(goblet, 5, rng, gap=(10, 30))
+    s = goblet.scaled_contacts(pts)
+    assert not s.degenerate.any()
+    q = sg.q_distance(s.contact, s.normal, center=goblet.center, torque_scale=goblet.torque_scale)
+    grad = np.einsum("iab,ia->ib", s.jac_contact, q.grad_points)
+
+    def g(P):
+        t = goblet.scaled_contacts(P.reshape(-1, 3))
+        return sg.q_distance(t.contact, t.normal, center=goblet.center, torque_scale=goblet.torque_scale).value
+
+    if not q.degenerate:
+        assert_gradient(grad, central_difference(g, pts.ravel(), h=1e-5).reshape(-1, 3), rtol=1e-4)
+
+
+def test_sq_errors(cube):
+    with pytest.raises(ValueError, match="centre"):
+        cube.scaled_contacts([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])
+    off = so.GraspObject([box(10.0)], center=[30.0, 0, 0])
+    with pytest.raises(ValueError, match="miss the object"):
+        off.scaled_contacts([[60.0, 0, 0]])
+    with pytest.raises(ValueError, match=r"\(n, 3\)"):
+        cube.scaled_contacts([[1.0, 2.0, 3.0, 4.0]])
+
+
+def test_centre_moved_inside_for_a_ring():
+    ring = so.revolve([[30, 0], [40, 5], [30, 10]])  # a solid disc with a bulge: convex pieces
+    assert ring.contains([ring.center])[0]
+    # two separate boxes: the centroid between them is outside, the centre is moved into one
+    pair = so.GraspObject([box(5, (-20, 0, 0)), box(5, (20, 0, 0))])
+    assert pair.contains([pair.center])[0]
+
+
+# --------------------------------------------------------------------------- capsules
+
+
+def test_penetration_closed_form(cube):
+    # capsules along z of radius 2 at x offsets: depth = 10 + 2 - |x| (to push it out sideways)
+    segs = np.array([[[x, 0, -30.0], [x, 0, 30.0]] for x in (0.0, 5.0, 11.0, 15.0)])
+    r = cube.penetration(segs, 2.0)
+    assert r.depths == pytest.approx([12.0, 7.0, 1.0, 0.0], abs=1e-5)
+    assert r.depth == pytest.approx(12.0, abs=1e-5) and r.index == 0 and r.collision
+    assert r.distances[3] == pytest.approx(3.0, abs=1e-5)
+
+
+def test_penetration_through_and_beside_the_goblet(goblet):
+    through = [[-80.0, 0, 110.0], [80.0, 0, 110.0]]
+    beside = [[-80.0, 60.0, 110.0], [80.0, 60.0, 110.0]]
+    r = goblet.penetration([beside, through], [8.0, 8.0])
+    assert r.index == 1 and r.depth > 30 and r.piece == 2
+    assert r.depths[0] == 0.0
+    clear = goblet.penetration([beside], 8.0)
+    assert not clear.collision and clear.depth == 0.0 and clear.index == -1
+    sphere = goblet.penetration([[goblet.center, goblet.center]], 1.0)  # a zero-length capsule
+    assert sphere.collision
+
+
+def test_penetration_rejects_bad_input(cube):
+    with pytest.raises(ValueError, match=r"\(k, 2, 3\)"):
+        cube.penetration([[0, 0, 0], [1, 1, 1]], 1.0)
+    with pytest.raises(ValueError, match="radius"):
+        cube.penetration([[[0, 0, 0], [1, 1, 1]]], -1.0)
+    with pytest.raises(ValueError, match="radius"):
+        cube.penetration([[[0, 0, 0], [1, 1, 1]]], [1.0, 2.0])

@@ -1,0 +1,164 @@
+"""The planner: status Jacobian, stop criteria, end-to-end plans verified independently."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import synergrasp as sg
+import synergrasp.objects as so
+from synergrasp.hand import SynergyHand
+from synergrasp.planner import PlanResult, check_grasp, grasp_status, plan, start_configuration
+from synergrasp.planner.status import Status
+
+from .conftest import BACKENDS
+from .test_quality import hull_contains_origin
+
+
+@pytest.fixture(scope="module")
+def hand():
+    return SynergyHand.default()
+
+
+@pytest.fixture(scope="module")
+def ellipsoid():
+    return so.ellipsoid()
+
+
+@pytest.fixture(scope="module")
+def goblet_plan():
+    return plan(so.goblet(), "precision")
+
+
+def near_start(hand, obj, approach=(0.0, 1.0, 0.0), distance=110.0):
+    return start_configuration(hand, obj, approach, distance) + np.r_[np.zeros(6), 0.1, -0.2]
+
+
+@pytest.mark.parametrize("kind", ["precision", "power"])
+def test_status_jacobian_matches_finite_differences(hand, ellipsoid, kind):
+    u = near_start(hand, ellipsoid)
+    smoothing = 5.0
+    st = grasp_status(hand, ellipsoid, u, kind, smoothing=smoothing)
+    h = np.r_[np.full(3, 1e-4), np.full(5, 1e-6)]
+    for k in range(len(u)):
+        up, um = u.copy(), u.copy()
+        up[k] += h[k]
+        um[k] -= h[k]
+        fd = (grasp_status(hand, ellipsoid, up, kind, smoothing=smoothing).g
+              - grasp_status(hand, ellipsoid, um, kind, smoothing=smoothing).g) / (2 * h[k])
+        scale = np.maximum(np.abs(fd), 1e-3)
+        assert np.all(np.abs(st.J[:, k] - fd) <= 1e-4 * scale + 1e-6), (k, st.J[:, k], fd)
+
+
+def fake_status(cp, sq=0.0):
+    """A status whose points in contact (cP < 5) are spread evenly around a sphere's equator."""
+    cp = np.asarray(cp, dtype=float)
+    n = len(cp)
+    t = np.zeros(n)
+    t[cp < 5.0] = 2 * np.pi * np.arange((cp < 5.0).sum()) / max((cp < 5.0).sum(), 1)
+    nearest = 40.0 * np.c_[np.cos(t), np.sin(t), np.zeros(n)]
+    return Status(g=np.r_[cp, sq], J=np.zeros((n + 1, 8)), points=nearest, nearest=nearest, normals=-nearest / 40, lp_solves=0)
+
+
+def test_precision_stop_criterion(ellipsoid):
+    three = check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_cp=50.0)
+    assert three.n_contacts == 3 and three.q < -0.1 and three.done  # 3 contacts need Q < -0.1
+    assert not check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_cp=2.0).done  # palm touches
+    far = check_grasp(ellipsoid, fake_status([1.0, 2.0, 6.0, 30.0, 40.0]), "precision", palm_cp=50.0)
+    assert far.n_contacts == 2 and not far.done
+
+
+def test_power_stop_criterion_needs_the_palm(ellipsoid):
+    cp = np.full(16, 1.0)
+    assert check_grasp(ellipsoid, fake_status(cp), "power").done
+    cp[-1] = 9.0  # palm point P away from the object: not a power grasp
+    chk = check_grasp(ellipsoid, fake_status(cp), "power")
+    assert not chk.palm and not chk.done and chk.q < 0
+
+
+def verify(result, obj):
+    """Independent checks of a successful plan's final grasp."""
+    assert result.success, result.reason
+    W = sg.contact_wrenches(result.contact_points, result.contact_normals, center=obj.center, torque_scale=obj.torque_scale)
+    assert hull_contains_origin(W)
+    on_surface = obj.contact_distance(result.contact_points).value
+    assert np.abs(on_surface).max() < 1e-6
+    assert result.penetration <= 3.0
+
+
+def test_precision_plan_of_the_goblet(goblet_plan):
+    r = goblet_plan
+    verify(r, so.goblet())
+    assert len(r.contact_points) >= 3 and "P" not in r.contact_labels
+    assert all(label.endswith("0") for label in r.contact_labels)
+    assert r.trajectory.shape == (r.iterations + 1, 8) and r.status.shape == (r.iterations + 1, 6)
+    assert np.all(np.abs(r.trajectory[:, 6:]) <= 1.0)  # synergy limits
+    assert r.final_q < 0 and r.lp_solves > r.iterations
+
+
+def test_power_plan_has_a_palm_contact():
+    obj = so.ellipsoid()
+    r = plan(obj, "power")
+    verify(r, obj)
+    assert "P" in r.contact_labels and len(r.contact_points) >= 4
+    assert r.status.shape[1] == 17
+
+
+def test_save_load_round_trip(goblet_plan, tmp_path):
+    path = goblet_plan.save(tmp_path / "plan.json")
+    back = PlanResult.load(path)
+    for name in ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(goblet_plan, name))
+    for name in ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend", "options"):
+        assert getattr(back, name) == getattr(goblet_plan, name)
+
+
+def test_load_rejects_other_files(tmp_path):
+    path = tmp_path / "x.json"
+    path.write_text("[1, 2]")
+    with pytest.raises(ValueError, match="not a saved synergrasp PlanResult"):
+        PlanResult.load(path)
+
+
+def test_first_iterations_agree_on_every_backend(hand):
+    obj = so.ellipsoid()
+    u0 = near_start(hand, obj)
+    runs = {name: plan(obj, "precision", backend=name, u0=u0, max_iter=20) for name in BACKENDS}
+    reference = runs["highs"].trajectory
+    for name, r in runs.items():
+        k = min(len(r.trajectory), len(reference))
+        np.testing.assert_allclose(r.trajectory[:k], reference[:k], atol=1e-6, err_msg=name)
+
+
+def test_the_caller_chooses_the_approach(hand, ellipsoid):
+    a = plan(ellipsoid, "precision", approach=(0.0, 0.0, 1.0), max_iter=1)
+    u = a.trajectory[0]
+    toward = ellipsoid.center - hand.points(u, "power")[-1]
+    palm_normal = sg.hand.rotation_xyz(u[3:6])[:, 2]
+    assert palm_normal @ toward / np.linalg.norm(toward) > 0.9  # the palm faces the object
+    assert hand.points(u, "power")[-1][2] > ellipsoid.center[2] + 50  # from above
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"grasp": "pinch"}, "grasp must be one of"),
+        ({"u0": [0, 0, np.nan, 0, 0, 0, 0, 0]}, "u0 contains NaN"),
+        ({"u0": np.zeros(5)}, r"u0 must have shape \(8,\)"),
+        ({"approach": [0, 0, 0]}, "non-zero direction"),
+        ({"max_iter": 0}, "max_iter must be >= 1"),
+        ({"backend": "simplex"}, "unknown LP backend"),
+        ({"stepsize": 3}, "unknown planner options"),
+    ],
+)
+def test_bad_input(ellipsoid, kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        plan(ellipsoid, **kwargs)
+
+
+def test_an_object_the_hand_cannot_hold():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        huge = so.ellipsoid(300.0, 300.0, 300.0)
+    with pytest.raises(ValueError, match="too large for the hand"):
+        plan(huge, "precision")
