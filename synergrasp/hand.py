@@ -338,7 +338,9 @@ class SynergyHand:
                 if link is not None:
                     c, j = link
                     frame[i] = c * (n_j + 1) + j + 1
-                    offset[i] = self.contact_offset * palmar[c, j]
+                    # fingertips touch with the front of the pad, halfway round the tip's cap
+                    side = palmar[c, j] + (np.array([0.0, 1.0, 0.0]) if kind == "precision" else 0.0)
+                    offset[i] = self.contact_offset * side / np.linalg.norm(side)
             self._kinds[kind] = (select, q_z_masked, [r[0] for r in rows], frame, offset)
 
     # ------------------------------------------------------------------ construction

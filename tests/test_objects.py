@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 
 import synergrasp as sg
 import synergrasp.objects as so
+from synergrasp.objects.proximity import MAX_LP_COLUMNS
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -181,7 +182,8 @@ def test_cp_matches_core_pseudo_distance(goblet, backend):
         if not r.degenerate[i]:
             assert r.grad[i] == pytest.approx(best.grad_a[0], abs=1e-6)
     assert (r.value[-4:] < 0).all() and r.inside[-4:].all()
-    assert r.lp_solves == 1
+    if backend not in MAX_LP_COLUMNS:  # all blocks in one LP
+        assert r.lp_solves == 1
 
 
 def test_cp_sign_and_continuity_across_the_surface(goblet, backend):

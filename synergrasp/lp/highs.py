@@ -1,11 +1,19 @@
 """HiGHS backend through highspy's own API (dual simplex, warm-started).
 
-One ``Highs`` object is kept per backend instance and reused for every solve;
-when consecutive LPs have the same shape the previous optimal basis is handed
-to the solver as a warm start.
+One ``Highs`` object is kept per backend instance and reused for every solve.
+The last optimal basis of each LP *structure* is kept and handed to the solver
+as a warm start when an LP with the same structure comes again. The structure
+is the shape together with the sparsity pattern: inside the planner, LPs of one
+shape can have different patterns (cP blocks list the vertices of the facets
+facing each hand point, so the columns mean different vertices from one call to
+the next), and a basis taken from an LP whose columns mean something else costs
+more simplex iterations than a cold start. Keyed by pattern, the basis of the
+previous iteration's LP of the same kind is found again.
 """
 
 from __future__ import annotations
+
+from collections import OrderedDict
 
 import highspy
 import numpy as np
@@ -19,6 +27,9 @@ _STATUS = {
     highspy.HighsModelStatus.kUnboundedOrInfeasible: "infeasible",
 }
 
+#: Number of LP structures whose last optimal basis is remembered.
+BASIS_CACHE_SIZE = 64
+
 
 class HighsBackend(Backend):
     """LP backend on HiGHS (``highspy``), simplex with warm starts.
@@ -26,7 +37,8 @@ class HighsBackend(Backend):
     Parameters
     ----------
     warm_start : bool
-        Reuse the last optimal basis when the next LP has the same shape.
+        Reuse the last optimal basis of an LP with the same shape and
+        sparsity pattern.
     options : dict
         Extra HiGHS options (``setOptionValue(key, value)``).
     """
@@ -42,7 +54,7 @@ class HighsBackend(Backend):
         self._h.setOptionValue("simplex_initial_condition_check", False)
         for key, value in options.items():
             self._h.setOptionValue(key, value)
-        self._basis = {}
+        self._basis = OrderedDict()
         self._bounds_cache = {}
 
     def _bounds(self, n):
@@ -57,18 +69,23 @@ class HighsBackend(Backend):
         h = self._h
         # column-wise matrix (format 1), minimise (sense 1), no offset, all columns continuous
         h.passModel(n, m, len(value), 1, 1, 0.0, c, lower, upper, b, b, indptr[:-1], index, value, continuous)
-        basis = self._basis.get((m, n)) if self.warm_start else None
-        if basis is not None:
-            h.setBasis(basis)
+        key = None
+        if self.warm_start:
+            key = (m, n, hash(indptr.tobytes()), hash(index.tobytes()))
+            basis = self._basis.get(key)
+            if basis is not None:
+                h.setBasis(basis)
         h.run()
         model_status = h.getModelStatus()
         status = _STATUS.get(model_status, "failed")
         iterations = h.getInfoValue("simplex_iteration_count")[1]
-        message = h.modelStatusToString(model_status)
         if status != "optimal":
-            self._basis.pop((m, n), None)
-            return status, None, None, iterations, message
+            self._basis.pop(key, None)
+            return status, None, None, iterations, h.modelStatusToString(model_status)
         solution = h.getSolution()
-        if self.warm_start:
-            self._basis[(m, n)] = h.getBasis()
-        return status, solution.col_value, solution.row_dual, iterations, message
+        if key is not None:
+            self._basis[key] = h.getBasis()
+            self._basis.move_to_end(key)
+            if len(self._basis) > BASIS_CACHE_SIZE:
+                self._basis.popitem(last=False)
+        return status, solution.col_value, solution.row_dual, iterations, "Optimal"

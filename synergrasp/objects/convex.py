@@ -47,6 +47,9 @@ def _hull(points: np.ndarray, name: str) -> ConvexHull:
 def farthest_point_subset(points: np.ndarray, k: int) -> np.ndarray:
     """Indices of ``k`` points chosen by farthest-point sampling (deterministic).
 
+    The sampling starts from the extreme points along x, y and z, so the
+    subset keeps the bounding box.
+
     Parameters
     ----------
     points : (n, 3) float
@@ -59,11 +62,12 @@ def farthest_point_subset(points: np.ndarray, k: int) -> np.ndarray:
     n = len(points)
     if k >= n:
         return np.arange(n)
-    centre = points.mean(axis=0)
+    seeds = np.unique(np.concatenate([points.argmin(axis=0), points.argmax(axis=0)]))[:k]
     chosen = np.empty(k, dtype=int)
-    chosen[0] = int(np.argmax(np.einsum("ij,ij->i", points - centre, points - centre)))
-    dist = np.einsum("ij,ij->i", points - points[chosen[0]], points - points[chosen[0]])
-    for i in range(1, k):
+    chosen[: len(seeds)] = seeds
+    diff = points[:, None, :] - points[seeds][None]
+    dist = np.einsum("ijk,ijk->ij", diff, diff).min(axis=1)
+    for i in range(len(seeds), k):
         chosen[i] = int(np.argmax(dist))
         diff = points - points[chosen[i]]
         np.minimum(dist, np.einsum("ij,ij->i", diff, diff), out=dist)

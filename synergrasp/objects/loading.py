@@ -331,8 +331,17 @@ def _concavity(members: np.ndarray, name: str) -> float:
     return float(cKDTree(members).query(centroids)[0].max())
 
 
-def _filled_voxels(points: np.ndarray, pitch: float) -> np.ndarray:
-    """Centres (m, 3) of the voxels of a cloud with its gaps closed and its inside filled."""
+def _filled_voxels(points: np.ndarray, pitch: float):
+    """Voxels of a cloud with its gaps closed and its inside filled.
+
+    Returns
+    -------
+    solid : (m, 3) float
+        Centres of all the solid voxels.
+    interior : (m,) bool
+        The voxel holds no cloud point: it lies inside the surface, so its
+        centre may join a piece's hull without bulging past the surface.
+    """
     from scipy import ndimage
 
     lo = points.min(axis=0)
@@ -342,7 +351,8 @@ def _filled_voxels(points: np.ndarray, pitch: float) -> np.ndarray:
     cube = np.ones((3, 3, 3), dtype=bool)
     closed = ndimage.binary_dilation(grid, structure=cube)
     solid = ndimage.binary_erosion(ndimage.binary_fill_holes(closed), structure=cube) | grid
-    return (np.argwhere(solid) - 2 + 0.5) * pitch + lo
+    cells = np.argwhere(solid)
+    return (cells - 2 + 0.5) * pitch + lo, ~grid[tuple(cells.T)]
 
 
 def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: str):
@@ -357,12 +367,12 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
     if len(points) < SMALL_CLOUD or concavity <= tolerance or max_parts == 1:
         return [_reduce(points, max_vertices, name)], meta
     pitch = max(size / 40.0, 1.5 * spacing)
-    solid = _filled_voxels(points, pitch)
+    solid, interior = _filled_voxels(points, pitch)
     tolerance = max(tolerance, 1.5 * pitch)
+    members = np.vstack([solid[interior], points])  # the surface itself comes from the cloud
     rng = np.random.default_rng(0)
     for k in sorted({k for k in (2, 3, 4, 6, 8, 12, 16, 24, 32) if k < max_parts} | {max_parts}):
         centroids, _ = kmeans2(solid, k, minit="++", seed=rng)
-        members = np.vstack([solid, points])
         label = np.argmin(((members[:, None, :] - centroids[None]) ** 2).sum(axis=2), axis=1)
         groups = [members[label == c] for c in np.unique(label)]
         worst = 0.0

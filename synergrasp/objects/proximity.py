@@ -53,6 +53,10 @@ GAUGE_RATIO = 3.0
 _ROWS = 4  # 3 coordinate rows + 1 convexity row per block
 #: Tolerance on primal weights and reduced costs in the degeneracy test.
 DEGENERACY_TOL = 1e-7
+#: Largest LP (columns) per solver call, by backend name; the blocks are split into several
+#: LPs above it. cvxpy canonicalises its parametrised dense matrix in time and memory that
+#: grow much faster than the LP (0.6 s for 60 x 1373, gigabytes for 244 x 10000).
+MAX_LP_COLUMNS = {"cvxpy": 400}
 
 
 @dataclass(frozen=True)
@@ -81,7 +85,7 @@ class ContactDistance:
     candidates : (n,) int
         Number of pieces that survived the broad phase.
     lp_solves : int
-        Solver calls made (1 per call, all blocks stacked).
+        Solver calls made: 1 (all blocks stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
     """
 
     value: np.ndarray
@@ -132,7 +136,7 @@ class ScaledContacts:
         The ray leaves through an edge or vertex (or ties between pieces):
         the derivatives are a valid one-sided choice.
     lp_solves : int
-        Solver calls made (1 per call, all blocks stacked).
+        Solver calls made: 1 (all blocks stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
 
     Notes
     -----
@@ -269,22 +273,34 @@ class _Blocks:
         entries[is_lead, :3] = np.concatenate([b[0].reshape(-1, 3) for b in batches])
         entries[~is_lead, :3] = np.concatenate([b[4] for b in batches])
         entries[~is_lead, 3] = 1.0
-        rows = _ROWS * block_of[:, None] + np.arange(_ROWS)
-        nonzero = entries != 0.0
-        indptr = np.zeros(n_cols + 1, dtype=np.int32)
-        np.cumsum(nonzero.sum(axis=1), out=indptr[1:])
-        A = lp.CSC(indptr, rows[nonzero].astype(np.int32), entries[nonzero], (_ROWS * n_blocks, n_cols))
         c = np.zeros(n_cols)
         c[is_lead] = np.concatenate([np.tile(b[1], len(b[3])) for b in batches])
         rhs = np.ones((n_blocks, _ROWS))
         rhs[:, :3] = np.concatenate([b[5] for b in batches])
-        sol = solver.solve(c, A, rhs.ravel())
-        if not sol.optimal:
-            raise lp.LPError(
-                f"the {what} LP was not solved: backend {sol.backend!r} returned status "
-                f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
-            )
-        x, y = _polish(entries, c, rhs, sol.x.copy(), sol.y.reshape(n_blocks, _ROWS).copy(), start, block_of)
+        # one LP for all blocks (or a few, for backends that scale badly with the LP size)
+        limit = MAX_LP_COLUMNS.get(getattr(solver, "name", ""), n_cols)
+        x, y = np.empty(n_cols), np.empty((n_blocks, _ROWS))
+        first = 0
+        self.lp_solves = 0
+        while first < n_blocks:
+            last = first + max(1, int(np.searchsorted(start[first + 1 :], start[first] + limit, side="right")))
+            cols = slice(start[first], start[last])
+            sub = entries[cols]
+            rows = _ROWS * (block_of[cols, None] - first) + np.arange(_ROWS)
+            nonzero = sub != 0.0
+            indptr = np.zeros(sub.shape[0] + 1, dtype=np.int32)
+            np.cumsum(nonzero.sum(axis=1), out=indptr[1:])
+            A = lp.CSC(indptr, rows[nonzero].astype(np.int32), sub[nonzero], (_ROWS * (last - first), sub.shape[0]))
+            sol = solver.solve(c[cols], A, rhs[first:last].ravel())
+            self.lp_solves += 1
+            if not sol.optimal:
+                raise lp.LPError(
+                    f"the {what} LP was not solved: backend {sol.backend!r} returned status "
+                    f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
+                )
+            x[cols], y[first:last] = sol.x, sol.y.reshape(-1, _ROWS)
+            first = last
+        x, y = _polish(entries, c, rhs, x, y, start, block_of)
         # The derivatives with respect to the hand point need only the duals y. They are unique
         # when the optimum has 4 positive variables in the block (a non-degenerate basis: B^T y = c_B);
         # several primal optima (a face of B parallel to one of Q's) leave y unique and are not flagged.
@@ -489,7 +505,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
         inside=~sep_rows[chosen],
         degenerate=degenerate,
         candidates=cand.sum(axis=1),
-        lp_solves=1,
+        lp_solves=blocks.lp_solves,
     )
 
 
@@ -585,7 +601,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
         piece=pcs[chosen],
         inside=t > 1.0,
         degenerate=degenerate,
-        lp_solves=1,
+        lp_solves=blocks.lp_solves,
     )
 
 

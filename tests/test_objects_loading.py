@@ -1,0 +1,249 @@
+"""synergrasp.objects loading: file formats, point clouds, decomposition cache, bad input."""
+
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+
+import synergrasp.objects as so
+from synergrasp.objects import loading
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    """Every test gets its own decomposition cache."""
+    folder = tmp_path / "cache"
+    monkeypatch.setenv("SYNERGRASP_CACHE", str(folder))
+    return folder
+
+
+def box_mesh():
+    return trimesh.creation.box((30.0, 40.0, 50.0))
+
+
+def hourglass_mesh():
+    """A small watertight non-convex solid (two cones tip to tip, capped)."""
+    profile = np.array([[0, 0], [20, 0], [20, 10], [8, 15], [8, 25], [20, 30], [20, 40], [0, 40.0]])
+    mesh = trimesh.creation.revolve(profile, sections=24)
+    if mesh.volume < 0:
+        mesh.invert()
+    return mesh
+
+
+def ellipsoid_cloud(n=2000, seed=0):
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return d * [30.0, 40.0, 50.0]
+
+
+def torus_cloud(n=4000, seed=0):
+    torus = trimesh.creation.torus(major_radius=40.0, minor_radius=10.0, major_sections=64, minor_sections=24)
+    return trimesh.sample.sample_surface(torus, n, seed=seed)[0]
+
+
+# --------------------------------------------------------------------------- formats
+
+
+@pytest.mark.parametrize("ext", [".obj", ".stl", ".ply", ".off", ".glb"])
+def test_mesh_formats_round_trip(tmp_path, ext):
+    path = tmp_path / f"box{ext}"
+    box_mesh().export(path)
+    obj = so.load(path)
+    assert obj.name == path.name and obj.info["method"] == "hull" and obj.n_pieces == 1
+    assert obj.extents == pytest.approx([30, 40, 50])
+    assert obj.volume == pytest.approx(60000.0)
+    assert obj.center == pytest.approx([0, 0, 0], abs=1e-9)
+    assert obj.mesh is not None
+    assert obj.contact_distance([[0, 0, 40.0]]).value[0] > 0
+
+
+@pytest.mark.parametrize("ext", [".ply", ".xyz", ".npy", ".npz"])
+def test_point_cloud_formats_round_trip(tmp_path, ext):
+    pts = ellipsoid_cloud()
+    path = tmp_path / f"cloud{ext}"
+    if ext == ".ply":
+        trimesh.PointCloud(pts).export(path)
+    elif ext == ".xyz":
+        np.savetxt(path, pts)
+    elif ext == ".npy":
+        np.save(path, pts)
+    else:
+        np.savez(path, points=pts)
+    obj = so.load(path)
+    assert obj.info["method"] == "hull" and obj.n_pieces == 1 and obj.mesh is None
+    assert obj.bounds == pytest.approx(np.array([pts.min(axis=0), pts.max(axis=0)]), abs=1e-6)
+    assert len(obj.pieces[0]) <= 256
+    assert obj.contains([[0, 0, 0], [0, 0, 45.0]]).all()
+
+
+def test_npz_mesh_and_get_by_path(tmp_path):
+    mesh = box_mesh()
+    path = tmp_path / "box.npz"
+    np.savez(path, vertices=mesh.vertices, faces=mesh.faces)
+    obj = so.get(path)
+    assert obj.info["method"] == "hull" and obj.volume == pytest.approx(60000.0)
+
+
+def test_from_mesh_and_from_points_directly():
+    scene = trimesh.Scene([box_mesh()])
+    assert so.from_mesh(scene, name="boxed").name == "boxed"
+    obj = so.from_points(ellipsoid_cloud(), max_vertices=64)
+    assert len(obj.pieces[0]) == 64
+    with pytest.raises(TypeError, match="Trimesh"):
+        so.from_mesh(np.zeros((4, 3)))
+
+
+def test_scale_is_applied(tmp_path):
+    path = tmp_path / "box_m.stl"
+    mesh = box_mesh()
+    mesh.apply_scale(0.001)  # a file in metres
+    mesh.export(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # in mm now: no size warning
+        obj = so.load(path, scale=1000)
+    assert obj.extents == pytest.approx([30, 40, 50])
+    assert obj.mesh.extents == pytest.approx([30, 40, 50])
+
+
+# --------------------------------------------------------------------------- decomposition and cache
+
+
+def test_non_convex_mesh_is_decomposed_and_cached(tmp_path, cache, monkeypatch):
+    path = tmp_path / "hourglass.obj"
+    mesh = hourglass_mesh()
+    mesh.export(path)
+    first = so.load(path)
+    assert first.info["method"] == "coacd" and first.info["cache"] == "miss"
+    assert first.info["volume_ratio"] < 0.97
+    assert 2 <= first.n_pieces <= 16
+    assert list(cache.glob("*.npz")), "the decomposition was stored"
+    # the pieces cover the mesh (CoACD's remeshing is within about a mm)
+    assert (first._plane_bounds(mesh.vertices).min(axis=1) <= 1.5).all()
+    # the waist is not filled in as a hull would
+    assert not first.contains([[18.0, 0, 20.0]])[0]
+
+    def fail(*args, **kwargs):
+        raise AssertionError("decomposition run again despite the cache")
+
+    monkeypatch.setattr(loading, "_decompose", fail)
+    second = so.load(path)
+    assert second.info["cache"] == "hit"
+    for a, b in zip(first.pieces, second.pieces):
+        assert a == pytest.approx(b)
+    # the same file at another scale reuses the same entry
+    scaled = so.load(path, scale=2.0)
+    assert scaled.info["cache"] == "hit" and scaled.extents == pytest.approx(2 * first.extents)
+    # a changed file is a different entry: decomposed again (here failing, so the hull with a warning)
+    mesh.apply_translation([1.0, 0, 0])
+    mesh.export(path)
+    with pytest.warns(UserWarning, match="despite the cache"):
+        changed = so.load(path)
+    assert changed.info["cache"] == "miss" and changed.info["method"].startswith("hull")
+
+
+def test_cache_can_be_disabled(cache):
+    obj = so.from_points(ellipsoid_cloud(), cache=False)
+    assert obj.info["cache"] == "disabled" and not cache.exists()
+
+
+def test_non_convex_point_cloud_is_clustered():
+    pts = torus_cloud()
+    obj = so.from_points(pts)
+    assert obj.info["method"].startswith("kmeans") and obj.n_pieces >= 4
+    assert not obj.contains([[0.0, 0.0, 0.0]])[0], "the hole stays empty"
+    assert obj.contains([[40.0, 0.0, 0.0], [0.0, -40.0, 0.0]]).all(), "the ring is solid"
+    assert obj.contains([obj.center])[0]
+    # every cloud point is in (or within a mm of) a piece
+    assert (obj._plane_bounds(pts).min(axis=1) <= 1.0).all()
+    again = so.from_points(pts)
+    assert again.info["cache"] == "hit" and again.n_pieces == obj.n_pieces
+
+
+def test_convex_cloud_is_one_hull():
+    obj = so.from_points(ellipsoid_cloud(300))
+    assert obj.n_pieces == 1 and obj.info["method"] == "hull"
+
+
+# --------------------------------------------------------------------------- warnings and bad input
+
+
+def test_size_warnings():
+    small = box_mesh()
+    small.apply_scale(0.001)
+    with pytest.warns(UserWarning, match="scale=1000"):
+        so.from_mesh(small)
+    big = box_mesh()
+    big.apply_scale(100.0)
+    with pytest.warns(UserWarning, match="scale=0.1"):
+        so.from_mesh(big)
+    with pytest.warns(UserWarning, match="scale=1000"):
+        so.from_points(ellipsoid_cloud() / 1000)
+
+
+def test_non_watertight_mesh_loads_with_a_warning(tmp_path):
+    mesh = box_mesh()
+    open_box = trimesh.Trimesh(mesh.vertices, mesh.faces[:-2])  # one side missing
+    assert not open_box.is_watertight
+    path = tmp_path / "open.stl"
+    open_box.export(path)
+    with pytest.warns(UserWarning, match="not watertight"):
+        obj = so.load(path)
+    assert obj.info["method"].startswith("surface points") and not obj.info["watertight"]
+    assert obj.extents == pytest.approx([30, 40, 50], abs=0.5)
+
+
+def test_bad_point_clouds():
+    with pytest.raises(ValueError, match="empty"):
+        so.from_points(np.zeros((0, 3)))
+    with pytest.raises(ValueError, match="NaN or inf"):
+        so.from_points([[0, 0, 0], [1, 0, 0], [0, np.inf, 0], [0, 0, 1]])
+    with pytest.raises(ValueError, match="no volume.*plane"):
+        so.from_points(np.c_[np.random.default_rng(0).uniform(size=(50, 2)) * 40, np.zeros(50)])
+    with pytest.raises(ValueError, match="no volume.*line"):
+        so.from_points(np.outer(np.arange(10.0), [1, 2, 3]))
+    with pytest.raises(ValueError, match="no volume"):
+        so.from_points([[0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    with pytest.raises(ValueError, match=r"dimension 2"):
+        so.from_points(np.ones((10, 2)))
+    with pytest.raises(ValueError, match="scale"):
+        so.from_points(ellipsoid_cloud(), scale=0)
+
+
+def test_bad_meshes(tmp_path):
+    flat = trimesh.Trimesh([[0, 0, 0], [50, 0, 0], [50, 50, 0], [0, 50, 0]], [[0, 1, 2], [0, 2, 3]])
+    with pytest.raises(ValueError, match="no volume"):
+        so.from_mesh(flat)
+    path = tmp_path / "flat.obj"
+    flat.export(path)
+    with pytest.raises(ValueError, match="flat.obj has no volume"):
+        so.load(path)
+    with pytest.raises(ValueError, match="no faces"):
+        so.from_mesh(trimesh.Trimesh(vertices=np.eye(3)))
+
+
+def test_bad_files(tmp_path):
+    with pytest.raises(FileNotFoundError, match="missing.obj"):
+        so.load(tmp_path / "missing.obj")
+    unknown = tmp_path / "object.abc"
+    unknown.write_text("1 2 3\n")
+    with pytest.raises(ValueError, match=r"object\.abc.*\.obj.*\.stl") as info:
+        so.load(unknown)
+    assert all(ext in str(info.value) for ext in so.SUPPORTED_FORMATS)
+    garbage = tmp_path / "garbage.stl"
+    garbage.write_bytes(b"\x00\x01garbage" * 7)
+    with pytest.raises(ValueError, match="garbage.stl"):
+        so.load(garbage)
+    text = tmp_path / "words.xyz"
+    text.write_text("these are not numbers\n")
+    with pytest.raises(ValueError, match="could not read .*words.xyz"):
+        so.load(text)
+    empty = tmp_path / "empty.npy"
+    np.save(empty, np.zeros((0, 3)))
+    with pytest.raises(ValueError, match="empty"):
+        so.load(empty)
+    keys = tmp_path / "keys.npz"
+    np.savez(keys, a=np.ones(3), b=np.ones(3))
+    with pytest.raises(ValueError, match="keys.npz.*'points'"):
+        so.load(keys)
