@@ -69,13 +69,14 @@ def fmt(value, spec):
 
 
 def table(rows):
-    head = ("| object | grasp | success | iterations (paper) | sQ (paper) | Q (paper) | contacts | palm | "
-            "penetration (mm) | time s (paper) | LP solves |\n|---|---|---|---|---|---|---|---|---|---|---|")
+    head = ("| object | grasp | success | iterations (paper) | attempts, all iterations | sQ (paper) | Q (paper) | contacts "
+            "| palm | penetration (mm) | time s (paper) | LP solves |\n|---|---|---|---|---|---|---|---|---|---|---|---|")
     lines = [head]
     for r in rows:
         paper = PAPER[(r["object"], r["grasp"])]
         lines.append(
             f"| {r['object']} | {r['grasp']} | {'yes' if r['verified'] else 'no'} | {r['iterations']} ({fmt(paper[0], 'd')}) "
+            f"| {r['attempts']}, {r['all_iterations']} "
             f"| {r['sq']:+.4f} ({fmt(paper[1], '+.4f')}) | {fmt(r['q'], '+.4f')} ({fmt(paper[2], '+.4f')}) "
             f"| {r['n_contacts']}: {r['contacts']} | {'yes' if r['palm'] else 'no'} | {r['penetration']:.1f} "
             f"| {r['time_s']:.2f} ({fmt(paper[3], 'd')}) | {r['lp_solves']} |"
@@ -110,6 +111,8 @@ def main(argv=None):
                 "success": result.success,
                 "verified": result.success and force_closed_by_hull(result, obj),
                 "iterations": result.iterations,
+                "all_iterations": result.total_iterations,
+                "attempts": len(result.attempts),
                 "sq": result.final_sq,
                 "q": result.final_q,
                 "n_contacts": len(result.contact_labels),

@@ -94,6 +94,7 @@ def test_precision_plan_of_the_goblet(goblet_plan):
     assert r.trajectory.shape == (r.iterations + 1, 8) and r.status.shape == (r.iterations + 1, 6)
     assert np.all(np.abs(r.trajectory[:, 6:]) <= 1.0)  # synergy limits
     assert r.final_q < 0 and r.lp_solves > r.iterations
+    assert r.total_iterations == sum(a["iterations"] for a in r.attempts) >= r.iterations
 
 
 def test_power_plan_has_a_palm_contact():
@@ -109,7 +110,7 @@ def test_save_load_round_trip(goblet_plan, tmp_path):
     back = PlanResult.load(path)
     for name in ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals"):
         np.testing.assert_array_equal(getattr(back, name), getattr(goblet_plan, name))
-    for name in ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend", "options"):
+    for name in ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend", "options", "attempts"):
         assert getattr(back, name) == getattr(goblet_plan, name)
 
 

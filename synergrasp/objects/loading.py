@@ -339,8 +339,9 @@ def _filled_voxels(points: np.ndarray, pitch: float):
     solid : (m, 3) float
         Centres of all the solid voxels.
     interior : (m,) bool
-        The voxel holds no cloud point: it lies inside the surface, so its
-        centre may join a piece's hull without bulging past the surface.
+        The voxel does not touch a voxel holding a cloud point: it lies inside
+        the surface, so its centre may join a piece's hull without bulging
+        past the surface.
     """
     from scipy import ndimage
 
@@ -352,7 +353,7 @@ def _filled_voxels(points: np.ndarray, pitch: float):
     closed = ndimage.binary_dilation(grid, structure=cube)
     solid = ndimage.binary_erosion(ndimage.binary_fill_holes(closed), structure=cube) | grid
     cells = np.argwhere(solid)
-    return (cells - 2 + 0.5) * pitch + lo, ~grid[tuple(cells.T)]
+    return (cells - 2 + 0.5) * pitch + lo, ~closed[tuple(cells.T)]
 
 
 def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: str):

@@ -311,7 +311,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         reason, traj, statuses, checks, n_solves = _attempt(hand, obj, grasp, u_start, opts, backend, budget, progress)
         total += len(traj) - 1
         solves += n_solves
-        attempts.append(reason)
+        attempts.append({"start": u_start.tolist(), "iterations": len(traj) - 1, "reason": reason})
         if reason == "stop criterion met":
             break
     chk = checks[-1]
@@ -323,13 +323,13 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     if success:
         reason = f"stop criterion met ({chk.n_contacts} contacts, g_Q = {chk.q:.4f})"
     else:
-        reason = f"no stable grasp found: {len(attempts)} attempt(s), last {attempts[-1]}"
+        reason = f"no stable grasp found: {len(attempts)} attempt(s), last {attempts[-1]['reason']}"
     if len(attempts) > 1:
-        reason += f"; after {len(attempts) - 1} restart(s) from other approach directions"
+        reason += f"; {len(attempts)} attempts from different approach directions, {total} iterations in all"
     return PlanResult(
         success=bool(success),
         reason=reason,
-        iterations=total,
+        iterations=len(traj) - 1,
         u=traj[-1],
         trajectory=np.array(traj),
         status=np.array(statuses),
@@ -344,5 +344,6 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         backend=str(backend),
         grasp=grasp,
         object_name=getattr(obj, "name", ""),
-        options=asdict(opts) | {"attempts": attempts},
+        options=asdict(opts),
+        attempts=attempts,
     )

@@ -22,7 +22,7 @@ class PlanResult:
     reason : str
         Why the iteration stopped, in words.
     iterations : int
-        Number k of iterations (steps) taken.
+        Number k of iterations (steps) of the returned reach (the last attempt).
     u : (8,) float
         Final configuration ``[px, py, pz, phi1, phi2, phi3, z1, z2]`` (mm, rad).
     trajectory : (k+1, 8) float
@@ -54,6 +54,10 @@ class PlanResult:
         Name of the grasped object.
     options : dict
         Planner settings used.
+    attempts : list of dict
+        Every attempt made, in order: its start configuration, its number of
+        iterations and why it ended. An attempt that stalls is followed by one
+        from another approach direction; the trajectory is the last one's.
     """
 
     success: bool
@@ -74,6 +78,12 @@ class PlanResult:
     grasp: str = "precision"
     object_name: str = ""
     options: dict = field(default_factory=dict)
+    attempts: list = field(default_factory=list)
+
+    @property
+    def total_iterations(self) -> int:
+        """Iterations over all attempts."""
+        return sum(a["iterations"] for a in self.attempts) if self.attempts else self.iterations
 
     @property
     def final_q(self) -> float:
