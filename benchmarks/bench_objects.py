@@ -62,7 +62,9 @@ def mug_mesh():
 def torus_mesh(target_faces=10_000):
     """A torus (watertight, non-convex) with about target_faces faces."""
     sections = int(round(np.sqrt(target_faces / 4)))
-    return trimesh.creation.torus(major_radius=40.0, minor_radius=12.0, major_sections=2 * sections, minor_sections=sections)
+    return trimesh.creation.torus(
+        major_radius=40.0, minor_radius=12.0, major_sections=2 * sections, minor_sections=sections
+    )
 
 
 def main():
@@ -79,8 +81,14 @@ def main():
     print(f"  16 points, cP range {r.value.min():.1f}..{r.value.max():.1f}, candidates/point {r.candidates.mean():.2f}")
     t = median_ms(lambda: goblet.contact_distance(pts, backend=args.backend), repeat)
     print(f"  cP 16 points ({args.backend}): median {t:.2f} ms")
+    rng = np.random.default_rng(1)
+    moving = lambda: pts + rng.normal(scale=0.3, size=pts.shape)  # noqa: E731 - like a planner step
+    t = median_ms(lambda: goblet.contact_distance(moving(), backend=args.backend), repeat)
+    print(f"  cP 16 points moving 0.3 mm per call (no warm start): median {t:.2f} ms")
     t = median_ms(lambda: goblet.scaled_contacts(pts, backend=args.backend), repeat)
     print(f"  sQ 16 points ({args.backend}): median {t:.2f} ms")
+    t = median_ms(lambda: goblet.scaled_contacts(moving(), backend=args.backend), repeat)
+    print(f"  sQ 16 points moving: median {t:.2f} ms")
 
     ell = so.ellipsoid()
     pts5 = hand_like_points(ell, n=5, gap=(0.0, 60.0), seed=1)

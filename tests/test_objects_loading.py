@@ -141,6 +141,9 @@ def test_non_convex_mesh_is_decomposed_and_cached(tmp_path, cache, monkeypatch):
     with pytest.warns(UserWarning, match="despite the cache"):
         changed = so.load(path)
     assert changed.info["cache"] == "miss" and changed.info["method"].startswith("hull")
+    monkeypatch.undo()  # the fallback was not cached: with CoACD back, it decomposes again
+    monkeypatch.setenv("SYNERGRASP_CACHE", str(cache))
+    assert so.load(path).info["method"] == "coacd"
 
 
 def test_cache_can_be_disabled(cache):

@@ -36,8 +36,8 @@ def _hull(points: np.ndarray, name: str) -> ConvexHull:
         raise _no_volume(name, "all its points coincide")
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[-1] <= FLAT_TOL * extent * np.sqrt(len(points)):
-        what = "all its points lie on a line" if sv[1] <= FLAT_TOL * extent * np.sqrt(len(points)) else "all its points lie on a plane"
-        raise _no_volume(name, what)
+        on_line = sv[1] <= FLAT_TOL * extent * np.sqrt(len(points))
+        raise _no_volume(name, "all its points lie on a line" if on_line else "all its points lie on a plane")
     try:
         return ConvexHull(points)
     except QhullError as exc:  # pragma: no cover - guarded by the SVD test above
@@ -136,7 +136,6 @@ class ConvexPiece:
         for arr in (self.vertices, self.planes, self.facets):
             arr.setflags(write=False)
         self._fcl = None
-        self._incidence = None
 
     def __repr__(self) -> str:
         return f"ConvexPiece({len(self.vertices)} vertices, {len(self.facets)} facets, volume {self.volume:.1f})"
@@ -149,15 +148,6 @@ class ConvexPiece:
             geom = fcl.Convex(np.ascontiguousarray(self.vertices), len(self.facets), faces)
             self._fcl = fcl.CollisionObject(geom, fcl.Transform())
         return self._fcl
-
-    @property
-    def incidence(self) -> np.ndarray:
-        """(f, k) bool: facet f uses vertex v."""
-        if self._incidence is None:
-            inc = np.zeros((len(self.facets), len(self.vertices)), dtype=bool)
-            inc[np.arange(len(self.facets))[:, None], self.facets] = True
-            self._incidence = inc
-        return self._incidence
 
     def signed_distance_bound(self, points: np.ndarray) -> np.ndarray:
         """``max_f (n_f . p + o_f)`` for each point: <= 0 inside, else a lower bound of the distance.

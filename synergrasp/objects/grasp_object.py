@@ -68,7 +68,6 @@ class GraspObject:
         self.info = dict(info or {})
         self._planes = np.vstack([p.planes for p in self.convex])
         self._plane_starts = np.cumsum([0] + [len(p.planes) for p in self.convex[:-1]])
-        self._exit_cache: dict[tuple[int, int], np.ndarray] = {}
         if center is None:
             self.center = self._default_center()
         else:
@@ -127,20 +126,45 @@ class GraspObject:
         starts = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
         return verts, (verts**2).sum(axis=1), starts
 
+    @cached_property
+    def _support(self) -> np.ndarray:
+        """(J, 4): support function ``max_v q_k . v`` of each piece along the simplex vertices."""
+        return np.array([(p.vertices @ proximity._Q.T).max(axis=0) for p in self.convex])
+
+    @cached_property
+    def _vertices_q(self) -> np.ndarray:
+        """(K, 4): ``q_k . v`` for all vertices of all pieces."""
+        return np.ascontiguousarray(self._vertices_all[0] @ proximity._Q.T)
+
+    def _vertex_gauge(self, pq: np.ndarray) -> np.ndarray:
+        """(n, J): smallest gauge distance ``3 max_k q_k . (p - v)`` from each point to a vertex of each piece.
+
+        Parameters
+        ----------
+        pq : (n, 4) float
+            ``q_k . p`` for the points.
+        """
+        vq = self._vertices_q
+        g = pq[:, 0, None] - vq[:, 0]
+        for k in range(1, 4):
+            np.maximum(g, pq[:, k, None] - vq[:, k], out=g)
+        return proximity.GAUGE_RATIO * np.minimum.reduceat(g, self._vertices_all[2], axis=1)
+
     def _vertex_distance(self, points: np.ndarray) -> np.ndarray:
         """(n, J): distance from each point to the nearest vertex of each piece (an upper bound)."""
         verts, sq, starts = self._vertices_all
         d2 = (points**2).sum(axis=1)[:, None] - 2.0 * points @ verts.T + sq
         return np.sqrt(np.maximum(np.minimum.reduceat(d2, starts, axis=1), 0.0))
 
-    def _exit_vertices(self, j: int, k: int) -> np.ndarray:
-        """(m, 3): vertices of piece j on the facets a ray along -q_k can leave through."""
-        key = (j, k)
-        if key not in self._exit_cache:
-            piece = self.convex[j]
-            leaving = piece.planes[:, :3] @ proximity._Q[k] < 1e-12
-            self._exit_cache[key] = proximity._facet_vertices(piece, leaving[None])[0]
-        return self._exit_cache[key]
+    @cached_property
+    def _facet_nq(self) -> list[np.ndarray]:
+        """Per piece, (f,): ``min_k n_f . q_k`` for each facet's outward normal."""
+        return [(p.planes[:, :3] @ proximity._Q.T).min(axis=1) for p in self.convex]
+
+    @cached_property
+    def _facet_mq(self) -> list[np.ndarray]:
+        """Per piece, (f, 4): ``min over the facet's vertices t of -q_k . t``."""
+        return [(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex]
 
     def contains(self, points) -> np.ndarray:
         """Whether each point is inside (or on) some piece.
@@ -215,8 +239,11 @@ class GraspObject:
         if M.shape != (4, 4) or not np.isfinite(M).all():
             raise ValueError(f"matrix must be a finite (4, 4) homogeneous transform, got shape {M.shape}")
         R, t = M[:3, :3], M[:3, 3]
-        if not np.allclose(R @ R.T, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0 or not np.allclose(M[3], [0, 0, 0, 1]):
-            raise ValueError("matrix must be a rigid transform: orthonormal rotation with det +1, last row [0, 0, 0, 1]")
+        rigid = np.allclose(R @ R.T, np.eye(3), atol=1e-9) and np.linalg.det(R) > 0 and np.allclose(M[3], [0, 0, 0, 1])
+        if not rigid:
+            raise ValueError(
+                "matrix must be a rigid transform: orthonormal rotation with det +1, last row [0, 0, 0, 1]"
+            )
         mesh = None
         if self.mesh is not None:
             mesh = self.mesh.copy()

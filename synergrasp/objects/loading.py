@@ -134,6 +134,8 @@ def _cached(content: bytes, params: dict, compute, use_cache: bool):
     if hit is not None:
         return hit[0], hit[1], "hit"
     pieces, meta = compute()
+    if meta.pop("transient", False):  # a fallback after a failure is not stored
+        return pieces, meta, "miss"
     _cache_write(key, [np.asarray(p, dtype=float) for p in pieces], meta)
     return pieces, meta, "miss"
 
@@ -204,7 +206,7 @@ def _decompose(mesh: trimesh.Trimesh, max_parts: int, max_vertices: int) -> list
     return pieces
 
 
-def from_mesh(
+def _from_mesh(
     mesh,
     scale: float = 1.0,
     *,
@@ -217,43 +219,7 @@ def from_mesh(
     _content: bytes | None = None,
     _source: str | None = None,
 ) -> GraspObject:
-    """An object from a triangle mesh: its hull if (nearly) convex, else convex parts.
-
-    Parameters
-    ----------
-    mesh : trimesh.Trimesh or trimesh.Scene
-        The surface (a scene's meshes are concatenated).
-    scale : float
-        Factor applied to the coordinates (``scale=1000`` for a mesh in metres).
-    name : str, optional
-        Object name (default the mesh's file name or "mesh").
-    max_parts : int
-        Most convex parts of a decomposition.
-    max_vertices : int
-        Most hull vertices per piece.
-    cache : bool
-        Use the on-disk decomposition cache.
-    center, torque_scale : optional
-        See :class:`GraspObject`.
-
-    Returns
-    -------
-    GraspObject
-        ``info["method"]`` is ``"hull"``, ``"coacd"`` or (not watertight)
-        ``"surface points: ..."``, ``info["cache"]`` is
-        ``"hit"``, ``"miss"`` or ``"disabled"``, ``info["volume_ratio"]`` the
-        mesh's volume over its hull's (None when not watertight).
-
-    Raises
-    ------
-    ValueError
-        If the mesh has no faces or no volume (all vertices on a plane).
-
-    Warns
-    -----
-    UserWarning
-        If the mesh is not watertight, or the object's size is outside 10-500 mm.
-    """
+    """Implementation of :func:`from_mesh` (``_content``: the bytes hashed for the cache)."""
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices)
     what = name or _source or "mesh"
@@ -281,18 +247,25 @@ def from_mesh(
             return [_reduce(vertices, max_vertices, what)], {"method": "hull"}
         if not watertight:  # no inside to decompose: treat its surface as a dense point cloud
             samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
-            pieces, meta = _cluster_cloud(np.unique(np.vstack([vertices, samples]), axis=0), max_parts, max_vertices, what)
+            cloud = np.unique(np.vstack([vertices, samples]), axis=0)
+            pieces, meta = _cluster_cloud(cloud, max_parts, max_vertices, what)
             return pieces, {**meta, "method": f"surface points: {meta['method']}"}
         try:
             return _decompose(mesh, max_parts, max_vertices), {"method": "coacd"}
         except Exception as exc:  # noqa: BLE001 - the hull is a usable fallback
             _warn(f"convex decomposition of {what} failed ({exc}); using its convex hull")
-            return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)"}
+            return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)", "transient": True}
 
     if _content is None:
         _content = vertices.tobytes() + np.asarray(mesh.faces, dtype=np.int64).tobytes()
-    params = {"kind": "mesh" if watertight else "open mesh", "max_parts": max_parts, "max_vertices": max_vertices,
-              "coacd": COACD_PARAMS, "concavity": CLOUD_CONCAVITY, "samples": OPEN_MESH_SAMPLES}
+    params = {
+        "kind": "mesh" if watertight else "open mesh",
+        "max_parts": max_parts,
+        "max_vertices": max_vertices,
+        "coacd": COACD_PARAMS,
+        "concavity": CLOUD_CONCAVITY,
+        "samples": OPEN_MESH_SAMPLES,
+    }
     pieces, meta, status = _cached(_content, params, compute, cache)
     shown = mesh.copy()
     shown.apply_scale(scale)
@@ -394,7 +367,7 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
     return pieces, meta
 
 
-def from_points(
+def _from_points(
     points,
     scale: float = 1.0,
     *,
@@ -405,6 +378,92 @@ def from_points(
     center=None,
     torque_scale=None,
     _source: str | None = None,
+) -> GraspObject:
+    """Implementation of :func:`from_points` (``_source``: the file, for messages)."""
+    what = name or _source or "point cloud"
+    scale = positive_scalar(scale, "scale")
+    max_parts, max_vertices = _options(max_parts, max_vertices)
+    pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
+    _hull(pts, what)  # raises "has no volume" for flat or too small clouds
+    params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
+              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD}
+    pieces, meta, status = _cached(
+        pts.tobytes(), params, lambda: _cluster_cloud(pts, max_parts, max_vertices, what), cache
+    )
+    obj = GraspObject(
+        _scaled(pieces, scale),
+        name=what,
+        center=center,
+        torque_scale=torque_scale,
+        info={"source": _source or "points", "method": meta["method"], "cache": status,
+              "concavity": meta.get("concavity"), "scale": scale},
+    )
+    _check_size(obj, what)
+    return obj
+
+
+def from_mesh(
+    mesh,
+    scale: float = 1.0,
+    *,
+    name: str | None = None,
+    max_parts: int = 16,
+    max_vertices: int = 256,
+    cache: bool = True,
+    center=None,
+    torque_scale=None,
+) -> GraspObject:
+    """An object from a triangle mesh: its hull if (nearly) convex, else convex parts.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh or trimesh.Scene
+        The surface (a scene's meshes are concatenated).
+    scale : float
+        Factor applied to the coordinates (``scale=1000`` for a mesh in metres).
+    name : str, optional
+        Object name (default the mesh's file name or "mesh").
+    max_parts : int
+        Most convex parts of a decomposition.
+    max_vertices : int
+        Most hull vertices per piece.
+    cache : bool
+        Use the on-disk decomposition cache.
+    center, torque_scale : optional
+        See :class:`GraspObject`.
+
+    Returns
+    -------
+    GraspObject
+        ``info["method"]`` is ``"hull"``, ``"coacd"`` or (not watertight)
+        ``"surface points: ..."``, ``info["cache"]`` is
+        ``"hit"``, ``"miss"`` or ``"disabled"``, ``info["volume_ratio"]`` the
+        mesh's volume over its hull's (None when not watertight).
+
+    Raises
+    ------
+    ValueError
+        If the mesh has no faces or no volume (all vertices on a plane).
+
+    Warns
+    -----
+    UserWarning
+        If the mesh is not watertight, or the object's size is outside 10-500 mm.
+    """
+    return _from_mesh(mesh, scale, name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
+                      center=center, torque_scale=torque_scale)
+
+
+def from_points(
+    points,
+    scale: float = 1.0,
+    *,
+    name: str | None = None,
+    max_parts: int = 16,
+    max_vertices: int = 256,
+    cache: bool = True,
+    center=None,
+    torque_scale=None,
 ) -> GraspObject:
     """An object from a point cloud: one hull, or the hulls of k-means clusters of its filled inside.
 
@@ -440,26 +499,8 @@ def from_points(
     UserWarning
         If the object's size is outside 10-500 mm.
     """
-    what = name or _source or "point cloud"
-    scale = positive_scalar(scale, "scale")
-    max_parts, max_vertices = _options(max_parts, max_vertices)
-    pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
-    _hull(pts, what)  # raises "has no volume" for flat or too small clouds
-    params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
-              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD}
-    pieces, meta, status = _cached(
-        pts.tobytes(), params, lambda: _cluster_cloud(pts, max_parts, max_vertices, what), cache
-    )
-    obj = GraspObject(
-        _scaled(pieces, scale),
-        name=what,
-        center=center,
-        torque_scale=torque_scale,
-        info={"source": _source or "points", "method": meta["method"], "cache": status,
-              "concavity": meta.get("concavity"), "scale": scale},
-    )
-    _check_size(obj, what)
-    return obj
+    return _from_points(points, scale, name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
+                        center=center, torque_scale=torque_scale)
 
 
 # --------------------------------------------------------------------------- files
@@ -577,9 +618,9 @@ def load(
         data = np.asarray(data)
         if data.size == 0:
             raise ValueError(f"could not read '{path}': it contains no points")
-        return from_points(data, scale, **options)
+        return _from_points(data, scale, **options)
     content = path.read_bytes()
-    return from_mesh(data, scale, _content=content, **options)
+    return _from_mesh(data, scale, _content=content, **options)
 
 
 def get(name_or_path, **kwargs) -> GraspObject:

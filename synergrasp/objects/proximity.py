@@ -22,14 +22,25 @@ Candidate pieces (the broad phase)
     For the regular simplex ``|x| <= gauge_Q(x) <= 3 |x|``, so if e_j is the
     Euclidean distance from p to piece j, the piece's value lies in
     ``[e_j, 3 e_j]``: a piece with ``e_j > 3 min_i e_i`` cannot be the
-    minimiser and is skipped. The facet planes give a cheap lower bound of e_j
-    (and decide exactly whether p is inside a piece); python-fcl's GJK
-    distance gives e_j for the pieces the bound cannot rule out. A point inside
-    some piece only needs the pieces containing it (the others have values
-    >= 0). The vertices passed to the LP are only those of the facets that can
-    carry the optimum (facets facing p for separation, facets facing -q_k
-    for penetration): the optimal face lies on such a facet, so the value and,
-    when the LP is not degenerate, the duals are unchanged.
+    minimiser and is skipped (DESIGN.md rule; python-fcl's GJK gives e_j).
+    Cheaper bounds come first and settle most points without fcl: the facet
+    planes (a lower bound of e_j, and an exact inside test), the nearest
+    vertex (an upper bound), and the gauge itself: the value of piece j is at
+    least ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function) and at
+    most the gauge distance to any of its vertices. A point inside some piece
+    only needs the pieces containing it (the others have values >= 0).
+
+Vertices passed to each LP (the narrow phase)
+    Only the vertices of the facets that can carry the optimum: for
+    separation, facets facing p that the gauge ball ``p + v Q`` (v bounded
+    above as above) can reach; for penetration and for the sQ rays, the
+    facets the ray leaves through (closed form from the planes). The optimal
+    face lies on one of them, so the value is unchanged and, when the LP is
+    not degenerate, so are the duals (they are fixed by the optimal basis).
+    The LPs are then tiny (4 rows, typically 4-30 columns per block).
+
+Every pruning uses valid bounds only; a property test checks the values
+against brute force over all pieces and all vertices.
 
 Known limitation: inside the object, the value is the penetration into the
 single piece in which the point is deepest, not into the union; a point just
@@ -248,7 +259,8 @@ class _Blocks:
         origin = np.broadcast_to(origin, (len(counts), 3))
         relative = sign * (vertices - np.repeat(origin, counts, axis=0))
         shifted = np.asarray(rhs) - sign * origin
-        self.batches.append((np.asarray(lead, dtype=float), np.asarray(cost, dtype=float), vertices, counts, relative, shifted))
+        lead, cost = np.asarray(lead, dtype=float), np.asarray(cost, dtype=float)
+        self.batches.append((lead, cost, vertices, counts, relative, shifted))
         return len(self.batches) - 1
 
     def solve(self, solver, what: str):
@@ -314,7 +326,8 @@ class _Blocks:
         for lead, _, _, counts, _, _ in batches:
             B, L = len(counts), lead.shape[1]
             part = slice(first, first + B)
-            out.append((lead_x[lead_first : lead_first + B * L].reshape(B, L), witness[part], y[part, :3], degenerate[part]))
+            leads = lead_x[lead_first : lead_first + B * L].reshape(B, L)
+            out.append((leads, witness[part], y[part, :3], degenerate[part]))
             first, lead_first = first + B, lead_first + B * L
         return out
 
@@ -405,31 +418,84 @@ def _first_per_group(group, key):
 
 
 def _candidates(obj, P, S):
-    """(n, J) bool: the pieces that can be each point's cP minimiser (DESIGN.md Sec. 5 rule).
+    """(n, J) bool: the pieces that can be each point's cP minimiser.
 
     Inside some piece: the pieces containing the point (the others have
-    values >= 0). Outside: a piece whose Euclidean distance exceeds
-    ``GAUGE_RATIO`` times the smallest one is dropped. The facet planes give
-    lower bounds of the distances and the nearest vertices upper bounds;
-    python-fcl's exact (GJK) distances settle the pieces the bounds leave open.
+    values >= 0). Outside, piece j is dropped when a lower bound of its value
+    exceeds an upper bound of another piece's value. The bounds:
+
+    * DESIGN.md Sec. 5 rule, ``e_j <= value_j <= 3 e_j`` with e_j the
+      Euclidean distance: python-fcl's exact (GJK) distance, the facet planes
+      giving a cheaper lower bound ``max_f n_f . p + o_f`` and the nearest
+      vertex an upper bound of e_j;
+    * the simplex gauge itself, ``gauge(x) = 3 max_k (-q_k . x)``: the value
+      is at least ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function
+      of the piece) and at most the gauge distance to any vertex.
+
+    Every bound is valid, so the pruning never changes a value; fcl is only
+    called for the points the cheap bounds leave with several candidates.
     """
     n, J = S.shape
     inside = S <= 0.0
-    if J == 1:
-        return np.ones((n, 1), dtype=bool)
-    lower = np.maximum(S, 0.0)
-    cand = lower <= GAUGE_RATIO * obj._vertex_distance(P).min(axis=1, keepdims=True)
+    PQ = P @ _Q.T  # (n, 4)
+    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
+    upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ))
+    tol = 1e-9 * (1.0 + np.abs(upper).min(axis=1, keepdims=True))
+    cand = lower <= upper.min(axis=1, keepdims=True) + tol
     out = inside.any(axis=1)
     cand[out] = inside[out]
+    bound = upper.min(axis=1)
     query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
     for i in np.nonzero(~out & (cand.sum(axis=1) > 1))[0]:
         js = np.nonzero(cand[i])[0]
         query.setTranslation(P[i])
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
-        exact = np.maximum(exact, lower[i, js])
-        best = exact.min()
-        cand[i, js] = exact <= GAUGE_RATIO * best + 1e-6 * (1.0 + best)
-    return cand
+        low = np.maximum(exact, lower[i, js])
+        high = min(GAUGE_RATIO * exact.min(), upper[i].min()) * (1 + 1e-6) + 1e-6
+        cand[i, js] = low <= high
+        bound[i] = min(bound[i], high)
+    return cand, bound
+
+
+def _exit_facets(D, a, tol=1e-9):
+    """Facets through which rays leave a piece.
+
+    Parameters
+    ----------
+    D : (m, f) float
+        ``n_f . x0 + o_f`` at the rays' origins (<= 0: origins inside).
+    a : (m, f) float
+        ``n_f . d``, d the rays' directions.
+
+    Returns
+    -------
+    (m, f) bool
+        The facets whose plane the ray ``x0 + r d`` (r >= 0) crosses last
+        (within ``tol``): the exit point lies on one of them.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(a > 0, -D / a, np.inf)
+    r_exit = r.min(axis=1, keepdims=True)
+    return r <= r_exit * (1 + tol) + tol
+
+
+def _separation_facets(obj, j, D, PQ, bound):
+    """Facets of piece j that can carry the separation optimum for each point.
+
+    The optimum b* lies on a facet facing p (``n . p + o > 0``), and inside the
+    gauge ball ``p + v Q`` with v <= ``bound``. A facet is dropped when that
+    ball cannot reach it: it lies beyond the facet's plane, or a facet plane
+    of the ball (normal ``-q_k``, offset ``bound / 3``) separates them.
+    """
+    tol = 1e-9 * (1.0 + bound[:, None])
+    facing = D > 0.0
+    reach = D + bound[:, None] * obj._facet_nq[j][None] <= tol
+    # the ball's facet k separates a triangle when all its vertices lie beyond it
+    mq = obj._facet_mq[j]
+    apart = np.zeros_like(facing)
+    for k in range(4):
+        apart |= mq[None, :, k] + PQ[:, None, k] > bound[:, None] / 3.0 + tol
+    return facing & reach & ~apart
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
@@ -438,24 +504,39 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     solver = lp.get_backend(backend)
     n = len(P)
     S = obj._plane_bounds(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
-    cand = _candidates(obj, P, S)
+    cand, bound = _candidates(obj, P, S)
+    PQ = P @ _Q.T
 
+    # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
+    facets, covered = [], np.zeros(n, dtype=bool)
+    for j, piece in enumerate(obj.convex):
+        rows = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
+        D = P[rows] @ piece.planes[:, :3].T + piece.planes[:, 3]
+        keep = _separation_facets(obj, j, D, PQ[rows], bound[rows])
+        facets.append((rows, D, keep))
+        covered[rows[keep.any(axis=1)]] = True
     blocks = _Blocks()
     batches = []  # (batch index, points, piece, separation?)
+    for j, (piece, (rows, D, keep)) in enumerate(zip(obj.convex, facets)):
+        # a piece the gauge ball cannot reach is not the minimiser; should round-off leave a
+        # point with no piece at all, fall back to every facet facing it
+        lost = ~covered[rows]
+        keep[lost] = D[lost] > 0.0
+        some = keep.any(axis=1)
+        rows, keep = rows[some], keep[some]
+        if len(rows):
+            verts, counts = _facet_vertices(piece, keep)
+            lead = np.broadcast_to(_Q, (len(rows), 4, 3))
+            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows]), rows, j, True))
     for j, piece in enumerate(obj.convex):
-        sep = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
-        if len(sep):  # Eq. 1: min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
-            facing = P[sep] @ piece.planes[:, :3].T + piece.planes[:, 3] > 0.0
-            verts, counts = _facet_vertices(piece, facing)
-            lead = np.broadcast_to(_Q, (len(sep), 4, 3))
-            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[sep], P[sep]), sep, j, True))
-        pen = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
-        for k in range(4) if len(pen) else ():  # Eq. 3: min -rho  s.t.  rho q_k + V^T beta = p
-            exits = obj._exit_vertices(j, k)
-            verts = np.tile(exits, (len(pen), 1))
-            counts = np.full(len(pen), len(exits))
-            lead = np.broadcast_to(_Q[k], (len(pen), 1, 3))
-            batches.append((blocks.add(lead, [-1.0], verts, counts, 1.0, P[pen], P[pen]), pen, j, False))
+        rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
+        if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
+            D = P[rows] @ piece.planes[:, :3].T + piece.planes[:, 3]
+            for k in range(4):
+                # the optimum is where the ray p - rho q_k leaves the piece
+                verts, counts = _facet_vertices(piece, _exit_facets(D, -(piece.planes[:, :3] @ _Q[k])[None]))
+                lead = np.broadcast_to(_Q[k], (len(rows), 1, 3))
+                batches.append((blocks.add(lead, [-1.0], verts, counts, 1.0, P[rows], P[rows]), rows, j, False))
     solved = blocks.solve(solver, "cP")
 
     # one row per (point, piece[, k]) LP, then penetration = max over k, cP = min over pieces
@@ -487,6 +568,8 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     # cP: the min over the candidate pieces (rows come out sorted by point)
     order2, first2 = _first_per_group(pts[best_rows], vals[best_rows])
     chosen = best_rows[order2[first2]]
+    if len(chosen) != n:  # pragma: no cover - every point keeps at least one piece
+        raise RuntimeError("cP: a hand point lost all its candidate pieces; please report this bug")
     degenerate = degs[chosen].copy()
     # a tie between pieces with different gradients: the derivative is one-sided
     nxt = first2 & np.r_[~first2[1:], False]
@@ -564,8 +647,9 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j])[0]
         if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
-            leaving = U[rows] @ piece.planes[:, :3].T > 0.0
-            verts, counts = _facet_vertices(piece, leaving)
+            # the optimum is the exit point: only the facets the ray leaves through (closed form)
+            D = np.broadcast_to(piece.planes[:, :3] @ c0 + piece.planes[:, 3], (len(rows), len(piece.planes)))
+            verts, counts = _facet_vertices(piece, _exit_facets(D, U[rows] @ piece.planes[:, :3].T))
             rhs = np.broadcast_to(-c0, (len(rows), 3))
             batches.append((blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0), rows, j))
     solved = blocks.solve(solver, "sQ ray")

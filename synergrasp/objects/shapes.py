@@ -67,7 +67,9 @@ def _ring_sides(r_max: float, tol: float) -> int:
     return max(8, int(4 * np.ceil(sides / 4.0)))
 
 
-def revolve(profile, *, name: str = "solid of revolution", tolerance: float = 0.5, center=None, torque_scale=None) -> GraspObject:
+def revolve(
+    profile, *, name: str = "solid of revolution", tolerance: float = 0.5, center=None, torque_scale=None
+) -> GraspObject:
     """A solid of revolution about the z axis, cut into convex slabs.
 
     Parameters
