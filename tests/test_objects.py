@@ -388,3 +388,11 @@ def test_penetration_rejects_bad_input(cube):
         cube.penetration([[[0, 0, 0], [1, 1, 1]]], -1.0)
     with pytest.raises(ValueError, match="radius"):
         cube.penetration([[[0, 0, 0], [1, 1, 1]]], [1.0, 2.0])
+
+
+def test_default_centre_on_a_cut_between_pieces_is_inside():
+    """Two stacked boxes: the volume centroid lies on their shared face."""
+    box = np.array(np.meshgrid([-20, 20], [-30, 30], [-40, 40])).reshape(3, -1).T
+    obj = so.GraspObject([box + [100.0, 50.0, 0.0], box + [100.0, 50.0, 80.0]])
+    assert obj.contains(obj.center[None])[0]
+    assert np.linalg.norm(obj.center - [100.0, 50.0, 40.0]) < 25.0

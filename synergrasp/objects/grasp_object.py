@@ -186,9 +186,13 @@ class GraspObject:
             vol = np.array([p.volume for p in self.convex])
             g = (vol[:, None] * np.array([p.centroid for p in self.convex])).sum(axis=0) / vol.sum()
         margin = 1e-3 * float(np.ptp(np.vstack([p.vertices for p in self.convex]), axis=0).max())
-        if self._plane_bounds(g[None])[0].min() <= -margin:
+        bounds = self._plane_bounds(g[None])[0]
+        if bounds.min() <= -margin:
             return g
-        # the centroid is outside (or on the skin of) the object: move it inside
+        if bounds.min() <= margin:  # on the skin of a piece (a cut between pieces): step into that piece
+            piece = self.convex[int(np.argmin(bounds))]
+            return g + 0.25 * (piece.centroid - g)
+        # the centroid is outside the object: move it inside
         query = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform(g))
         request = fcl.DistanceRequest(enable_nearest_points=True)
         best = (np.inf, None, None)
