@@ -86,10 +86,10 @@ def table(rows):
 
 def write_between_markers(path, text):
     content = path.read_text()
-    pattern = re.compile(r"(<!-- paper-table:start -->\n).*?(\n<!-- paper-table:end -->)", re.S)
+    pattern = re.compile(r"(<!-- paper-table:start -->\n)(?:.*?\n)?(<!-- paper-table:end -->)", re.S)
     if not pattern.search(content):
         raise SystemExit(f"{path} has no paper-table markers")
-    path.write_text(pattern.sub(lambda m: m.group(1) + text + m.group(2), content))
+    path.write_text(pattern.sub(lambda m: m.group(1) + text + "\n" + m.group(2), content))
 
 
 def main(argv=None):

@@ -182,10 +182,11 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
 
     def evaluate(u):
         st = grasp_status(hand, obj, u, kind, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
-        palm_cp = None
-        if kind == "precision":
+        chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
+        if chk.done and kind == "precision":  # a pinch must not end with the palm on the object
             palm_cp = float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])
-        chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend, palm_cp=palm_cp)
+            chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
+                              palm_cp=palm_cp)
         return st, chk
 
     u = np.array(u0, dtype=float)
