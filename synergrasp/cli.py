@@ -70,7 +70,12 @@ def _plan(args) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``synergrasp`` command."""
+    """The argument parser of the ``synergrasp`` command (subcommands ``demo`` and ``plan``).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
     parser = argparse.ArgumentParser(
         prog="synergrasp",
         description="Reach-to-grasp planning and grasp quality for a synergy-controlled robotic hand.",
@@ -104,7 +109,27 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the ``synergrasp`` command."""
+    """Entry point of the ``synergrasp`` command.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 1 if ``plan`` found no stable grasp, 2 on a bad
+        argument or input (the error is printed to stderr).
+
+    Examples
+    --------
+    >>> main(["demo", "--contacts", "5"])    # doctest: +ELLIPSIS
+    5 contacts spread on the equator of a 40 mm sphere, mu = 0.3, backend highs
+    Q distance = -0.2425 (force-closed)
+    ...
+    0
+    """
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)

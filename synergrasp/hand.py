@@ -3,25 +3,24 @@
 The hand of the paper (Sec. 3.1, Tables 1 and 2) has five serial chains (T, I, M, R, L)
 on a rigid palm. Its actuated joints form the pose vector ``Psi``; every joint angle is an
 affine function of ``Psi`` (the couplings) and ``Psi`` an affine function of the synergy
-variables ``z`` (Eq. 11)::
+variables ``z`` (Eq. 11):
 
     Psi = mean_pose + synergies @ z          (n_act,)
     q   = coupling @ Psi + offset            (n_joints,)
 
-Everything that describes a hand lives in a JSON file (``docs/hand_format.md``); the
-paper's hand is ``synergrasp/data/hands/paper_hand.json``, loaded by
-:meth:`SynergyHand.default`.
+Everything that describes a hand lives in a JSON file (see the documentation's "Hand file
+format" page); the paper's hand ships with the package as ``data/hands/paper_hand.json``,
+loaded by `SynergyHand.default`.
 
-Frames and conventions (millimetres and radians)
-------------------------------------------------
-The palm frame has its origin at the palm centre, +z along the palm normal (the side the
-palm faces, towards a grasped object), +y towards the fingers, +x towards the thumb.
-A configuration is ``u = [px, py, pz, phi1, phi2, phi3, z1, ..., z_nsyn]``: the palm
-frame's origin ``p`` in the world, its orientation as intrinsic X-Y-Z Euler angles, and the
-synergy variables. A point with palm coordinates ``x`` is at ``p + R @ x`` in the world,
-where ``R = Rx(phi1) @ Ry(phi2) @ Rz(phi3)`` (:func:`rotation_xyz`; the same matrix as
-``scipy.spatial.transform.Rotation.from_euler("XYZ", phi)``). The palm normal in the
-world is ``R[:, 2]``.
+Frames and conventions, in millimetres and radians: the palm frame has its origin at the
+palm centre, +z along the palm normal (the side the palm faces, towards a grasped object),
++y towards the fingers, +x towards the thumb. A configuration is
+``u = [px, py, pz, phi1, phi2, phi3, z1, ..., z_nsyn]``: the palm frame's origin ``p`` in
+the world, its orientation as intrinsic X-Y-Z Euler angles, and the synergy variables. A
+point with palm coordinates ``x`` is at ``p + R @ x`` in the world, where
+``R = Rx(phi1) @ Ry(phi2) @ Rz(phi3)`` (`rotation_xyz`; the same matrix as
+``scipy.spatial.transform.Rotation.from_euler("XYZ", phi)``). The palm normal in the world
+is ``R[:, 2]``.
 """
 
 from __future__ import annotations
@@ -54,6 +53,15 @@ def rotation_xyz(phi):
     -------
     (3, 3) float
         ``Rx(phi[0]) @ Ry(phi[1]) @ Rz(phi[2])``.
+
+    Examples
+    --------
+    The same matrix as scipy's intrinsic ``"XYZ"`` Euler angles:
+
+    >>> from scipy.spatial.transform import Rotation
+    >>> R = rotation_xyz([0.1, 0.2, 0.3])
+    >>> bool(np.allclose(R, Rotation.from_euler("XYZ", [0.1, 0.2, 0.3]).as_matrix()))
+    True
     """
     c1, c2, c3 = (math.cos(a) for a in phi)
     s1, s2, s3 = (math.sin(a) for a in phi)
@@ -160,7 +168,7 @@ class _Spec:
 class SynergyHand:
     """A synergy-controlled hand: kinematics, hand points and analytic Jacobians.
 
-    Build it with :meth:`default` (the paper's hand) or :meth:`from_file`.
+    Build it with `default` (the paper's hand) or `from_file`.
 
     Attributes
     ----------
@@ -179,7 +187,7 @@ class SynergyHand:
         kinematics accept any ``z``.
     joint_names : list of str
         All joints, fixed ones included, chain by chain from the palm outwards (the order of
-        :meth:`joint_angles`; 16 for the paper's hand: its 11 moving joints and T_ip and the
+        `joint_angles`; 16 for the paper's hand: its 11 moving joints and T_ip and the
         4 dips, fixed at 20 degrees).
     finger_names : list of str
         Name of each chain (``"T", "I", "M", "R", "L"``).
@@ -195,10 +203,20 @@ class SynergyHand:
         Half sizes of the palm box along the palm frame's axes.
     source : str
         The file the hand was read from.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from synergrasp import SynergyHand
+    >>> hand = SynergyHand.default()
+    >>> hand.n_syn, hand.n_u, hand.finger_names
+    (2, 8, ['T', 'I', 'M', 'R', 'L'])
+    >>> hand.pose(np.zeros(hand.n_u)).tolist() == hand.mean_pose.tolist()   # z = 0: the mean pose
+    True
     """
 
     def __init__(self, data, source="<dict>"):
-        """Build a hand from a parsed hand-file dictionary (see :meth:`from_file`)."""
+        """Build a hand from a parsed hand-file dictionary (see `from_file`)."""
         spec = _Spec(source)
         self._data = copy.deepcopy(data)
         self.source = str(source)
@@ -352,13 +370,23 @@ class SynergyHand:
         Returns
         -------
         SynergyHand
+
+        Examples
+        --------
+        >>> hand = SynergyHand.default()
+        >>> hand
+        SynergyHand('paper_hand', fingers=['T', 'I', 'M', 'R', 'L'], n_act=6, n_syn=2)
+        >>> hand.u_labels
+        ['px', 'py', 'pz', 'phi1', 'phi2', 'phi3', 'z1', 'z2']
         """
         res = resources.files("synergrasp").joinpath("data", "hands", _DEFAULT_FILE)
         return cls(json.loads(res.read_text(encoding="utf-8")), source=_DEFAULT_FILE)
 
     @classmethod
     def from_file(cls, path):
-        """Load a hand from a JSON hand file (format: ``docs/hand_format.md``).
+        """Load a hand from a JSON hand file.
+
+        The format is described on the documentation's "Hand file format" page.
 
         Parameters
         ----------
@@ -373,6 +401,22 @@ class SynergyHand:
         ValueError
             If the file is not valid JSON or a field is missing or malformed; the message
             names the file and the field.
+
+        Examples
+        --------
+        Save a modified copy of the paper's hand and read it back:
+
+        >>> import json, tempfile
+        >>> from pathlib import Path
+        >>> data = SynergyHand.default().to_dict()
+        >>> data["name"] = "thick_fingers"
+        >>> data["finger_radius"] = 10.0
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     path = Path(folder) / "thick_fingers.json"
+        ...     _ = path.write_text(json.dumps(data))
+        ...     hand = SynergyHand.from_file(path)
+        >>> hand.name, hand.finger_radius
+        ('thick_fingers', 10.0)
         """
         path = Path(path)
         try:
@@ -382,7 +426,14 @@ class SynergyHand:
         return cls(data, source=path)
 
     def to_dict(self):
-        """A deep copy of the hand's definition, as read from its file (JSON-serialisable)."""
+        """A deep copy of the hand's definition, as read from its file (JSON-serialisable).
+
+        Returns
+        -------
+        dict
+            The fields of the hand file; edit it and pass it to ``SynergyHand(data)`` or save
+            it as JSON for `from_file`.
+        """
         return copy.deepcopy(self._data)
 
     # ------------------------------------------------------------------ configuration
@@ -514,6 +565,19 @@ class SynergyHand:
         -------
         (n, 3) float
             ``n = 5`` (precision) or ``16`` (power) for the paper's hand.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.zeros(hand.n_u)             # palm frame = world frame, mean pose
+        >>> hand.points(u).shape, hand.points(u, "power").shape
+        ((5, 3), (16, 3))
+        >>> hand.points(u).round(1)[1].tolist()   # the index fingertip I0 (mm)
+        [29.4, 79.9, 78.1]
+        >>> shifted = u + [10.0, 0, 0, 0, 0, 0, 0, 0]     # move the palm 10 mm along x
+        >>> bool(np.allclose(hand.points(shifted) - hand.points(u), [10.0, 0.0, 0.0]))
+        True
         """
         u = self._check_u(u)
         return u[:3] + self._local_points(u[6:], kind)[0] @ rotation_xyz(u[3:6]).T
@@ -529,12 +593,28 @@ class SynergyHand:
         Returns
         -------
         points : (n, 3) float
-            As :meth:`points`.
+            As `points`.
         jacobian : (n, 3, 6 + n_syn) float
             ``jacobian[i, :, k] = d points[i] / d u[k]``: identity for ``p``, ``w_k x (R x)``
             for the Euler angles (``w_k`` = the world axis of the k-th elementary rotation),
             ``R sum_j (dq_j/dz) a_j x (x - o_j)`` for the synergies (joint axes ``a_j``
             through ``o_j``, upstream joints only).
+
+        Examples
+        --------
+        The synergy column of the Jacobian against a central difference:
+
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.3, 0.5, -0.4])
+        >>> points, jac = hand.points_and_jacobian(u)
+        >>> jac.shape
+        (5, 3, 8)
+        >>> du = np.zeros(8)
+        >>> du[6] = 1e-6
+        >>> numeric = (hand.points(u + du) - hand.points(u - du)) / 2e-6
+        >>> bool(np.allclose(jac[:, :, 6], numeric, atol=1e-6))
+        True
         """
         u = self._check_u(u)
         local, axes, origins, q_z_masked = self._local_points(u[6:], kind)      # (n, 3), ...
@@ -551,7 +631,7 @@ class SynergyHand:
         return u[:3] + arm, jac
 
     def points_jacobian(self, u, kind="precision"):
-        """Analytic Jacobian of :meth:`points`, ``(n, 3, 6 + n_syn)`` (see :meth:`points_and_jacobian`)."""
+        """Analytic Jacobian of `points`, ``(n, 3, 6 + n_syn)`` (see `points_and_jacobian`)."""
         return self.points_and_jacobian(u, kind)[1]
 
     def segments_and_jacobian(self, u):

@@ -1,6 +1,8 @@
 """Figures and animations of plans: status histories, hand poses, a GIF and an HTML scene.
 
-All functions draw headless (matplotlib's Agg backend) and write files.
+All functions draw headless (importing this module selects matplotlib's Agg backend) and
+write files; each returns the path it wrote. ``synergrasp plan`` on the command line writes
+all four for a plan.
 """
 
 from __future__ import annotations
@@ -31,11 +33,25 @@ def plot_status(result, path, labels=None):
     path : str or Path
         Output image (.png, .svg, .pdf).
     labels : list of str, optional
-        Names of the cP rows; default from the hand's point labels.
+        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
+        (pass ``hand.point_labels(result.grasp)`` for another hand).
 
     Returns
     -------
     Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import synergrasp as sg
+    >>> from synergrasp import viz
+    >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision", max_iter=3)
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = viz.plot_status(result, Path(folder) / "status.png")
+    ...     path.name, path.stat().st_size > 0
+    ('status.png', True)
     """
     from .hand import SynergyHand
 
@@ -103,15 +119,20 @@ def plot_poses(result, obj, hand, path, count=5):
     Parameters
     ----------
     result : PlanResult
+        A plan of ``obj`` with ``hand``.
     obj : GraspObject
+        The planned object.
     hand : SynergyHand
+        The hand that made the plan.
     path : str or Path
+        Output image (.png, .svg, .pdf).
     count : int
         Number of poses drawn, evenly spread over the trajectory (last included).
 
     Returns
     -------
     Path
+        ``path``.
     """
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
@@ -140,17 +161,22 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     Parameters
     ----------
     result : PlanResult
+        A plan of ``obj`` with ``hand``.
     obj : GraspObject
+        The planned object.
     hand : SynergyHand
+        The hand that made the plan.
     path : str or Path
         Output ``.gif``.
     fps : int
+        Frames per second.
     max_frames : int
         Longer trajectories are subsampled.
 
     Returns
     -------
     Path
+        ``path``.
     """
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
@@ -177,9 +203,20 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
 def scene(obj, hand, u):
     """A trimesh scene of the object and the hand at configuration u.
 
+    Parameters
+    ----------
+    obj : GraspObject
+        The object (its mesh, else its convex pieces).
+    hand : SynergyHand
+        The hand, drawn as its phalanx capsules and palm box.
+    u : (6 + n_syn,) array_like
+        Hand configuration.
+
     Returns
     -------
     trimesh.Scene
+        The object and the hand's parts as coloured meshes (``scene.show()`` opens a viewer
+        where one is installed; ``scene.export("grasp.glb")`` writes a file).
     """
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
@@ -200,11 +237,23 @@ def scene(obj, hand, u):
 
 
 def write_html(obj, hand, u, path):
-    """An interactive 3-D page (three.js through trimesh) of the final grasp.
+    """An interactive 3-D page (three.js through trimesh) of the hand around the object.
+
+    Parameters
+    ----------
+    obj : GraspObject
+        The object.
+    hand : SynergyHand
+        The hand.
+    u : (6 + n_syn,) array_like
+        Hand configuration, typically ``result.u`` (the final grasp).
+    path : str or Path
+        Output ``.html``.
 
     Returns
     -------
     Path
+        ``path``.
     """
     from trimesh.viewer.notebook import scene_to_html
 

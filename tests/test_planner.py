@@ -157,6 +157,14 @@ def test_bad_input(ellipsoid, kwargs, match):
         plan(ellipsoid, **kwargs)
 
 
+def test_an_object_in_metres_is_refused():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tiny = so.ellipsoid(0.03, 0.04, 0.05)
+    with pytest.raises(ValueError, match="too small to grasp.*scale=1000"):
+        plan(tiny, "precision")
+
+
 def test_an_object_the_hand_cannot_hold():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -1,8 +1,10 @@
 """Objects to grasp: built-in shapes, mesh and point-cloud loading, cP and sQ queries.
 
-An object is a union of convex pieces with a centre and a torque scale
-(:class:`GraspObject`, DESIGN.md Sec. 5). Units: mm.
+An object is a union of convex pieces with a centre and a torque scale (`GraspObject`; the
+documentation's "Use your own object" page explains how files become pieces). Units: mm.
 
+Examples
+--------
 >>> import synergrasp.objects as so
 >>> obj = so.get("ellipsoid")
 >>> r = obj.contact_distance([[0.0, 0.0, 60.0]])

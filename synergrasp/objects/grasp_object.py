@@ -52,6 +52,20 @@ class GraspObject:
     ------
     ValueError
         If there are no pieces, or a piece is non-finite or has no volume.
+
+    Examples
+    --------
+    A 60 x 50 x 90 mm box as one convex piece, given by its corners:
+
+    >>> import itertools
+    >>> import numpy as np
+    >>> from synergrasp.objects import GraspObject
+    >>> corners = np.array(list(itertools.product([-30.0, 30.0], [-25.0, 25.0], [-45.0, 45.0])))
+    >>> box = GraspObject([corners], name="box")
+    >>> box
+    GraspObject('box', 1 pieces, 60 x 50 x 90 mm, L=59.6)
+    >>> box.contains([[0.0, 0.0, 0.0], [0.0, 0.0, 50.0]]).tolist()
+    [True, False]
     """
 
     def __init__(self, pieces, *, center=None, torque_scale=None, name: str = "object", mesh=None, info=None):
@@ -270,8 +284,8 @@ class GraspObject:
         candidate piece B (paper Eqs. 1-3, default regular simplex), the
         minimum over the pieces: > 0 outside, 0 on the surface, < 0 inside.
         python-fcl's distances and the pieces' planes prune the pieces that
-        cannot be the minimiser (DESIGN.md Sec. 5); all the LPs of the call
-        are solved as one block-diagonal LP.
+        cannot be the minimiser (see the documentation's "Contact distance
+        (cP)" page); all the LPs of the call are solved as one block-diagonal LP.
 
         Parameters
         ----------
@@ -293,6 +307,21 @@ class GraspObject:
             If ``points`` is not a finite (n, 3) array, or the backend is unknown.
         synergrasp.lp.LPError
             If the backend fails to solve the LP.
+
+        Examples
+        --------
+        A point 10 mm above the pole of the paper's ellipsoid (semi-axes 30, 40,
+        50 mm) and one at its centre:
+
+        >>> import synergrasp as sg
+        >>> obj = sg.objects.get("ellipsoid")
+        >>> r = obj.contact_distance([[0.0, 0.0, 60.0], [0.0, 0.0, 0.0]])
+        >>> r.value.round(2).tolist(), r.inside.tolist()
+        ([10.0, -32.85], [False, True])
+        >>> (r.grad[0].round(6) + 0.0).tolist()        # moving the point up increases cP
+        [0.0, 0.0, 1.0]
+        >>> (r.nearest[0].round(6) + 0.0).tolist(), (r.normal[0].round(6) + 0.0).tolist()
+        ([0.0, 0.0, 50.0], [0.0, 0.0, -1.0])
         """
         return proximity.contact_distance(self, points, backend)
 
@@ -330,6 +359,19 @@ class GraspObject:
             the centre, or a ray misses the object (centre outside it).
         synergrasp.lp.LPError
             If the backend fails to solve the LP.
+
+        Examples
+        --------
+        The paper's ellipsoid (50 mm to its pole) scaled about its centre until
+        it touches a point 100 mm above the centre, and one 25 mm above it:
+
+        >>> import synergrasp as sg
+        >>> obj = sg.objects.get("ellipsoid")
+        >>> s = obj.scaled_contacts([[0.0, 0.0, 100.0], [0.0, 0.0, 25.0]])
+        >>> s.scale.round(6).tolist(), s.inside.tolist()
+        ([2.0, 0.5], [False, True])
+        >>> (s.contact.round(6) + 0.0).tolist()        # both carried back to the pole
+        [[0.0, 0.0, 50.0], [0.0, 0.0, 50.0]]
         """
         return proximity.scaled_contacts(self, points, backend)
 

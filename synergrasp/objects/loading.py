@@ -48,7 +48,7 @@ from .grasp_object import GraspObject
 MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
 #: Point-cloud file extensions (.ply without faces is a cloud too).
 POINT_FORMATS = (".xyz", ".npy", ".npz", ".ply")
-#: Every extension :func:`load` accepts.
+#: Every extension `load` accepts.
 SUPPORTED_FORMATS = tuple(sorted(set(MESH_FORMATS + POINT_FORMATS)))
 #: A watertight mesh with volume / hull volume above this is treated as convex.
 CONVEX_RATIO = 0.97
@@ -219,7 +219,7 @@ def _from_mesh(
     _content: bytes | None = None,
     _source: str | None = None,
 ) -> GraspObject:
-    """Implementation of :func:`from_mesh` (``_content``: the bytes hashed for the cache)."""
+    """Implementation of `from_mesh` (``_content``: the bytes hashed for the cache)."""
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices)
     what = name or _source or "mesh"
@@ -379,7 +379,7 @@ def _from_points(
     torque_scale=None,
     _source: str | None = None,
 ) -> GraspObject:
-    """Implementation of :func:`from_points` (``_source``: the file, for messages)."""
+    """Implementation of `from_points` (``_source``: the file, for messages)."""
     what = name or _source or "point cloud"
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices)
@@ -430,7 +430,7 @@ def from_mesh(
     cache : bool
         Use the on-disk decomposition cache.
     center, torque_scale : optional
-        See :class:`GraspObject`.
+        See `GraspObject`.
 
     Returns
     -------
@@ -449,6 +449,18 @@ def from_mesh(
     -----
     UserWarning
         If the mesh is not watertight, or the object's size is outside 10-500 mm.
+
+    Examples
+    --------
+    A convex mesh is taken as its hull (a non-convex one is decomposed, which takes
+    seconds the first time and is then read from the cache):
+
+    >>> import trimesh
+    >>> import synergrasp as sg
+    >>> mesh = trimesh.creation.cylinder(radius=35.0, height=100.0)     # mm
+    >>> obj = sg.objects.from_mesh(mesh, name="can", cache=False)
+    >>> obj, obj.info["method"]
+    (GraspObject('can', 1 pieces, 70 x 70 x 100 mm, L=61.0), 'hull')
     """
     return _from_mesh(mesh, scale, name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
                       center=center, torque_scale=torque_scale)
@@ -482,7 +494,7 @@ def from_points(
     cache : bool
         Use the on-disk cache for the clustering.
     center, torque_scale : optional
-        See :class:`GraspObject`.
+        See `GraspObject`.
 
     Returns
     -------
@@ -498,6 +510,19 @@ def from_points(
     -----
     UserWarning
         If the object's size is outside 10-500 mm.
+
+    Examples
+    --------
+    500 points on a sphere of radius 30 mm: a convex cloud, so one hull.
+
+    >>> import numpy as np
+    >>> import synergrasp as sg
+    >>> rng = np.random.default_rng(0)
+    >>> points = rng.normal(size=(500, 3))
+    >>> points *= 30.0 / np.linalg.norm(points, axis=1, keepdims=True)
+    >>> obj = sg.objects.from_points(points, name="ball", cache=False)
+    >>> obj.n_pieces, obj.info["method"], bool(obj.contains([[0.0, 0.0, 0.0]])[0])
+    (1, 'hull', True)
     """
     return _from_points(points, scale, name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
                         center=center, torque_scale=torque_scale)
@@ -560,7 +585,7 @@ def load(
     cache : bool
         Use the on-disk decomposition cache (``cache_dir()``).
     center, torque_scale : optional
-        See :class:`GraspObject`.
+        See `GraspObject`.
 
     Returns
     -------
@@ -578,6 +603,26 @@ def load(
     -----
     UserWarning
         If a mesh is not watertight, or the size is outside 10-500 mm.
+
+    Examples
+    --------
+    Write a 60 x 50 x 90 mm box to an STL file and load it:
+
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import trimesh
+    >>> import synergrasp as sg
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "box.stl"
+    ...     _ = trimesh.creation.box(extents=[60.0, 50.0, 90.0]).export(path)
+    ...     obj = sg.objects.load(path, cache=False)
+    >>> obj
+    GraspObject('box.stl', 1 pieces, 60 x 50 x 90 mm, L=59.6)
+    >>> obj.info["method"], obj.info["watertight"]
+    ('hull', True)
+
+    A file in metres needs ``scale=1000``; without it the object is 1000 times too
+    small and a ``UserWarning`` says so.
     """
     path = Path(path)
     if not path.is_file():
@@ -630,9 +675,9 @@ def get(name_or_path, **kwargs) -> GraspObject:
     ----------
     name_or_path : str or os.PathLike
         ``"ellipsoid"``, ``"cup"``, ``"bell"``, ``"goblet"``, or a file path
-        for :func:`load`.
+        for `load`.
     **kwargs
-        Passed to the factory or to :func:`load`.
+        Passed to the factory or to `load`.
 
     Returns
     -------
@@ -643,6 +688,16 @@ def get(name_or_path, **kwargs) -> GraspObject:
     ValueError
         If it is neither a built-in name nor an existing file (the message
         lists the built-ins).
+
+    Examples
+    --------
+    >>> import synergrasp as sg
+    >>> sorted(sg.objects.BUILTINS)
+    ['bell', 'cup', 'ellipsoid', 'goblet']
+    >>> sg.objects.get("cup")
+    GraspObject('cup', 6 pieces, 75 x 75 x 80 mm, L=51.5)
+    >>> sg.objects.get("ellipsoid", tolerance=0.2).info["max_gap"] <= 0.2   # factory options
+    True
     """
     from .shapes import BUILTINS
 

@@ -1,15 +1,15 @@
 """Hand points against an object: cP (contact pseudo-distance), sQ contacts, capsule penetration.
 
-The object is a union of convex pieces (:class:`~synergrasp.objects.convex.ConvexPiece`).
+The object is a union of convex pieces (`ConvexPiece`).
 Everything here is vectorised over the hand points and solves all the LPs of
 one call as ONE block-diagonal LP: the blocks are independent, so each block's
 optimum and duals are exactly those of the LP on its own, and the per-call
 overhead of the solver is paid once. Only ``backend.solve`` is used, so any
-backend of :mod:`synergrasp.lp` works.
+backend of `synergrasp.lp` works.
 
-cP of a point p (paper Sec. 3.2, DESIGN.md Sec. 5)
+cP of a point p (paper Sec. 3.2; the documentation's "Contact distance (cP)" page)
     The pseudo-distance between A = {p} and each piece B (the simplex Q is
-    the default regular simplex of :func:`synergrasp.regular_simplex`), the
+    the default regular simplex of `synergrasp.regular_simplex`), the
     minimum over pieces: > 0 outside the object, < 0 inside a piece (the most
     negative piece wins). With the single point as A its weight is 1, so the
     separation LP (Eq. 1) is ``min sum rho s.t. Q^T rho - V^T beta = -p,
@@ -22,7 +22,7 @@ Candidate pieces (the broad phase)
     For the regular simplex ``|x| <= gauge_Q(x) <= 3 |x|``, so if e_j is the
     Euclidean distance from p to piece j, the piece's value lies in
     ``[e_j, 3 e_j]``: a piece with ``e_j > 3 min_i e_i`` cannot be the
-    minimiser and is skipped (DESIGN.md rule; python-fcl's GJK gives e_j).
+    minimiser and is skipped (python-fcl's GJK gives e_j).
     Cheaper bounds come first and settle most points without fcl: the facet
     planes (a lower bound of e_j, and an exact inside test), the nearest
     vertex (an upper bound), and the gauge itself: the value of piece j is at
@@ -72,7 +72,7 @@ MAX_LP_COLUMNS = {"cvxpy": 400}
 
 @dataclass(frozen=True)
 class ContactDistance:
-    """Result of :meth:`GraspObject.contact_distance` (cP, one row per hand point).
+    """Result of `GraspObject.contact_distance` (cP, one row per hand point).
 
     Attributes
     ----------
@@ -112,7 +112,7 @@ class ContactDistance:
 
 @dataclass(frozen=True)
 class ScaledContacts:
-    """Result of :meth:`GraspObject.scaled_contacts` (sQ contacts, one row per hand point).
+    """Result of `GraspObject.scaled_contacts` (sQ contacts, one row per hand point).
 
     The object scaled by ``scale`` about its centre c touches the hand point
     p; along the ray from c, ``t = 1 / scale`` is the largest t with
@@ -170,7 +170,7 @@ class ScaledContacts:
 
 @dataclass(frozen=True)
 class Penetration:
-    """Result of :meth:`GraspObject.penetration` (capsules against the object).
+    """Result of `GraspObject.penetration` (capsules against the object).
 
     Attributes
     ----------
@@ -424,7 +424,7 @@ def _candidates(obj, P, S):
     values >= 0). Outside, piece j is dropped when a lower bound of its value
     exceeds an upper bound of another piece's value. The bounds:
 
-    * DESIGN.md Sec. 5 rule, ``e_j <= value_j <= 3 e_j`` with e_j the
+    * the gauge's Lipschitz bounds, ``e_j <= value_j <= 3 e_j`` with e_j the
       Euclidean distance: python-fcl's exact (GJK) distance, the facet planes
       giving a cheaper lower bound ``max_f n_f . p + o_f`` and the nearest
       vertex an upper bound of e_j;
@@ -499,7 +499,7 @@ def _separation_facets(obj, j, D, PQ, bound):
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
-    """cP of hand points against an object; see :meth:`GraspObject.contact_distance`."""
+    """cP of hand points against an object; see `GraspObject.contact_distance`."""
     P = _check_points(points)
     solver = lp.get_backend(backend)
     n = len(P)
@@ -620,7 +620,7 @@ def _ray_exits(obj, u):
 
 
 def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
-    """sQ contacts of hand points; see :meth:`GraspObject.scaled_contacts`."""
+    """sQ contacts of hand points; see `GraspObject.scaled_contacts`."""
     P = _check_points(points)
     solver = lp.get_backend(backend)
     c0 = obj.center
@@ -702,7 +702,7 @@ def _frame(direction):
 
 
 def penetration(obj, segments, radius) -> Penetration:
-    """Deepest capsule penetration; see :meth:`GraspObject.penetration`."""
+    """Deepest capsule penetration; see `GraspObject.penetration`."""
     try:
         seg = np.asarray(segments, dtype=float)
     except (TypeError, ValueError) as exc:

@@ -11,7 +11,7 @@ polyline through the profile's knots, part by the polygons of the rings.
 
 The built-ins are solid: a real cup or bell is hollow, but a hand grasps
 them from outside, and a solid keeps the object's centre inside it, which the
-sQ rays need (DESIGN.md Sec. 5).
+sQ rays need (see the documentation's "Scaled Q distance (sQ)" page).
 """
 
 from __future__ import annotations
@@ -99,6 +99,18 @@ def revolve(
     ValueError
         If the profile is not (m, 2) with m >= 2, has a negative radius, a
         non-increasing z, or no volume.
+
+    Examples
+    --------
+    A spool, 100 mm tall, 60 mm across at the ends and 40 mm at its waist: the
+    waist is a convex kink of the profile, so it comes in two convex pieces.
+
+    >>> import synergrasp as sg
+    >>> spool = sg.objects.revolve([[30.0, 0.0], [20.0, 50.0], [30.0, 100.0]], name="spool")
+    >>> spool
+    GraspObject('spool', 2 pieces, 60 x 60 x 100 mm, L=58.3)
+    >>> spool.contains([[0.0, 0.0, 50.0], [25.0, 0.0, 50.0]]).tolist()
+    [True, False]
     """
     prof = as_points(profile, "profile", dim=2)
     tol = positive_scalar(tolerance, "tolerance")
@@ -163,6 +175,17 @@ def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: f
     -------
     GraspObject
         Centre at the origin, torque scale ``max(a, b, c)``.
+
+    Examples
+    --------
+    >>> import synergrasp as sg
+    >>> obj = sg.objects.ellipsoid()          # the paper's object, semi-axes 30, 40, 50 mm
+    >>> obj
+    GraspObject('ellipsoid 30/40/50', 1 pieces, 60 x 80 x 100 mm, L=50.0)
+    >>> len(obj.pieces[0]), bool(obj.info["max_gap"] < 0.5)   # vertices, faceting error (mm)
+    (642, True)
+    >>> sg.objects.ellipsoid(40, 40, 40).extents.round(1).tolist()   # a 40 mm sphere
+    [80.0, 80.0, 80.0]
     """
     axes = np.array([positive_scalar(a, "a"), positive_scalar(b, "b"), positive_scalar(c, "c")])
     tol = positive_scalar(tolerance, "tolerance")

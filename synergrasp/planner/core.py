@@ -34,6 +34,8 @@ from .step import limited_step
 from .stop import check_grasp
 
 GRASPS = ("precision", "power")
+#: Objects thinner than this (mm) are refused: most likely a mesh in metres.
+MIN_WIDTH = 2.0
 
 #: Approach directions tried after the caller's, in order (object centre to hand).
 APPROACHES = (
@@ -44,7 +46,7 @@ APPROACHES = (
 
 @dataclass(frozen=True)
 class PlannerOptions:
-    """Settings of :func:`plan` (all have working defaults).
+    """Settings of `plan` (all have working defaults).
 
     Attributes
     ----------
@@ -63,7 +65,7 @@ class PlannerOptions:
         without penetrating.
     smoothing : float
         Normal smoothing length for sQ, as a fraction of the object's torque
-        scale (see :func:`synergrasp.planner.status.smoothed_normals`).
+        scale (see `synergrasp.planner.status.smoothed_normals`).
     radius : float
         Initial trust radius of the normalised step (position in object sizes,
         angles in rad, synergies in units).
@@ -257,19 +259,19 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     backend : str
         LP backend.
     u0 : (8,) float, optional
-        Start configuration; default :func:`start_configuration` from ``approach``.
+        Start configuration; default `start_configuration` from ``approach``.
         With ``u0`` given only one attempt is made.
     max_iter : int
         Cap on the total number of iterations over all attempts.
     approach : (3,) float, optional
         Direction from the object's centre to the start pose of the first
-        attempt; later attempts (after a stall) use :data:`APPROACHES`.
+        attempt; later attempts (after a stall) use `APPROACHES`.
     hand : SynergyHand, optional
         Default: ``SynergyHand.default()``.
     progress : callable, optional
         Called as ``progress(check, status)`` after every iteration.
     **options
-        Fields of :class:`PlannerOptions`.
+        Fields of `PlannerOptions`.
 
     Returns
     -------
@@ -291,6 +293,11 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     if int(max_iter) < 1:
         raise ValueError(f"max_iter must be >= 1, got {max_iter}")
     width, opening = float(np.min(obj.extents)), hand_opening(hand)
+    if width < MIN_WIDTH:
+        raise ValueError(
+            f"{getattr(obj, 'name', 'the object')} is too small to grasp: its smallest extent is {width:.2g} mm "
+            f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
+        )
     if width > opening:
         raise ValueError(
             f"{getattr(obj, 'name', 'the object')} is too large for the hand: its smallest extent is {width:.0f} mm "

@@ -23,9 +23,10 @@ class PlanResult:
         Why the iteration stopped, in words.
     iterations : int
         Number k of iterations (steps) of the returned reach (the last attempt).
-    u : (8,) float
-        Final configuration ``[px, py, pz, phi1, phi2, phi3, z1, z2]`` (mm, rad).
-    trajectory : (k+1, 8) float
+    u : (6 + n_syn,) float
+        Final configuration ``[px, py, pz, phi1, phi2, phi3, z1, z2]`` (mm, rad; 8 entries
+        for the paper's two-synergy hand).
+    trajectory : (k+1, 6 + n_syn) float
         Configuration at every iteration, start included.
     status : (k+1, 6) or (k+1, 17) float
         Status vector g at every iteration: cP of each hand point (mm), then g_sQ.
@@ -58,6 +59,17 @@ class PlanResult:
         Every attempt made, in order: its start configuration, its number of
         iterations and why it ended. An attempt that stalls is followed by one
         from another approach direction; the trajectory is the last one's.
+
+    Examples
+    --------
+    >>> import synergrasp as sg
+    >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision")
+    >>> result.success, result.grasp, result.contact_labels
+    (True, 'precision', ['T0', 'I0', 'M0', 'R0', 'L0'])
+    >>> result.trajectory.shape == (result.iterations + 1, 8)
+    True
+    >>> bool(result.final_q < 0)         # the final contacts are force-closed
+    True
     """
 
     success: bool
@@ -106,6 +118,23 @@ class PlanResult:
         Returns
         -------
         Path
+            ``path``.
+
+        Examples
+        --------
+        A short (capped, unsuccessful) plan, saved and read back:
+
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import synergrasp as sg
+        >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision", max_iter=3)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     path = result.save(Path(folder) / "plan.json")
+        ...     again = sg.PlanResult.load(path)
+        >>> again.success, again.iterations, again.reason == result.reason
+        (False, 3, True)
+        >>> bool((again.trajectory == result.trajectory).all())   # floats round-trip exactly
+        True
         """
         data = asdict(self)
         for name in _ARRAYS:
@@ -117,12 +146,33 @@ class PlanResult:
 
     @classmethod
     def load(cls, path) -> "PlanResult":
-        """Read a result written by :meth:`save`.
+        """Read a result written by `save`.
+
+        Parameters
+        ----------
+        path : str or Path
+            A file written by `save`.
+
+        Returns
+        -------
+        PlanResult
+            Equal to the saved one (arrays as float ndarrays).
 
         Raises
         ------
         ValueError
             If the file is not a saved PlanResult.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> from pathlib import Path
+        >>> import synergrasp as sg
+        >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision", max_iter=3)
+        >>> with tempfile.TemporaryDirectory() as folder:
+        ...     again = sg.PlanResult.load(result.save(Path(folder) / "plan.json"))
+        >>> again.u.tolist() == result.u.tolist(), again.object_name
+        (True, 'ellipsoid 30/40/50')
         """
         path = Path(path)
         try:

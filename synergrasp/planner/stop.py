@@ -49,7 +49,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
     ----------
     obj : GraspObject
     status : Status
-        From :func:`synergrasp.planner.status.grasp_status`.
+        From `synergrasp.planner.status.grasp_status`.
     kind : {"precision", "power"}
     eps_c : float
         Contact threshold (mm).

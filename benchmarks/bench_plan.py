@@ -1,0 +1,46 @@
+"""Median wall-clock time of whole plans (HiGHS), per paper case, in one run.
+
+Usage::
+
+    python benchmarks/bench_plan.py [--repeats 5] [--grasp precision|power|both]
+
+Prints, for each of the paper's objects, the median plan time, the time per
+iteration and the LP solves of the returned plan, and whether it succeeded.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+
+import synergrasp as sg
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
+    parser.add_argument("--backend", default="highs")
+    args = parser.parse_args(argv)
+    warnings.simplefilter("ignore")
+    grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]
+    print(f"{'object':10s} {'grasp':10s} {'success':8s} {'median s':>9s} {'ms/iter':>8s} {'iters':>6s} {'attempts':>8s} {'LPs':>6s}")
+    for grasp in grasps:
+        for name in ("ellipsoid", "cup", "bell", "goblet"):
+            obj = sg.objects.get(name)
+            times = []
+            for _ in range(args.repeats):
+                start = time.perf_counter()
+                result = sg.plan(obj, grasp, backend=args.backend)
+                times.append(time.perf_counter() - start)
+            median = float(np.median(times))
+            print(f"{name:10s} {grasp:10s} {str(result.success):8s} {median:9.3f} "
+                  f"{1e3 * median / max(result.total_iterations, 1):8.2f} {result.iterations:6d} "
+                  f"{len(result.attempts):8d} {result.lp_solves:6d}", flush=True)
+
+
+if __name__ == "__main__":
+    main()

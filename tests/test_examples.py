@@ -1,0 +1,139 @@
+"""Every script in examples/ runs headless and says what it claims (so an example cannot rot).
+
+Each example runs as a subprocess, ``python examples/NAME.py --out TMP``, with a timeout; the
+test checks its exit status and, where the output has a claim in it, the claim. A new example
+without an entry in CHECKS still runs (exit status 0 and no traceback). ``paper_experiments.py``
+takes minutes and is left out.
+"""
+
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import synergrasp as sg
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+SKIP = {"paper_experiments.py"}
+TIMEOUT = 120  # s per example; each takes a few seconds
+
+
+def number(pattern, text):
+    """The float captured by ``pattern`` in ``text`` (the test fails if it is not there)."""
+    match = re.search(pattern, text)
+    assert match, f"no match for {pattern!r} in:\n{text}"
+    return float(match.group(1))
+
+
+def check_grasp_quality(out, stdout):
+    q = number(r"Q distance = ([-+.\d]+)", stdout)
+    assert q < 0 and "force closure" in stdout
+    dual = number(r"dual ([-+.\de]+),", stdout)
+    fd = number(r"finite difference ([-+.\de]+)", stdout)
+    assert abs(dual - fd) <= 1e-5 * max(abs(fd), 1e-3)
+    new = number(r"gradient step: Q = ([-+.\d]+)", stdout)
+    assert new < q and "improved" in stdout
+    assert (out / "grasp_quality.png").stat().st_size > 0
+
+
+def check_pseudo_distance_polytopes(out, stdout):
+    assert number(r"separated: .*value\s+([-+.\d]+)", stdout) > 0
+    assert abs(number(r"touching: .*value\s+([-+.\d]+)", stdout)) < 1e-3
+    assert number(r"overlapping: .*value\s+([-+.\d]+)", stdout) < 0
+    assert number(r"where not degenerate: ([-+.\de]+)", stdout) < 1e-6
+    assert (out / "pseudo_distance_polytopes.png").stat().st_size > 0
+
+
+def check_plan_cup(out, stdout):
+    assert stdout.startswith("GraspObject('cup'") and "\nsuccess: stop criterion met" in stdout
+    result = sg.PlanResult.load(out / "cup_precision.json")
+    assert result.success and result.object_name == "cup" and result.final_q < 0
+    assert "same final configuration: True" in stdout
+    for name in ("cup_precision_status.png", "cup_precision_poses.png"):
+        assert (out / name).stat().st_size > 0
+
+
+def check_plan_mesh_file(out, stdout):
+    assert "loaded GraspObject('capsule.stl'" in stdout and "method 'hull'" in stdout
+    assert "\nsuccess: stop criterion met" in stdout
+    result = sg.PlanResult.load(out / "capsule_precision.json")
+    assert result.success and result.final_q < 0
+    assert (out / "capsule_precision_poses.png").stat().st_size > 0
+
+
+def check_compare_backends(out, stdout):
+    rows = (out / "compare_backends.csv").read_text().splitlines()
+    names = [row.split(",")[0] for row in rows[1:]]
+    assert names == sg.lp.available_backends()
+    for row in rows[1:]:
+        backend, q, ms, *diffs = row.split(",")
+        assert float(q) < 0 and float(ms) > 0, row
+        assert max(float(d) for d in diffs) < 1e-6, row
+
+
+def check_add_a_hand(out, stdout):
+    data = json.loads((out / "long_fingers.json").read_text())
+    hand = sg.SynergyHand.from_file(out / "long_fingers.json")
+    paper = sg.SynergyHand.default()
+    assert data["name"] == hand.name == "long_fingers"
+    u = np.zeros(paper.n_u)
+    moved = np.linalg.norm(hand.points(u) - paper.points(u), axis=1)
+    assert moved[0] == 0 and (moved[1:] > 10).all()                 # thumb unchanged, fingers longer
+    assert "paper_hand: success" in stdout and "long_fingers:" in stdout
+    assert (out / "long_fingers_poses.png").stat().st_size > 0
+
+
+def check_synergy_plane(out, stdout):
+    assert (out / "synergy_plane.png").stat().st_size > 0
+
+
+CHECKS = {
+    "grasp_quality.py": check_grasp_quality,
+    "pseudo_distance_polytopes.py": check_pseudo_distance_polytopes,
+    "plan_cup.py": check_plan_cup,
+    "plan_mesh_file.py": check_plan_mesh_file,
+    "compare_backends.py": check_compare_backends,
+    "add_a_hand.py": check_add_a_hand,
+    "synergy_plane.py": check_synergy_plane,
+}
+
+
+def arguments(name, out):
+    if name == "synergy_plane.py":                  # takes the output file as its only argument
+        return [str(out / "synergy_plane.png")]
+    if name == "compare_backends.py":
+        return ["--out", str(out), "--seconds", "0.05"]
+    return ["--out", str(out)]
+
+
+SCRIPTS = sorted(p.name for p in EXAMPLES.glob("*.py") if p.name not in SKIP)
+
+
+def test_every_example_is_checked():
+    assert set(CHECKS) <= set(SCRIPTS), f"checks for missing examples: {set(CHECKS) - set(SCRIPTS)}"
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_example_runs(name, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    env = dict(os.environ, MPLBACKEND="Agg", SYNERGRASP_CACHE=str(tmp_path / "cache"), PYTHONWARNINGS="default")
+    proc = subprocess.run([sys.executable, str(EXAMPLES / name), *arguments(name, out)], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=TIMEOUT)
+    assert proc.returncode == 0, f"{name} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}"
+    assert "Traceback" not in proc.stderr, proc.stderr
+    if name in CHECKS:
+        CHECKS[name](out, proc.stdout)
+    # nothing written outside --out (the default ./examples-out would land in the cwd)
+    assert not (tmp_path / "examples-out").exists()
+
+
+@pytest.mark.parametrize("name", SCRIPTS)
+def test_example_has_a_docstring(name):
+    text = (EXAMPLES / name).read_text()
+    assert text.startswith('"""'), f"{name} should open with a module docstring saying what it shows"
