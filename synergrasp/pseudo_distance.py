@@ -160,34 +160,86 @@ def _degenerate(x, reduced, m) -> bool:
     return positive != m or tight != m
 
 
-@lru_cache(maxsize=256)
-def _structure(na: int, nb: int, d: int):
-    """Row indices and column pointers of the Eq. 1 and stacked Eq. 3 matrices.
+def _readonly(*arrays):
+    for a in arrays:
+        a.setflags(write=False)
+    return arrays
+
+
+class _Layout:
+    """Everything about the Eq. 1 and stacked Eq. 3 LPs that depends only on (na, nb, d).
 
     Column rho_k has d entries (the coordinate rows); column alpha_i has d + 1
     (coordinates, then the row ``sum alpha = 1``); column beta_j has d + 1
-    (coordinates, then the row ``sum beta = 1``). Cached per shape.
+    (coordinates, then the row ``sum beta = 1``). Built once per shape
+    (:func:`_layout`), all arrays read-only.
+
+    Attributes
+    ----------
+    sep_rows, sep_ptr : int32 arrays
+        CSC row indices and column pointers of the separation matrix.
+    sep_cols : int array
+        Column of each stored entry (for the reduced costs).
+    sep_c, sep_h : float arrays
+        Costs ``[1 (nq), 0 (na + nb)]`` and right-hand side ``[0 (d), 1, 1]``.
+    pen_rows, pen_ptr : int32 arrays
+        The same for the block-diagonal stack of the nq penetration LPs.
+    pen_c, pen_h : float arrays
+        Costs ``[-1, 0 ...]`` and right-hand side ``[0 (d), 1, 1]`` per block.
+    block_rows, block_cols : int arrays
+        Row and column of each stored entry of one penetration block, relative to the block.
+    block_c : float array
+        Costs of one block.
     """
-    nq, mk = d + 1, d + 2
-    coordinate = np.arange(d)
-    weights = np.concatenate([np.tile(np.append(coordinate, d), na), np.tile(np.append(coordinate, d + 1), nb)])
-    counts = np.full(na + nb, d + 1)
-    sep_rows = np.concatenate([np.tile(coordinate, nq), weights]).astype(np.int32)
-    sep_ptr = np.concatenate([[0], np.cumsum(np.concatenate([np.full(nq, d), counts]))]).astype(np.int32)
-    block = np.concatenate([coordinate, weights])
-    pen_rows = (block[None, :] + mk * np.arange(nq)[:, None]).ravel().astype(np.int32)
-    pen_ptr = np.concatenate([[0], np.cumsum(np.tile(np.concatenate([[d], counts]), nq))]).astype(np.int32)
-    return sep_rows, sep_ptr, pen_rows, pen_ptr
+
+    def __init__(self, na, nb, d):
+        nq, mk = d + 1, d + 2
+        coordinate = np.arange(d)
+        weights = np.concatenate([np.tile(np.append(coordinate, d), na), np.tile(np.append(coordinate, d + 1), nb)])
+        counts = np.full(na + nb, d + 1)
+        self.sep_rows = np.concatenate([np.tile(coordinate, nq), weights]).astype(np.int32)
+        sep_counts = np.concatenate([np.full(nq, d), counts])
+        self.sep_ptr = np.concatenate([[0], np.cumsum(sep_counts)]).astype(np.int32)
+        self.sep_cols = np.repeat(np.arange(nq + na + nb), sep_counts)
+        self.sep_c = np.zeros(nq + na + nb)
+        self.sep_c[:nq] = 1.0
+        self.sep_h = np.zeros(mk)
+        self.sep_h[d:] = 1.0
+        block = np.concatenate([coordinate, weights])
+        self.pen_rows = (block[None, :] + mk * np.arange(nq)[:, None]).ravel().astype(np.int32)
+        block_counts = np.concatenate([[d], counts])
+        self.pen_ptr = np.concatenate([[0], np.cumsum(np.tile(block_counts, nq))]).astype(np.int32)
+        nk = 1 + na + nb
+        self.block_rows = block
+        self.block_cols = np.repeat(np.arange(nk), block_counts)
+        self.block_c = np.zeros(nk)
+        self.block_c[0] = -1.0
+        self.pen_c = np.tile(self.block_c, nq)
+        self.pen_h = np.tile(self.sep_h, nq)
+        _readonly(
+            self.sep_rows, self.sep_ptr, self.sep_cols, self.sep_c, self.sep_h, self.pen_rows, self.pen_ptr,
+            self.block_rows, self.block_cols, self.block_c, self.pen_c, self.pen_h,
+        )
+
+
+@lru_cache(maxsize=256)
+def _layout(na: int, nb: int, d: int) -> _Layout:
+    return _Layout(na, nb, d)
+
+
+@lru_cache(maxsize=None)
+def _min_vertex_norm(d: int) -> float:
+    return float(np.linalg.norm(_regular_simplex(d), axis=1).min())
 
 
 def _weight_data(A, B, sign):
     """Entries of the alpha columns (``sign * a_i``, 1) and beta columns (``-sign * b_j``, 1)."""
     (na, d), nb = A.shape, len(B)
-    alpha = np.empty((na, d + 1))
-    alpha[:, :d], alpha[:, d] = sign * A, 1.0
-    beta = np.empty((nb, d + 1))
-    beta[:, :d], beta[:, d] = -sign * B, 1.0
-    return np.concatenate([alpha.ravel(), beta.ravel()])
+    out = np.empty((na + nb, d + 1))
+    np.multiply(A, sign, out=out[:na, :d])
+    np.multiply(B, -sign, out=out[na:, :d])
+    out[:, d] = 1.0
+    return out.ravel()
 
 
 def _require_optimal(sol, what: str):
@@ -234,40 +286,47 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
 
     Examples
     --------
-    Two points 3 apart along the first axis, regular simplex in the plane:
-    the gauge of b - a = (3, 0) is -2 * min_k q_k . (3, 0) = 3.
+    Two points 3 apart, regular simplex in the plane: the gauge of x = b - a
+    is -2 min_k q_k . x, so 3 when x points at a vertex of Q (here (0, -3))
+    and 3 sqrt(3) = 5.196 when x points at the middle of an edge ((3, 0)).
 
-    >>> r = pseudo_distance([[0.0, 0.0]], [[3.0, 0.0]])
+    >>> r = pseudo_distance([[0.0, 0.0]], [[0.0, -3.0]])
     >>> r.kind, round(r.value, 9)
     ('separation', 3.0)
+    >>> round(pseudo_distance([[0.0, 0.0]], [[3.0, 0.0]]).value, 3)
+    5.196
     """
     A = as_points(A, "A", min_dim=2)
     B = as_points(B, "B", dim=A.shape[1])
     d = A.shape[1]
-    Q = _regular_simplex(d) if simplex is None else check_simplex(simplex, d)
+    if simplex is None:
+        Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
+    else:
+        Q = check_simplex(simplex, d)
+        qmin = float(np.linalg.norm(Q, axis=1).min())
     solver = lp.get_backend(backend)
     na, nb, nq = len(A), len(B), d + 1
     coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
-    zero = ZERO_TOL * coord_scale * d / np.linalg.norm(Q, axis=1).min()
+    zero = ZERO_TOL * coord_scale * d / qmin
+    lay = _layout(na, nb, d)
 
     # Eq. 1: x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
-    h = np.zeros(d + 2)
-    h[d:] = 1.0
-    c = np.zeros(nq + na + nb)
-    c[:nq] = 1.0
-    sep_rows, sep_ptr, pen_rows, pen_ptr = _structure(na, nb, d)
-    G = lp.CSC(sep_ptr, sep_rows, np.concatenate([Q.ravel(), _weight_data(A, B, 1.0)]), (d + 2, nq + na + nb))
-    sol = solver.solve(c, G, h)
+    data = np.empty(nq * d + (na + nb) * (d + 1))
+    data[: nq * d] = Q.ravel()
+    data[nq * d :] = _weight_data(A, B, 1.0)
+    G = lp.CSC(lay.sep_ptr, lay.sep_rows, data, (d + 2, nq + na + nb))
+    sol = solver.solve(lay.sep_c, G, lay.sep_h)
     _require_optimal(sol, "separation (Eq. 1)")
     if sol.objective > zero:
         alpha, beta, y = sol.x[nq : nq + na], sol.x[nq + na :], sol.y[:d]
+        reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * sol.y[lay.sep_rows], minlength=len(lay.sep_c))
         return PseudoDistance(
             value=sol.objective,
             kind="separation",
             grad_a=-alpha[:, None] * y,
             grad_b=beta[:, None] * y,
             simplex=Q,
-            degenerate=_degenerate(sol.x, c - G.rmatvec(sol.y), d + 2),
+            degenerate=_degenerate(sol.x, reduced, d + 2),
             lp_solves=1,
             alpha=alpha,
             beta=beta,
@@ -280,21 +339,17 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     # Eqs. 2-3: the nq LPs are independent; stack them block-diagonally.
     # Block k: x = [rho, alpha (na), beta (nb)], rho q_k - sum alpha a + sum beta b = 0.
     nk, mk = 1 + na + nb, d + 2
-    data = np.empty((nq, d + (na + nb) * (d + 1)))
-    data[:, :d], data[:, d:] = Q, _weight_data(A, B, -1.0)
-    Gp = lp.CSC(pen_ptr, pen_rows, data.ravel(), (nq * mk, nq * nk))
-    hp = np.tile(h, nq)
-    cp = np.zeros(nq * nk)
-    cp[::nk] = -1.0
-    psol = solver.solve(cp, Gp, hp)
+    blocks = np.empty((nq, d + (na + nb) * (d + 1)))
+    blocks[:, :d], blocks[:, d:] = Q, _weight_data(A, B, -1.0)
+    Gp = lp.CSC(lay.pen_ptr, lay.pen_rows, blocks.ravel(), (nq * mk, nq * nk))
+    psol = solver.solve(lay.pen_c, Gp, lay.pen_h)
     _require_optimal(psol, "penetration (Eq. 3)")
     values = -psol.x[::nk]
     k = int(np.argmax(values))
-    rows, cols = slice(k * mk, (k + 1) * mk), slice(k * nk, (k + 1) * nk)
-    x, y = psol.x[cols], psol.y[rows]
+    x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
     alpha, beta = x[1 : 1 + na], x[1 + na :]
     ties = int((values >= values[k] - zero).sum()) > 1
-    reduced = (cp - Gp.rmatvec(psol.y))[cols]
+    reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
     return PseudoDistance(
         value=float(values[k]),
         kind="penetration",

@@ -29,9 +29,14 @@ from .pseudo_distance import pseudo_distance
 FORCE_CLOSURE_TOL = 1e-9
 
 
+_NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])
+
+
 def _cross(a, b):
     """Cross product over the last axis, broadcasting (faster than numpy.cross on small arrays)."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    if a.shape != b.shape:  # fancy indexing broadcasts in fewer numpy calls than the components
+        return a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
+    out = np.empty(a.shape)
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
     b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
     out[..., 0] = a1 * b2 - a2 * b1
@@ -111,9 +116,18 @@ def _cone(nhat, mu, edges):
     tangent : tuple
         ``(e1, axis, vnorm)`` for :func:`_basis_vjp`.
     """
-    cos, sin = _angles(edges)
+    _angles(edges)
     e1, e2, axis, vnorm = _tangent_basis(nhat)
-    return np.stack([np.ones_like(cos), mu * cos, mu * sin]), np.stack([nhat, e1, e2]), (e1, axis, vnorm)
+    return _cone_matrix(float(mu), int(edges)), np.stack([nhat, e1, e2]), (e1, axis, vnorm)
+
+
+@lru_cache(maxsize=32)
+def _cone_matrix(mu, edges):
+    """(3, m) read-only: column j is ``(1, mu cos t_j, mu sin t_j)``."""
+    cos, sin = _cos_sin(edges)
+    M = np.stack([np.ones_like(cos), mu * cos, mu * sin])
+    M.setflags(write=False)
+    return M
 
 
 def _wrenches(M, basis, arm, L):

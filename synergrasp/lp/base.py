@@ -128,7 +128,10 @@ class Backend:
                 f"LP data of mismatched shapes: c {c.shape}, A {A.shape}, b {b.shape}; "
                 "expected c (n,), A (m, n), b (m,)"
             )
-        if not (np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()):
+        # any NaN or inf makes the sum non-finite (finite entries can only overflow it: then check each)
+        if not np.isfinite(c.sum() + values.sum() + b.sum()) and not (
+            np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()
+        ):
             raise ValueError("LP data contains NaN or inf; check the geometry passed in")
         self.calls += 1
         m, n = A.shape

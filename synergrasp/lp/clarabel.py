@@ -4,7 +4,8 @@ The LP is passed as ``A x + s = b`` with ``s`` in the zero cone (equalities)
 and ``-x + s = 0`` with ``s`` in the non-negative cone (``x >= 0``). Clarabel's
 duals ``z`` follow ``q + A.T z = 0`` for this form, so ``y = -z`` on the equality
 rows. Interior-point methods have no basis to warm-start from; the solver
-object is rebuilt for each LP.
+object is rebuilt for each LP, its constraint matrix ``[A; -I]`` assembled
+directly in compressed-column form.
 """
 
 from __future__ import annotations
@@ -41,15 +42,29 @@ class ClarabelBackend(Backend):
         settings.tol_gap_abs = settings.tol_gap_rel = tol
         settings.tol_feas = settings.tol_ktratio = tol
         self._settings = settings
+        self._p_cache = {}
+
+    def _zero_p(self, n):
+        if n not in self._p_cache:
+            self._p_cache[n] = sp.csc_matrix((n, n))
+        return self._p_cache[n]
 
     def _solve(self, c, A, b):
         m, n = A.shape
-        P = sp.csc_matrix((n, n))
         indptr, indices, data = csc_arrays(A)
-        G = sp.vstack([sp.csc_matrix((data, indices, indptr), shape=(m, n)), -sp.identity(n, format="csc")], format="csc")
+        # [A; -I] column by column: each column's entries of A, then -1 in row m + j
+        ptr = indptr.astype(np.int64) + np.arange(n + 1)
+        diagonal = ptr[1:] - 1
+        rows = np.empty(len(data) + n, dtype=np.int64)
+        values = np.empty(len(data) + n)
+        keep = np.ones(len(values), dtype=bool)
+        keep[diagonal] = False
+        rows[keep], values[keep] = indices, data
+        rows[diagonal], values[diagonal] = m + np.arange(n), -1.0
+        G = sp.csc_matrix((values, rows, ptr), shape=(m + n, n))
         h = np.concatenate([b, np.zeros(n)])
         cones = [clarabel.ZeroConeT(m), clarabel.NonnegativeConeT(n)]
-        solver = clarabel.DefaultSolver(P, c, G, h, cones, self._settings)
+        solver = clarabel.DefaultSolver(self._zero_p(n), c, G, h, cones, self._settings)
         solution = solver.solve()
         text = str(solution.status)
         status = _STATUS.get(text, "failed")

@@ -1,14 +1,15 @@
 """HiGHS backend through highspy's own API (dual simplex, warm-started).
 
 One ``Highs`` object is kept per backend instance and reused for every solve.
-The last optimal basis of each LP *structure* is kept and handed to the solver
-as a warm start when an LP with the same structure comes again. The structure
-is the shape together with the sparsity pattern: inside the planner, LPs of one
-shape can have different patterns (cP blocks list the vertices of the facets
-facing each hand point, so the columns mean different vertices from one call to
-the next), and a basis taken from an LP whose columns mean something else costs
-more simplex iterations than a cold start. Keyed by pattern, the basis of the
-previous iteration's LP of the same kind is found again.
+The last optimal basis is remembered twice, under the LP's *structure* (shape
+and the number of entries of every column) and under its shape alone, and
+handed to the solver as a warm start: the basis of the last LP with the same
+structure if there is one, else that of the last LP with the same shape.
+Inside the planner several kinds of LP can share a shape while their columns
+mean different things (a cP block lists the vertices of the facets facing its
+hand point, which change as the point moves); keyed by structure, each kind
+finds its own previous basis, and the shape fallback still helps when the
+pattern changes a little from one iteration to the next.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ _STATUS = {
     highspy.HighsModelStatus.kUnboundedOrInfeasible: "infeasible",
 }
 
-#: Number of LP structures whose last optimal basis is remembered.
+#: Number of LP structures and shapes whose last optimal basis is remembered.
 BASIS_CACHE_SIZE = 64
 
 
@@ -37,8 +38,8 @@ class HighsBackend(Backend):
     Parameters
     ----------
     warm_start : bool
-        Reuse the last optimal basis of an LP with the same shape and
-        sparsity pattern.
+        Start from the last optimal basis of an LP with the same shape and
+        column counts, else of the last LP with the same shape.
     options : dict
         Extra HiGHS options (``setOptionValue(key, value)``).
     """
@@ -69,10 +70,12 @@ class HighsBackend(Backend):
         h = self._h
         # column-wise matrix (format 1), minimise (sense 1), no offset, all columns continuous
         h.passModel(n, m, len(value), 1, 1, 0.0, c, lower, upper, b, b, indptr[:-1], index, value, continuous)
-        key = None
+        key = shape = None
         if self.warm_start:
-            key = (m, n, hash(indptr.tobytes()), hash(index.tobytes()))
+            key, shape = (m, n, hash(indptr.tobytes())), (m, n)  # pattern: the column counts
             basis = self._basis.get(key)
+            if basis is None:
+                basis = self._basis.get(shape)
             if basis is not None:
                 h.setBasis(basis)
         h.run()
@@ -81,11 +84,14 @@ class HighsBackend(Backend):
         iterations = h.getInfoValue("simplex_iteration_count")[1]
         if status != "optimal":
             self._basis.pop(key, None)
+            self._basis.pop(shape, None)
             return status, None, None, iterations, h.modelStatusToString(model_status)
         solution = h.getSolution()
         if key is not None:
-            self._basis[key] = h.getBasis()
-            self._basis.move_to_end(key)
-            if len(self._basis) > BASIS_CACHE_SIZE:
+            basis = h.getBasis()
+            for k in (key, shape):
+                self._basis[k] = basis
+                self._basis.move_to_end(k)
+            while len(self._basis) > BASIS_CACHE_SIZE:
                 self._basis.popitem(last=False)
         return status, solution.col_value, solution.row_dual, iterations, "Optimal"
