@@ -349,7 +349,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         penetration=float(depth),
         time_s=time.perf_counter() - t0,
         lp_solves=int(solves),
-        backend=str(backend),
+        backend=get_backend(backend).name,
         grasp=grasp,
         object_name=getattr(obj, "name", ""),
         options=asdict(opts),

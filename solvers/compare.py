@@ -1,0 +1,719 @@
+"""Every LP backend side by side, from one LP to whole plans, in one process and one run.
+
+Usage::
+
+    python -m solvers.compare [--quick] [--out solvers/results] [--docs] [--max-iter N]
+
+Backends: every available synergrasp backend (``sg.lp.available_backends()``)
+plus two references a user might pick instead, both ordinary
+:class:`synergrasp.lp.Backend` subclasses from :mod:`solvers.references`:
+``scipy-linprog`` (``scipy.optimize.linprog(method="highs")``) and
+``cvxpy-plain`` (a cvxpy model rebuilt for every LP, cvxpy's default solver).
+``"highs"`` is the reference every other backend is checked against.
+
+LP level (median and p95 wall time per call, LP solver calls per call, largest
+difference of the value and the gradients from HiGHS's on the same inputs):
+
+* ``cP value``: ``sg.pseudo_distance({p}, V)``, one point against the
+  ellipsoid's single convex piece V;
+* ``cP value+grad``: ``obj.contact_distance(p[None])`` (broad phase, the
+  library's pruned LP, gradient, normal, witness);
+* ``Q5 value`` / ``Q16 value``: ``sg.pseudo_distance(W, {0})`` on precomputed
+  primitive wrenches of 5 or 16 contacts (8 cone edges);
+* ``Q5 value+grad`` / ``Q16 value+grad``: ``sg.q_distance(points, normals)``,
+  with the gradients with respect to the contact points and normals.
+
+The inputs are random walks (a fingertip moving around 10 mm off the ellipsoid;
+force-closed grasps of 5 or 16 contacts on a 40 mm sphere, each a small
+perturbation of the previous one), identical for every backend.
+
+Plan level: the paper's 8 cases (ellipsoid, cup, bell, goblet x precision,
+power) with ``sg.plan(obj, grasp, backend=..., max_iter=...)``: success,
+iterations, final g_Q, total wall time, time per iteration, the share of the
+time spent inside the LP solver (sum of ``LPSolution.solve_time`` over the
+wall time) and whether the trajectory coincides with HiGHS's (largest
+``|u - u_highs|`` over the common length). Every backend runs all 8 cases
+(about 12 minutes on 2 cores); ``--slow-subset`` limits the cvxpy-based
+backends to :data:`SLOW_PLAN_CASES` for a shorter run, and says so in the output.
+
+The paper's own figures (MATLAB 2015 on an i5-2430M laptop) are added as fixed
+rows, labelled as such: they come from another machine and another code.
+
+Outputs in ``--out`` (default ``solvers/results``, with ``--quick``
+``solvers/results/quick`` so that a quick run never overwrites the full
+results): ``lp_level.csv``, ``plan_level.csv``, ``summary.csv``,
+``ratios.csv``, ``environment.json``, ``README.md`` (the tables) and
+``solver_comparison.png`` (log-scale bars). ``--docs`` also rewrites
+``docs/solver-comparison.md`` and copies the figure to ``docs/figures/``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import platform
+import shutil
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import synergrasp as sg
+from synergrasp.lp import Backend
+
+from .references import LinprogBackend, PlainCvxpyBackend, TimedBackend
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT_OUT = ROOT / "solvers" / "results"
+REFERENCE = "highs"
+REFERENCE_BACKENDS = ("scipy-linprog", "cvxpy-plain")
+FIGURE = "solver_comparison.png"
+
+OBJECTS = ("ellipsoid", "cup", "bell", "goblet")
+GRASPS = ("precision", "power")
+CASES = tuple((o, g) for o in OBJECTS for g in GRASPS)
+#: Plan cases of the cvxpy-based backends with --slow-subset (each of their LPs costs milliseconds).
+SLOW_BACKENDS = ("cvxpy", "cvxpy-plain")
+SLOW_PLAN_CASES = (("ellipsoid", "precision"), ("ellipsoid", "power"), ("goblet", "precision"))
+
+#: The paper's figures (Liu et al.; MATLAB 2015, Intel i5-2430M laptop): another machine, another code.
+PAPER_LABEL = "paper (MATLAB 2015, i5-2430M; other machine)"
+PAPER_LP_MS = (30.0, 50.0)
+PAPER_ITERATION_S = (0.3, 0.4)
+PAPER_PLANS = {  # (iterations, g_Q, time s or None)
+    ("ellipsoid", "precision"): (176, -0.0792, 54.0),
+    ("ellipsoid", "power"): (63, -0.0625, 59.0),
+    ("cup", "precision"): (163, -0.0570, 60.0),
+    ("cup", "power"): (69, -0.1017, 80.0),
+    ("bell", "precision"): (165, -0.0260, None),
+    ("bell", "power"): (169, -0.1386, None),
+    ("goblet", "precision"): (166, -0.1513, None),
+    ("goblet", "power"): (None, -0.2574, None),
+}
+
+WORKLOADS = ("cP value", "cP value+grad", "Q5 value", "Q5 value+grad", "Q16 value", "Q16 value+grad")
+
+#: Tolerances of the agreement verdict (values and non-degenerate gradients vs HiGHS).
+VALUE_TOL = 1e-6
+GRAD_TOL = 1e-4
+
+
+@dataclass
+class Settings:
+    """What one run measures."""
+
+    quick: bool
+    max_iter: int
+    lp_calls: dict
+    plan_cases: dict = field(default_factory=dict)  # backend -> tuple of (object, grasp)
+
+    @classmethod
+    def make(cls, quick: bool, backends, max_iter=None, subset=False):
+        if quick:
+            calls = {name: 20 if name == REFERENCE else 6 for name in backends}
+            cases = {name: (("ellipsoid", "precision"),) for name in backends}
+            return cls(True, max_iter or 8, calls, cases)
+        calls = {"highs": 300, "clarabel": 100, "scipy-linprog": 60, "cvxpy": 30, "cvxpy-plain": 30}
+        calls = {name: calls.get(name, 60) for name in backends}
+        cases = {name: SLOW_PLAN_CASES if subset and name in SLOW_BACKENDS else CASES for name in backends}
+        return cls(False, max_iter or 600, calls, cases)
+
+
+# --------------------------------------------------------------------------- backends
+
+
+def make_backends() -> dict[str, Backend]:
+    """Fresh instances of every available backend, then the two references."""
+    backends = {name: type(sg.lp.get_backend(name))() for name in sg.lp.available_backends()}
+    backends["scipy-linprog"] = LinprogBackend()
+    backends["cvxpy-plain"] = PlainCvxpyBackend()
+    return backends
+
+
+def describe(name: str, backend: Backend) -> str:
+    """One line on what the backend is."""
+    return {
+        "highs": "HiGHS via highspy, dual simplex, warm-started",
+        "clarabel": "Clarabel interior point (own API)",
+        "cvxpy": "parametrised cvxpy model per LP shape, Clarabel",
+        "scipy-linprog": "scipy.optimize.linprog(method='highs'), reference",
+        "cvxpy-plain": f"plain cvxpy model rebuilt per LP, default solver ({getattr(backend, 'solver_name', '') or 'default'}), reference",
+    }.get(name, type(backend).__name__)
+
+
+# --------------------------------------------------------------------------- LP-level inputs
+
+
+def grasp_sequence(n_contacts: int, length: int, seed: int = 0):
+    """A random walk of force-closed grasps on a 40 mm sphere: [(points (n, 3), inward normals (n, 3))]."""
+    rng = np.random.default_rng(seed)
+    t = 2 * np.pi * np.arange(n_contacts) / n_contacts
+    base = np.c_[np.cos(t), np.sin(t), 0.3 * rng.normal(size=n_contacts)]
+    grasps = []
+    for _ in range(length):
+        base = base + 0.01 * rng.normal(size=base.shape)
+        unit = base / np.linalg.norm(base, axis=1)[:, None]
+        grasps.append((40.0 * unit, -unit))
+    return grasps
+
+
+def point_sequence(obj, length: int, offset: float = 10.0, seed: int = 1):
+    """A random walk of points ``offset`` mm outside the ellipsoid (a fingertip moving around it)."""
+    rng = np.random.default_rng(seed)
+    semi = 0.5 * obj.extents
+    direction = np.array([0.3, 1.0, 0.2])
+    points = []
+    for _ in range(length):
+        direction = direction + 0.05 * rng.normal(size=3)
+        direction /= np.linalg.norm(direction)
+        surface = direction / np.sqrt(np.sum((direction / semi) ** 2))
+        points.append(obj.center + surface + offset * direction)
+    return points
+
+
+def workload_inputs(length: int):
+    """For each workload, a function ``call(backend, i) -> (value, flat gradient, degenerate)``."""
+    obj = sg.objects.ellipsoid()
+    vertices = obj.convex[0].vertices
+    pts = point_sequence(obj, length)
+    g5, g16 = grasp_sequence(5, length), grasp_sequence(16, length, seed=2)
+    origin = np.zeros((1, 6))
+    w5 = [sg.contact_wrenches(p, n) for p, n in g5]
+    w16 = [sg.contact_wrenches(p, n) for p, n in g16]
+
+    def pd_call(A_list, B_list):
+        def call(backend, i):
+            r = sg.pseudo_distance(A_list[i], B_list[i], backend=backend)
+            return r.value, np.r_[r.grad_a.ravel(), r.grad_b.ravel()], r.degenerate
+
+        return call
+
+    def cp_call(backend, i):
+        r = obj.contact_distance(pts[i][None], backend=backend)
+        return float(r.value[0]), r.grad[0].copy(), bool(r.degenerate[0])
+
+    def q_call(grasps):
+        def call(backend, i):
+            r = sg.q_distance(*grasps[i], backend=backend)
+            return r.value, np.r_[r.grad_points.ravel(), r.grad_normals.ravel()], r.degenerate
+
+        return call
+
+    return {
+        "cP value": pd_call([p[None] for p in pts], [vertices] * length),
+        "cP value+grad": cp_call,
+        "Q5 value": pd_call(w5, [origin] * length),
+        "Q5 value+grad": q_call(g5),
+        "Q16 value": pd_call(w16, [origin] * length),
+        "Q16 value+grad": q_call(g16),
+    }
+
+
+def run_lp_level(backends, settings, log):
+    """Time every workload on every backend; returns (rows, raw results per (workload, backend)).
+
+    The backends take turns call by call (each on its own instance, so its warm
+    starts see only its own sequence): a burst of load from other processes
+    then hits every backend alike.
+    """
+    length = max(settings.lp_calls.values()) + 1
+    calls = workload_inputs(length)
+    raw = {}
+    for workload, call in calls.items():
+        timed = {name: TimedBackend(backend) for name, backend in backends.items()}
+        log_ = {name: dict(times=[], values=[], grads=[], degenerate=[]) for name in backends}
+        for name in backends:
+            call(timed[name], 0)  # warm-up: imports, model compilation, first basis
+            timed[name].reset()
+        for i in range(1, length):
+            for name in backends:
+                if i > settings.lp_calls[name]:
+                    continue
+                start = time.perf_counter()
+                value, grad, deg = call(timed[name], i)
+                elapsed = time.perf_counter() - start
+                rec = log_[name]
+                rec["times"].append(elapsed)
+                rec["values"].append(value)
+                rec["grads"].append(grad)
+                rec["degenerate"].append(deg)
+        for name in backends:
+            rec = {k: np.array(v) for k, v in log_[name].items()}
+            rec.update(lp_calls=timed[name].lp_calls, lp_time=timed[name].lp_time)
+            raw[workload, name] = rec
+            t = rec["times"] * 1e3
+            log(f"  {workload:15s} {name:14s} median {np.median(t):9.3f} ms  p95 {np.percentile(t, 95):9.3f} ms  "
+                f"({len(t)} calls)")
+    rows = []
+    for workload in calls:
+        ref = raw[workload, REFERENCE]
+        for name in backends:
+            r = raw[workload, name]
+            n = len(r["times"])
+            value_diff = float(np.max(np.abs(r["values"] - ref["values"][:n])))
+            ok = ~(r["degenerate"] | ref["degenerate"][:n])
+            grad_diff = float(np.max(np.abs(r["grads"][ok] - ref["grads"][:n][ok]))) if ok.any() else float("nan")
+            rows.append(dict(
+                workload=workload,
+                backend=name,
+                calls=n,
+                median_ms=float(np.median(r["times"]) * 1e3),
+                p95_ms=float(np.percentile(r["times"], 95) * 1e3),
+                lps_per_call=r["lp_calls"] / n,
+                solver_share=r["lp_time"] / float(r["times"].sum()),
+                value_diff=value_diff,
+                grad_diff=grad_diff,
+                grad_compared=int(ok.sum()),
+                degenerate=int(r["degenerate"].sum()),
+                agree=bool(value_diff <= VALUE_TOL and not (grad_diff > GRAD_TOL)),
+            ))
+    return rows, raw
+
+
+# --------------------------------------------------------------------------- plan level
+
+
+def run_plans(backends, settings, log):
+    """Plan the selected cases on every backend; returns rows (HiGHS first for each case)."""
+    rows, reference = [], {}
+    objects = {}
+    for case in CASES:
+        for name, backend in backends.items():
+            if case not in settings.plan_cases[name]:
+                continue
+            obj_name, grasp = case
+            obj = objects.setdefault(obj_name, sg.objects.get(obj_name))
+            timed = TimedBackend(backend)
+            start = time.perf_counter()
+            error = ""
+            try:
+                result = sg.plan(obj, grasp, backend=timed, max_iter=settings.max_iter)
+            except Exception as exc:  # a crash is data too
+                result, error = None, f"{type(exc).__name__}: {exc}"
+            wall = time.perf_counter() - start
+            row = dict(backend=name, object=obj_name, grasp=grasp, source="measured", max_iter=settings.max_iter,
+                       time_s=wall, lp_solves=timed.lp_calls, lp_time_s=timed.lp_time,
+                       lp_share=timed.lp_time / wall if wall > 0 else float("nan"))
+            if result is None:
+                row.update(success=False, iterations=-1, total_iterations=-1, attempts=-1, final_q=float("nan"),
+                           time_per_iter_ms=float("nan"),
+                           reason=error, same_verdict=None, same_iterations=None, max_du=float("nan"))
+            else:
+                total = int(getattr(result, "total_iterations", result.iterations))
+                row.update(success=bool(result.success), iterations=int(result.iterations), total_iterations=total,
+                           attempts=len(getattr(result, "attempts", [])) or 1, final_q=result.final_q,
+                           time_per_iter_ms=1e3 * wall / max(total, 1), reason=result.reason)
+                if name == REFERENCE:
+                    reference[case] = result
+                ref = reference.get(case)
+                if ref is None:
+                    row.update(same_verdict=None, same_iterations=None, max_du=float("nan"))
+                else:
+                    common = min(len(ref.trajectory), len(result.trajectory))
+                    du = np.abs(result.trajectory[:common] - ref.trajectory[:common])
+                    row.update(same_verdict=bool(result.success) == bool(ref.success),
+                               same_iterations=int(result.iterations) == int(ref.iterations)
+                               and total == int(getattr(ref, "total_iterations", ref.iterations)),
+                               max_du=float(du.max()) if du.size else 0.0)
+            rows.append(row)
+            log(f"  {obj_name:9s} {grasp:9s} {name:14s} success={row['success']!s:5s} it={row['iterations']:4d} "
+                f"({row['total_iterations']} in {row['attempts']}) Q={row['final_q']:+.4f} {wall:8.2f} s  LP share {row['lp_share']:.0%}  max|du|={row['max_du']:.2g}")
+    return rows
+
+
+def paper_rows():
+    """The paper's plan figures as fixed rows."""
+    rows = []
+    for (obj_name, grasp), (iterations, q, seconds) in PAPER_PLANS.items():
+        rows.append(dict(
+            backend=PAPER_LABEL, object=obj_name, grasp=grasp, source="paper", max_iter=None,
+            success=True, iterations=iterations if iterations is not None else -1,
+            total_iterations=iterations if iterations is not None else -1, attempts=1, final_q=q,
+            time_s=seconds if seconds is not None else float("nan"),
+            time_per_iter_ms=1e3 * seconds / iterations if seconds and iterations else float("nan"),
+            lp_solves=-1, lp_time_s=float("nan"), lp_share=float("nan"),
+            reason="reported in the paper (Table 3 / text)", same_verdict=None, same_iterations=None, max_du=float("nan"),
+        ))
+    return rows
+
+
+# --------------------------------------------------------------------------- summary, ratios
+
+
+def _median(lp_rows, workload, backend):
+    for row in lp_rows:
+        if row["workload"] == workload and row["backend"] == backend:
+            return row["median_ms"]
+    return float("nan")
+
+
+def _plan(plan_rows, backend, case):
+    for row in plan_rows:
+        if row["backend"] == backend and (row["object"], row["grasp"]) == case:
+            return row
+    return None
+
+
+def summarise(backends, lp_rows, plan_rows):
+    """One row per backend."""
+    rows = []
+    for name, backend in backends.items():
+        mine = [r for r in lp_rows if r["backend"] == name]
+        plans = [r for r in plan_rows if r["backend"] == name]
+        ell = _plan(plan_rows, name, ("ellipsoid", "precision"))
+        rows.append(dict(
+            backend=name,
+            what=describe(name, backend),
+            cP_vg_ms=_median(lp_rows, "cP value+grad", name),
+            Q5_vg_ms=_median(lp_rows, "Q5 value+grad", name),
+            Q16_vg_ms=_median(lp_rows, "Q16 value+grad", name),
+            value_diff=max(r["value_diff"] for r in mine),
+            grad_diff=float(np.nanmax([r["grad_diff"] for r in mine])) if any(np.isfinite(r["grad_diff"]) for r in mine) else float("nan"),
+            plan_ellipsoid_precision_s=ell["time_s"] if ell else float("nan"),
+            plans_run=len(plans),
+            plans_succeeded=sum(bool(r["success"]) for r in plans),
+            verdicts_agree=sum(r["same_verdict"] is True for r in plans),
+        ))
+    return rows
+
+
+def ratios(lp_rows, plan_rows, quick=False):
+    """The issue's target ratios, measured in this run."""
+    out = []
+
+    def add(name, numerator, denominator, target, note):
+        ratio = numerator / denominator if denominator and np.isfinite(denominator) and np.isfinite(numerator) else float("nan")
+        out.append(dict(ratio=name, value=ratio, target=target, met=bool(np.isfinite(ratio) and ratio >= target), note=note))
+
+    q5 = _median(lp_rows, "Q5 value+grad", REFERENCE)
+    add("Q5 value+grad: cvxpy / highs", _median(lp_rows, "Q5 value+grad", "cvxpy"), q5, 20.0, "median time per call")
+    add("Q5 value+grad: scipy-linprog / highs", _median(lp_rows, "Q5 value+grad", "scipy-linprog"), q5, 10.0,
+        "median time per call")
+    case = ("ellipsoid", "precision")
+    highs, cvx = _plan(plan_rows, REFERENCE, case), _plan(plan_rows, "cvxpy", case)
+    h = highs["time_s"] if highs else float("nan")
+    capped = " (quick mode: a plan capped after a few iterations, not comparable)" if quick else ""
+    add("plan ellipsoid precision: cvxpy / highs", cvx["time_s"] if cvx else float("nan"), h, 10.0,
+        "wall time per plan" + capped)
+    add("plan ellipsoid precision: paper 54 s / highs", PAPER_PLANS[case][2], h, 100.0,
+        "the paper's time is from another machine (MATLAB 2015, i5-2430M)" + capped)
+    return out
+
+
+def bounds(lp_rows, plan_rows) -> str:
+    """What limits the ratios: the time outside the LP solver, which every backend pays alike."""
+    text = []
+    row = _plan(plan_rows, REFERENCE, ("ellipsoid", "precision"))
+    if row is not None and row["time_s"] > 0:
+        rest = row["time_s"] - row["lp_time_s"]
+        text.append(
+            f"Reading the ratios: with HiGHS, {row['lp_share']:.0%} of the ellipsoid precision plan is spent inside "
+            f"the LP solver ({row['lp_time_s']:.3f} of {row['time_s']:.3f} s, {row['lp_solves']} LPs); the other "
+            f"{rest:.3f} s (status assembly, cP/sQ geometry, the planner) is the same for every backend, so a "
+            f"backend's plan time is about {rest:.3f} s plus its LP time and no LP backend could make this plan "
+            f"more than {row['time_s'] / rest:.1f}x faster than HiGHS does now.")
+    for q in (r for r in lp_rows if r["workload"] == "Q5 value+grad" and r["backend"] in (REFERENCE, "scipy-linprog")):
+        text.append(f"Q5 value+grad on {q['backend']}: {q['median_ms']:.2f} ms per call, {q['lps_per_call']:g} LPs, "
+                    f"{q['solver_share']:.0%} of it inside the solver.")
+    return " ".join(text)
+
+
+def verdict_check(plan_rows):
+    """(all agree, list of disagreements) of the measured plans against HiGHS."""
+    bad = [f"{r['backend']} {r['object']} {r['grasp']}" for r in plan_rows
+           if r["source"] == "measured" and r["backend"] != REFERENCE and r["same_verdict"] is False]
+    return not bad, bad
+
+
+# --------------------------------------------------------------------------- output
+
+
+def environment(backends):
+    cpu = platform.processor() or ""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    versions = {}
+    for module in ("numpy", "scipy", "highspy", "clarabel", "cvxpy"):
+        try:
+            from importlib.metadata import version
+
+            versions[module] = version(module)
+        except Exception:
+            versions[module] = "?"
+    return dict(
+        date=time.strftime("%Y-%m-%d %H:%M"),
+        cpu=cpu,
+        cores=os.cpu_count(),
+        python=platform.python_version(),
+        synergrasp=sg.__version__,
+        versions=versions,
+        cvxpy_default_solver=getattr(backends.get("cvxpy-plain"), "solver_name", ""),
+        load_average=os.getloadavg() if hasattr(os, "getloadavg") else None,
+    )
+
+
+def write_csv(path, rows):
+    if not rows:
+        return
+    keys = list(rows[0])
+    with open(path, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=keys)
+        writer.writeheader()
+        for row in rows:
+            writer.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in row.items()})
+
+
+def _fmt(value, digits=3):
+    if value is None:
+        return "-"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, np.integer)):
+        return str(value) if value >= 0 else "-"
+    if isinstance(value, float):
+        if not np.isfinite(value):
+            return "-"
+        if value == 0:
+            return "0"
+        if abs(value) < 1e-3 or abs(value) >= 1e5:
+            return f"{value:.1e}"
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+def _table(headers, rows):
+    lines = ["| " + " | ".join(headers) + " |", "|" + "---|" * len(headers)]
+    lines += ["| " + " | ".join(_fmt(v) for v in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, figure_link, profile_text=""):
+    """The results as markdown (used for results/README.md and the docs page)."""
+    agree, bad = verdict_check(plan_rows)
+    slow = ", ".join(f"{o} {g}" for o, g in SLOW_PLAN_CASES)
+    mode = "quick (reduced)" if settings.quick else "full"
+    parts = [
+        f"Run: {env['date']}, {mode} mode, on {env['cpu']} ({env['cores']} cores; other processes may have been "
+        f"running, so times are medians). Python {env['python']}, "
+        + ", ".join(f"{k} {v}" for k, v in env["versions"].items())
+        + f"; cvxpy's default LP solver here: {env['cvxpy_default_solver'] or '?'}. Plans capped at "
+        f"max_iter = {settings.max_iter}.",
+        "",
+        "### Summary (one row per backend)",
+        "",
+        _table(
+            ["backend", "what", "cP v+g ms", "Q5 v+g ms", "Q16 v+g ms", "max value diff", "max grad diff",
+             "plan ellipsoid precision s", "plans run", "succeeded", "verdict = highs"],
+            [[r["backend"], r["what"], r["cP_vg_ms"], r["Q5_vg_ms"], r["Q16_vg_ms"], r["value_diff"], r["grad_diff"],
+              r["plan_ellipsoid_precision_s"], r["plans_run"], r["plans_succeeded"], r["verdicts_agree"]] for r in summary]
+            + [[PAPER_LABEL, "30-50 ms per LP", None, None, None, None, None, PAPER_PLANS["ellipsoid", "precision"][2],
+                None, None, None]],
+        ),
+        "",
+        "Differences are the largest absolute differences from HiGHS over all LP-level calls (gradients: calls "
+        "where neither backend flags the LP degenerate).",
+        "",
+        "### Target ratios (same run)",
+        "",
+        _table(["ratio", "measured", "target", "met", "note"],
+               [[r["ratio"], r["value"], f">= {r['target']:g}x", r["met"], r["note"]] for r in ratio_rows]),
+        "",
+        f"All backends reach HiGHS's verdict (success or not) on every plan they ran: "
+        f"{'yes' if agree else 'no: ' + '; '.join(bad)}.",
+        "",
+        bounds(lp_rows, plan_rows),
+        "",
+        f"![time per call and per plan, log scale]({figure_link})",
+        "",
+        "### LP level",
+        "",
+        "Wall time per call of the library function (v = value only, `sg.pseudo_distance` on precomputed sets; "
+        "v+g = the library call with gradients with respect to the physical inputs), LP solver calls per call, "
+        "share of the time inside the solver, agreement with HiGHS.",
+        "",
+        _table(
+            ["workload", "backend", "calls", "median ms", "p95 ms", "LPs/call", "solver share", "value diff",
+             "grad diff", "degenerate", "agrees"],
+            [[r["workload"], r["backend"], r["calls"], r["median_ms"], r["p95_ms"], r["lps_per_call"],
+              f"{r['solver_share']:.0%}", r["value_diff"], r["grad_diff"], r["degenerate"], r["agree"]]
+             for r in lp_rows]
+            + [[PAPER_LABEL, "MATLAB", None, "30-50 per LP", None, None, None, None, None, None, None]],
+        ),
+        "",
+        "### Plan level",
+        "",
+        f"`sg.plan(obj, grasp, backend=..., max_iter={settings.max_iter})`. Iterations are those of the returned "
+        "reach; all attempts = iterations over every attempt (number of attempts), the planner restarting from "
+        "another approach direction after a stall. Time is the wall time of the call, ms/iteration divides it by "
+        "all attempts' iterations; "
+        "LP share = time inside the backend's solve over that; max |du| = largest deviation of the configuration "
+        "u (mm, rad) from HiGHS's trajectory over the common length. "
+        + (f"Quick mode: one case, capped at {settings.max_iter} iterations (not a finished plan). " if settings.quick
+           else f"The cvxpy-based backends ({', '.join(SLOW_BACKENDS)}) ran only {slow} (--slow-subset); the "
+           "other backends ran all 8 cases. " if any(len(v) < len(CASES) for v in settings.plan_cases.values())
+           else "Every backend ran all 8 cases.")
+        + " The paper rows are its reported figures (time only for the four cases it gives).",
+        "",
+        _table(
+            ["object", "grasp", "backend", "success", "iterations", "all attempts", "final Q", "time s",
+             "ms/iteration", "LP solves", "LP share", "same verdict", "same iterations", "max abs du"],
+            [[r["object"], r["grasp"], r["backend"], r["success"], r["iterations"],
+              f"{r['total_iterations']} ({r['attempts']})" if r["source"] == "measured" else "-", r["final_q"], r["time_s"],
+              r["time_per_iter_ms"], r["lp_solves"], "-" if not np.isfinite(r["lp_share"]) else f"{r['lp_share']:.0%}",
+              r["same_verdict"], r["same_iterations"], r["max_du"]] for r in plan_rows],
+        ),
+        "",
+        f"Paper, per iteration: {PAPER_ITERATION_S[0]}-{PAPER_ITERATION_S[1]} s; per LP: "
+        f"{PAPER_LP_MS[0]:g}-{PAPER_LP_MS[1]:g} ms ({PAPER_LABEL}).",
+    ]
+    if profile_text:
+        parts += ["", profile_text.strip()]
+    return "\n".join(parts) + "\n"
+
+
+def figure(path, lp_rows, plan_rows, backends):
+    """Log-scale bars: median time per LP-level call, and time per plan, for each backend."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(backends)
+    colours = dict(zip(names, plt.get_cmap("tab10").colors))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.4), gridspec_kw=dict(width_ratios=[1.1, 1]))
+    width = 0.8 / len(names)
+    x = np.arange(len(WORKLOADS))
+    for i, name in enumerate(names):
+        heights = [_median(lp_rows, w, name) for w in WORKLOADS]
+        ax1.bar(x + (i - (len(names) - 1) / 2) * width, heights, width, label=name, color=colours[name])
+    ax1.axhspan(*PAPER_LP_MS, color="0.85", zorder=0, label="paper: 30-50 ms per LP (other machine)")
+    ax1.set_xticks(x, [w.replace(" value", "\nvalue") for w in WORKLOADS], fontsize=8)
+    ax1.set_yscale("log")
+    ax1.set_ylabel("median time per call (ms)")
+    ax1.set_title("LP level")
+    cases = [c for c in CASES if any((r["object"], r["grasp"]) == c and r["source"] == "measured" for r in plan_rows)]
+    x = np.arange(len(cases))
+    labels = names + [PAPER_LABEL]
+    width = 0.8 / len(labels)
+    for i, name in enumerate(labels):
+        heights = []
+        for case in cases:
+            row = _plan(plan_rows, name, case)
+            heights.append(row["time_s"] if row is not None else np.nan)
+        colour = colours.get(name, "0.6")
+        ax2.bar(x + (i - (len(labels) - 1) / 2) * width, heights, width, label=name if name in colours else "paper (other machine)",
+                color=colour, hatch=None if name in colours else "//")
+        for xi, case in zip(x, cases):
+            row = _plan(plan_rows, name, case)
+            if row is not None and row["source"] == "measured" and not row["success"]:
+                ax2.plot(xi + (i - (len(labels) - 1) / 2) * width, row["time_s"] * 1.3, "x", color="k", ms=4)
+    ax2.set_xticks(x, [f"{o}\n{g}" for o, g in cases], fontsize=8)
+    ax2.set_yscale("log")
+    ax2.set_ylabel("time per plan (s)")
+    ax2.set_title("Plan level (x = no grasp found within max_iter)")
+    handles, labels_ = ax1.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    handles.append(h2[-1])
+    labels_.append("paper: time per plan (other machine)")
+    fig.legend(handles, labels_, loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+DOCS_INTRO = """# Solver comparison
+
+synergrasp solves many small LPs: each cP query, each sQ ray, each Q distance. This page compares
+the LP backends on exactly those LPs, from one call to whole plans, all measured in one run of
+
+```bash
+python -m solvers.compare --docs      # full run, about 12 minutes on 2 cores
+python -m solvers.compare --quick     # reduced run, well under a minute (the test suite runs it)
+```
+
+Backends: every available synergrasp backend (`"highs"`, `"clarabel"`, `"cvxpy"`) and two
+references a user might pick instead, both written as `synergrasp.lp.Backend` subclasses in
+`solvers/references.py` and passed as backend objects: `scipy-linprog`
+(`scipy.optimize.linprog(method="highs")`, one call per LP) and `cvxpy-plain` (a cvxpy model
+rebuilt for every LP and solved by cvxpy's default solver). HiGHS is the reference: every other
+backend's values and gradients are compared with its own on the same inputs. The raw numbers are in
+`solvers/results/` (CSV files, `README.md`, the figure); the paper's figures come from MATLAB 2015
+on an i5-2430M laptop, another machine and another code, and are shown for orientation only.
+
+The time of a plan is not all LP solving: the share spent inside the solver is in the plan table,
+and the profile section at the end shows where the rest goes.
+
+"""
+
+
+def write_docs(text, figure_path):
+    docs = ROOT / "docs"
+    (docs / "figures").mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(figure_path, docs / "figures" / FIGURE)
+    (docs / "solver-comparison.md").write_text(DOCS_INTRO + "## Results\n\n" + text.replace("\n### ", "\n### "))
+
+
+def main(argv=None) -> dict:
+    """Run the comparison; returns the tables (``lp``, ``plan``, ``summary``, ``ratios``) and paths."""
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true", help="reduced run: few calls, one short plan per backend")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="output folder (default solvers/results; with --quick solvers/results/quick)")
+    parser.add_argument("--docs", action="store_true", help="also write docs/solver-comparison.md and its figure")
+    parser.add_argument("--max-iter", type=int, default=None, help="plan iteration cap (600; quick: 8)")
+    parser.add_argument("--slow-subset", action="store_true",
+                        help=f"run the cvxpy-based backends' plans on {len(SLOW_PLAN_CASES)} cases only (a shorter run)")
+    parser.add_argument("--quiet", action="store_true")
+    args = parser.parse_args(argv)
+    log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
+    out = Path(args.out) if args.out is not None else DEFAULT_OUT / "quick" if args.quick else DEFAULT_OUT
+    out.mkdir(parents=True, exist_ok=True)
+    backends = make_backends()
+    settings = Settings.make(args.quick, backends, args.max_iter, args.slow_subset)
+    started = time.perf_counter()
+
+    log(f"LP level ({', '.join(backends)})")
+    lp_rows, _ = run_lp_level(backends, settings, log)
+    log("Plan level")
+    plan_rows = run_plans(backends, settings, log) + paper_rows()
+    summary = summarise(backends, lp_rows, plan_rows)
+    ratio_rows = ratios(lp_rows, plan_rows, settings.quick)
+    env = environment(backends)
+    env["run_seconds"] = time.perf_counter() - started
+    env["mode"] = "quick" if settings.quick else "full"
+
+    write_csv(out / "lp_level.csv", lp_rows)
+    write_csv(out / "plan_level.csv", plan_rows)
+    write_csv(out / "summary.csv", summary)
+    write_csv(out / "ratios.csv", ratio_rows)
+    (out / "environment.json").write_text(json.dumps(env, indent=1))
+    figure(out / FIGURE, lp_rows, plan_rows, backends)
+    profile_path = out / "profile.md"
+    profile_text = profile_path.read_text() if profile_path.exists() else ""
+    text = markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, FIGURE, profile_text)
+    (out / "README.md").write_text("# Solver comparison results\n\nWritten by `python -m solvers.compare"
+                                   + (" --quick" if settings.quick else "") + "`.\n\n" + text)
+    if args.docs:
+        write_docs(markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, f"figures/{FIGURE}", profile_text),
+                   out / FIGURE)
+
+    log("\nRatios (same run):")
+    for r in ratio_rows:
+        log(f"  {r['ratio']:48s} {r['value']:8.1f}x  target >= {r['target']:g}x  {'met' if r['met'] else 'NOT met'}")
+    agree, bad = verdict_check(plan_rows)
+    log(f"  all backends reach HiGHS's verdict on the plans they ran: {'yes' if agree else 'no: ' + '; '.join(bad)}")
+    log(f"done in {env['run_seconds']:.0f} s; results in {out}")
+    return dict(lp=lp_rows, plan=plan_rows, summary=summary, ratios=ratio_rows, environment=env, out=out)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,78 @@
+"""The solver comparison harness (solvers/): quick run, one row per backend, agreement asserted."""
+
+import csv
+
+import numpy as np
+import pytest
+
+import synergrasp as sg
+from solvers import compare
+from solvers.references import LinprogBackend, PlainCvxpyBackend, TimedBackend
+
+EXPECTED = sg.lp.available_backends() + ["scipy-linprog", "cvxpy-plain"]
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("solver-comparison")
+    return compare.main(["--quick", "--quiet", "--out", str(out)])
+
+
+def test_summary_has_one_row_per_backend(quick):
+    names = [row["backend"] for row in quick["summary"]]
+    assert names == EXPECTED
+    with open(quick["out"] / "summary.csv") as fh:
+        assert [row["backend"] for row in csv.DictReader(fh)] == EXPECTED
+
+
+def test_lp_table_has_every_backend_once_per_workload(quick):
+    for workload in compare.WORKLOADS:
+        assert [r["backend"] for r in quick["lp"] if r["workload"] == workload] == EXPECTED
+    for row in quick["lp"]:
+        assert row["calls"] >= 5 and row["median_ms"] > 0 and row["p95_ms"] >= row["median_ms"]
+        assert row["lps_per_call"] >= 1
+
+
+def test_every_backend_agrees_with_highs(quick):
+    for row in quick["lp"]:
+        assert row["value_diff"] <= 1e-6, row
+        assert not (row["grad_diff"] > compare.GRAD_TOL), row
+        assert row["agree"], row
+    measured = [r for r in quick["plan"] if r["source"] == "measured"]
+    assert {r["backend"] for r in measured} == set(EXPECTED)
+    for row in measured:
+        assert row["same_verdict"] is True, row
+
+
+def test_outputs_and_paper_rows(quick):
+    out = quick["out"]
+    for name in ("lp_level.csv", "plan_level.csv", "summary.csv", "ratios.csv", "environment.json", "README.md"):
+        assert (out / name).stat().st_size > 0
+    assert (out / compare.FIGURE).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = (out / "README.md").read_text()
+    assert compare.PAPER_LABEL in text and "Target ratios" in text
+    paper = [r for r in quick["plan"] if r["source"] == "paper"]
+    assert len(paper) == 8 and all(r["backend"] == compare.PAPER_LABEL for r in paper)
+    assert [r["target"] for r in quick["ratios"]] == [20.0, 10.0, 10.0, 100.0]
+
+
+@pytest.mark.parametrize("make", [LinprogBackend, PlainCvxpyBackend])
+def test_reference_backends_follow_the_dual_convention(make):
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(4, 10))
+    b = A @ rng.random(10)
+    c = rng.random(10) + 0.1
+    ref = sg.lp.get_backend("highs").solve(c, A, b)
+    sol = make().solve(c, A, b)
+    assert sol.status == "optimal"
+    assert sol.objective == pytest.approx(ref.objective, abs=1e-7)
+    assert np.allclose(sol.y, ref.y, atol=1e-6)
+    assert make().solve([1.0, 1.0], [[1.0, 1.0]], [-1.0]).status == "infeasible"
+
+
+def test_timed_backend_accumulates_solver_time():
+    timed = TimedBackend("highs")
+    r = sg.q_distance(*compare.grasp_sequence(5, 1)[0], backend=timed)
+    assert timed.lp_calls == r.lp_solves and timed.lp_time > 0 and str(timed) == "highs"
+    timed.reset()
+    assert timed.lp_calls == 0 and timed.lp_time == 0.0
