@@ -190,6 +190,12 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     -------
     (n*m, 6) float ndarray
         Wrenches in contact-major order (all edges of contact 0 first).
+
+    Examples
+    --------
+    >>> W = contact_wrenches([[0.0, 0.0, 40.0]], [[0.0, 0.0, -1.0]], edges=4)
+    >>> W.shape
+    (4, 6)
     """
     points, nhat, _, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     M, basis, _ = _cone(nhat, mu, edges)

@@ -18,6 +18,8 @@ import trimesh  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
+__all__ = ["animate", "plot_poses", "plot_status", "scene", "write_html"]
+
 _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
 
 
@@ -133,6 +135,15 @@ def plot_poses(result, obj, hand, path, count=5):
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from synergrasp import SynergyHand, objects, plan
+    >>> obj, hand = objects.ellipsoid(), SynergyHand.default()
+    >>> result = plan(obj, "precision", max_iter=3, restarts=1)
+    >>> plot_poses(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "poses.png").exists()
+    True
     """
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
@@ -177,6 +188,15 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from synergrasp import SynergyHand, objects, plan
+    >>> obj, hand = objects.ellipsoid(), SynergyHand.default()
+    >>> result = plan(obj, "precision", max_iter=3, restarts=1)
+    >>> animate(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "reach.gif").exists()
+    True
     """
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
@@ -217,6 +237,13 @@ def scene(obj, hand, u):
     trimesh.Scene
         The object and the hand's parts as coloured meshes (``scene.show()`` opens a viewer
         where one is installed; ``scene.export("grasp.glb")`` writes a file).
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> hand = SynergyHand.default()
+    >>> len(scene(objects.ellipsoid(), hand, np.r_[0.0, 0.0, 150.0, np.zeros(5)]).geometry)  # object, 15 phalanges, palm
+    17
     """
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
@@ -254,6 +281,14 @@ def write_html(obj, hand, u, path):
     -------
     Path
         ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from synergrasp import SynergyHand, objects
+    >>> page = pathlib.Path(tempfile.mkdtemp()) / "grasp.html"
+    >>> write_html(objects.ellipsoid(), SynergyHand.default(), np.r_[0.0, 0.0, 150.0, np.zeros(5)], page).exists()
+    True
     """
     from trimesh.viewer.notebook import scene_to_html
 

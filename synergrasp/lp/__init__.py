@@ -39,6 +39,11 @@ def available_backends() -> list[str]:
     -------
     list of str
         Subset of ``["highs", "clarabel", "cvxpy"]``, in that order.
+
+    Examples
+    --------
+    >>> "highs" in available_backends()
+    True
     """
     names = []
     for name in _REGISTRY:
@@ -67,6 +72,13 @@ def get_backend(name: str | Backend = "highs") -> Backend:
     ValueError
         If the name is unknown or its solver is not installed; the message
         lists the available backends and the package to install.
+
+    Examples
+    --------
+    >>> get_backend("highs").name
+    'highs'
+    >>> get_backend("highs") is get_backend("highs")
+    True
     """
     if isinstance(name, Backend):
         return name

@@ -87,6 +87,16 @@ class Backend:
         Registry name of the backend.
     calls : int
         Number of solves done by this instance.
+
+    Examples
+    --------
+    A backend only implements ``_solve``; ``solve`` adds the checks and timing.
+
+    >>> class Trivial(Backend):
+    ...     def _solve(self, c, A, b):
+    ...         return "optimal", np.linalg.lstsq(A, b, rcond=None)[0], np.zeros(len(b)), 0, "ok"
+    >>> Trivial(name="trivial").solve([0.0], [[2.0]], [4.0]).x
+    array([2.])
     """
 
     name: str = "base"
@@ -166,6 +176,12 @@ class CSC(NamedTuple):
         Entry values.
     shape : (int, int)
         ``(m, n)``.
+
+    Examples
+    --------
+    >>> A = CSC(np.array([0, 1, 2], dtype=np.int32), np.array([0, 0], dtype=np.int32), np.array([2.0, 3.0]), (1, 2))
+    >>> A.toarray()
+    array([[2., 3.]])
     """
 
     indptr: np.ndarray

@@ -88,7 +88,13 @@ _CACHE_VERSION = 1
 
 
 def cache_dir() -> Path:
-    """The decomposition cache directory: ``$SYNERGRASP_CACHE`` or ``~/.cache/synergrasp``."""
+    """The decomposition cache directory: ``$SYNERGRASP_CACHE`` or ``~/.cache/synergrasp``.
+
+    Examples
+    --------
+    >>> cache_dir().name != ""
+    True
+    """
     env = os.environ.get("SYNERGRASP_CACHE")
     return Path(env).expanduser() if env else Path.home() / ".cache" / "synergrasp"
 

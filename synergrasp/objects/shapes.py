@@ -219,6 +219,11 @@ def cup(*, tolerance: float = 0.5) -> GraspObject:
 
     The body flares from the base to a rounded rim bead; the flare (r(z)
     convex) makes it non-convex, so it comes in several slabs.
+
+    Examples
+    --------
+    >>> cup().n_pieces
+    6
     """
     body = lambda z: 27.0 + 9.5 * ((z - 4.0) / 72.0) ** 1.6  # noqa: E731
     foot = np.array([[25.5, 0.0], [26.6, 0.6], [27.0, 2.0], [27.0, 4.0]])
@@ -232,6 +237,11 @@ def bell(*, tolerance: float = 0.5) -> GraspObject:
 
     Total height 132 mm: a flared lip (non-convex), a domed crown, a 12 mm
     thick handle neck and a ball knob on top.
+
+    Examples
+    --------
+    >>> bell().n_pieces
+    9
     """
     z_waist, r_mouth, r_waist = 22.0, 45.0, 30.5
     flare = lambda z: r_waist + (r_mouth - r_waist) * (1.0 - z / z_waist) ** 2  # noqa: E731
@@ -254,6 +264,11 @@ def goblet(*, tolerance: float = 0.5) -> GraspObject:
 
     Three convex pieces: a domed foot, the stem and the bowl (half an
     ellipsoid narrowing slightly to a 68 mm rim).
+
+    Examples
+    --------
+    >>> goblet().n_pieces
+    3
     """
     foot = np.array([[34.0, 0.0], [34.0, 2.0], [32.0, 4.0], [27.0, 6.5], [18.0, 9.0], [4.5, 12.0]])
     R, zc, H = 38.0, 110.0, 40.0

@@ -127,6 +127,13 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0):
     Returns
     -------
     (6 + n_syn,) float
+
+    Examples
+    --------
+    >>> from synergrasp import objects
+    >>> u = start_configuration(SynergyHand.default(), objects.ellipsoid(), (0.0, 0.0, 1.0))
+    >>> u.shape
+    (8,)
     """
     a = as_vector(approach, "approach", 3)
     if np.linalg.norm(a) < 1e-9:
@@ -281,6 +288,13 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     ------
     ValueError
         Unknown grasp type, bad ``u0`` or ``approach``, unknown option or backend.
+
+    Examples
+    --------
+    >>> from synergrasp import objects
+    >>> result = plan(objects.ellipsoid(), "precision")
+    >>> result.success, len(result.contact_labels) >= 3, result.final_q < 0
+    (True, True, True)
     """
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")

@@ -70,6 +70,15 @@ def smoothed_normals(obj, x, pieces, length):
         Unit inward normals.
     jac : (n, 3, 3) float
         d normal / d x.
+
+    Examples
+    --------
+    At the pole of the ellipsoid the smoothed inward normal points down the z axis:
+
+    >>> from synergrasp import objects
+    >>> n, jac = smoothed_normals(objects.ellipsoid(), np.array([[0.0, 0.0, 50.0]]), np.array([0]), 5.0)
+    >>> bool(np.allclose(n, [[0.0, 0.0, -1.0]], atol=1e-2)), jac.shape
+    (True, (1, 3, 3))
     """
     normals = np.empty((len(x), 3))
     jac = np.empty((len(x), 3, 3))
@@ -107,6 +116,15 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     Returns
     -------
     Status
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> from synergrasp.planner import start_configuration
+    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
+    >>> st = grasp_status(hand, obj, start_configuration(hand, obj), "precision")
+    >>> st.g.shape, st.J.shape
+    ((6,), (6, 8))
     """
     points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
     cp = obj.contact_distance(points, backend=backend)

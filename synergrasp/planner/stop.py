@@ -60,6 +60,16 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
     Returns
     -------
     GraspCheck
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> from synergrasp.planner import grasp_status, start_configuration
+    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
+    >>> far = grasp_status(hand, obj, start_configuration(hand, obj), "precision")
+    >>> check = check_grasp(obj, far, "precision")
+    >>> check.n_contacts, check.done
+    (0, False)
     """
     cp = status.g[:-1]
     contact = cp < eps_c
