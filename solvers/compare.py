@@ -63,6 +63,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
+from benchmarks.bench_quality import grasp_sequence  # the same grasps as the benchmark
 from synergrasp.lp import Backend
 
 from .references import LinprogBackend, PlainCvxpyBackend, TimedBackend
@@ -146,19 +147,6 @@ def describe(name: str, backend: Backend) -> str:
 
 
 # --------------------------------------------------------------------------- LP-level inputs
-
-
-def grasp_sequence(n_contacts: int, length: int, seed: int = 0):
-    """A random walk of force-closed grasps on a 40 mm sphere: [(points (n, 3), inward normals (n, 3))]."""
-    rng = np.random.default_rng(seed)
-    t = 2 * np.pi * np.arange(n_contacts) / n_contacts
-    base = np.c_[np.cos(t), np.sin(t), 0.3 * rng.normal(size=n_contacts)]
-    grasps = []
-    for _ in range(length):
-        base = base + 0.01 * rng.normal(size=base.shape)
-        unit = base / np.linalg.norm(base, axis=1)[:, None]
-        grasps.append((40.0 * unit, -unit))
-    return grasps
 
 
 def point_sequence(obj, length: int, offset: float = 10.0, seed: int = 1):

@@ -22,6 +22,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from synergrasp.lp import CSC, Backend, get_backend
+from synergrasp.lp.cvxpy import STATUS as CVXPY_STATUS
 
 #: Above this many matrix entries the references pass scipy a sparse matrix.
 DENSE_LIMIT = 200_000
@@ -85,14 +86,7 @@ class PlainCvxpyBackend(Backend):
         stats = problem.solver_stats
         self.solver_name = stats.solver_name if stats else ""
         iterations = (stats.num_iters if stats else None) or -1
-        status = {
-            cp.OPTIMAL: "optimal",
-            cp.OPTIMAL_INACCURATE: "optimal",
-            cp.INFEASIBLE: "infeasible",
-            cp.INFEASIBLE_INACCURATE: "infeasible",
-            cp.UNBOUNDED: "unbounded",
-            cp.UNBOUNDED_INACCURATE: "unbounded",
-        }.get(problem.status, "failed")
+        status = CVXPY_STATUS.get(problem.status, "failed")
         if status != "optimal":
             return status, None, None, iterations, str(problem.status)
         return status, x.value, -np.asarray(equality.dual_value, dtype=float), iterations, str(problem.status)

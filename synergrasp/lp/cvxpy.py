@@ -13,7 +13,8 @@ import numpy as np
 
 from .base import CSC, Backend
 
-_STATUS = {
+#: cvxpy problem status -> library status.
+STATUS = {
     cp.OPTIMAL: "optimal",
     cp.OPTIMAL_INACCURATE: "optimal",
     cp.INFEASIBLE: "infeasible",
@@ -55,7 +56,7 @@ class CvxpyBackend(Backend):
         problem, x, c_par, A_par, b_par, equality = self._model(*A.shape)
         c_par.value, A_par.value, b_par.value = c, A.toarray() if isinstance(A, CSC) else A, b
         problem.solve(solver=self.solver, **self.solver_options)
-        status = _STATUS.get(problem.status, "failed")
+        status = STATUS.get(problem.status, "failed")
         iterations = problem.solver_stats.num_iters if problem.solver_stats else -1
         if status != "optimal":
             return status, None, None, iterations or -1, str(problem.status)
