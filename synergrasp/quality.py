@@ -133,10 +133,8 @@ def _cone_matrix(mu, edges):
 def _wrenches(M, basis, arm, L):
     """(n*m, 6) wrenches ``[d_ij ; arm_i x d_ij / L]``, contact-major."""
     (_, m), n = M.shape, basis.shape[1]
-    W = np.empty((n, m, 6))
-    W[..., :3] = np.einsum("kj,kia->ija", M, basis)
-    W[..., 3:] = np.einsum("kj,kia->ija", M, _cross(arm, basis)) / L
-    return W.reshape(n * m, 6)
+    frames = np.concatenate([basis, _cross(arm, basis) / L], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
+    return (M.T @ frames.reshape(3, n * 6)).reshape(m, n, 6).transpose(1, 0, 2).reshape(n * m, 6)
 
 
 def friction_cone_edges(normals, mu=0.3, edges=8):
@@ -311,7 +309,7 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     res = pseudo_distance(W, np.zeros((1, 6)), backend=backend)
 
     # edges, torques and so the gradients' sums over edges all go through M
-    S = np.einsum("kj,ija->kia", M, res.grad_a.reshape(n, m, 6))  # (3, n, 6)
+    S = (M @ res.grad_a.reshape(n, m, 6).transpose(1, 0, 2).reshape(m, n * 6)).reshape(3, n, 6)
     Sf, St = S[..., :3], S[..., 3:]
     grad_points = _cross(basis, St).sum(axis=0) / L  # sum_j d_j x gt_j / L
     grad_basis = Sf + _cross(St, arm) / L  # d value / d (n, e1, e2) through the edges
