@@ -23,7 +23,7 @@ the max) the derivative does not exist; a valid one-sided choice is returned and
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -123,8 +123,11 @@ class PseudoDistance:
         tie between penetration directions); the gradients are then a valid
         one-sided choice.
     lp_solves : int
-        Number of solver calls made (the d+1 penetration LPs of Eq. 3 are
-        independent and solved together as one block-diagonal LP).
+        Number of solver calls made, 1 or 2. The d+1 penetration LPs of Eq. 3
+        are independent and solved together as one block-diagonal LP. They are
+        all feasible exactly when the value of Eq. 1 is 0, so the regime of the
+        previous call with the same shapes is tried first (the result does not
+        depend on the order).
     alpha : (na,) float
         Optimal weights of A's vertices.
     beta : (nb,) float
@@ -216,6 +219,7 @@ class _Layout:
         self.block_c[0] = -1.0
         self.pen_c = np.tile(self.block_c, nq)
         self.pen_h = np.tile(self.sep_h, nq)
+        self.overlapped_last = False  # which regime the last call of this shape was in
         _readonly(
             self.sep_rows, self.sep_ptr, self.sep_cols, self.sep_c, self.sep_h, self.pen_rows, self.pen_ptr,
             self.block_rows, self.block_cols, self.block_c, self.pen_c, self.pen_h,
@@ -305,44 +309,67 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
         Q = check_simplex(simplex, d)
         qmin = float(np.linalg.norm(Q, axis=1).min())
     solver = lp.get_backend(backend)
-    na, nb, nq = len(A), len(B), d + 1
     coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
     zero = ZERO_TOL * coord_scale * d / qmin
-    lay = _layout(na, nb, d)
+    lay = _layout(len(A), len(B), d)
 
-    # Eq. 1: x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
+    # The penetration LPs (Eq. 3) are all feasible exactly when the sets overlap or touch
+    # (the q_k positively span R^d), which is when Eq. 1 gives 0. So the order of the two solves
+    # does not change the result; the regime of the previous call of the same shape goes first.
+    steps = (_penetration, _separation) if lay.overlapped_last else (_separation, _penetration)
+    solves = 0
+    for step in steps:
+        result = step(A, B, Q, lay, solver, zero)
+        solves += 1
+        if result is not None:
+            lay.overlapped_last = result.kind == "penetration"
+            return replace(result, lp_solves=solves)
+    # Eq. 1 within round-off of 0 but Eq. 3 infeasible within the solver's tolerance: touching
+    return replace(_separation(A, B, Q, lay, solver, zero, touching=True), lp_solves=solves + 1)
+
+
+def _separation(A, B, Q, lay, solver, zero, touching=False):
+    """Eq. 1; None when its value is 0 (the sets touch or overlap), unless ``touching``."""
+    (na, d), nb, nq = A.shape, len(B), len(Q)
+    # x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
     data = np.empty(nq * d + (na + nb) * (d + 1))
     data[: nq * d] = Q.ravel()
     data[nq * d :] = _weight_data(A, B, 1.0)
     G = lp.CSC(lay.sep_ptr, lay.sep_rows, data, (d + 2, nq + na + nb))
     sol = solver.solve(lay.sep_c, G, lay.sep_h)
     _require_optimal(sol, "separation (Eq. 1)")
-    if sol.objective > zero:
-        alpha, beta, y = sol.x[nq : nq + na], sol.x[nq + na :], sol.y[:d]
-        reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * sol.y[lay.sep_rows], minlength=len(lay.sep_c))
-        return PseudoDistance(
-            value=sol.objective,
-            kind="separation",
-            grad_a=-alpha[:, None] * y,
-            grad_b=beta[:, None] * y,
-            simplex=Q,
-            degenerate=_degenerate(sol.x, reduced, d + 2),
-            lp_solves=1,
-            alpha=alpha,
-            beta=beta,
-            point_a=alpha @ A,
-            point_b=beta @ B,
-            normal_b=_unit(y),
-            active=-1,
-        )
+    if sol.objective <= zero and not touching:
+        return None
+    alpha, beta, y = sol.x[nq : nq + na], sol.x[nq + na :], sol.y[:d]
+    reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * sol.y[lay.sep_rows], minlength=len(lay.sep_c))
+    return PseudoDistance(
+        value=sol.objective,
+        kind="separation",
+        grad_a=-alpha[:, None] * y,
+        grad_b=beta[:, None] * y,
+        simplex=Q,
+        degenerate=_degenerate(sol.x, reduced, d + 2),
+        lp_solves=1,
+        alpha=alpha,
+        beta=beta,
+        point_a=alpha @ A,
+        point_b=beta @ B,
+        normal_b=_unit(y),
+        active=-1,
+    )
 
-    # Eqs. 2-3: the nq LPs are independent; stack them block-diagonally.
-    # Block k: x = [rho, alpha (na), beta (nb)], rho q_k - sum alpha a + sum beta b = 0.
+
+def _penetration(A, B, Q, lay, solver, zero):
+    """Eqs. 2-3 (the nq LPs stacked block-diagonally); None when infeasible (the sets are apart)."""
+    (na, d), nb, nq = A.shape, len(B), len(Q)
+    # block k: x = [rho, alpha (na), beta (nb)], rho q_k - sum alpha a + sum beta b = 0
     nk, mk = 1 + na + nb, d + 2
     blocks = np.empty((nq, d + (na + nb) * (d + 1)))
     blocks[:, :d], blocks[:, d:] = Q, _weight_data(A, B, -1.0)
     Gp = lp.CSC(lay.pen_ptr, lay.pen_rows, blocks.ravel(), (nq * mk, nq * nk))
     psol = solver.solve(lay.pen_c, Gp, lay.pen_h)
+    if psol.status == "infeasible":
+        return None
     _require_optimal(psol, "penetration (Eq. 3)")
     values = -psol.x[::nk]
     k = int(np.argmax(values))
@@ -357,7 +384,7 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
         grad_b=-beta[:, None] * y[:d],
         simplex=Q,
         degenerate=ties or _degenerate(x, reduced, mk),
-        lp_solves=2,
+        lp_solves=1,
         alpha=alpha,
         beta=beta,
         point_a=alpha @ A,

@@ -176,3 +176,15 @@ def test_solver_failure_raises_library_error():
 
     with pytest.raises(sg.lp.LPError, match="status 'infeasible'"):
         sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend=Infeasible(name="broken"))
+
+
+def test_the_order_of_the_two_regimes_does_not_change_the_result(backend, rng):
+    """Calls alternate between separated and overlapping sets of the same shapes."""
+    A = rng.normal(size=(6, 3))
+    cases = [rng.normal(size=(5, 3)) + shift for shift in (0.0, 4.0, 0.0, 0.0, 4.0, 4.0, 0.0)]
+    first = [sg.pseudo_distance(A, B, backend=backend) for B in cases]
+    again = [sg.pseudo_distance(A, B, backend=backend) for B in reversed(cases)][::-1]
+    for r, s in zip(first, again):
+        assert r.kind == s.kind and r.value == pytest.approx(s.value, abs=1e-9)
+        assert np.allclose(r.grad_a, s.grad_a, atol=1e-7) and 1 <= r.lp_solves <= 2
+    assert {r.kind for r in first} == {"separation", "penetration"}
