@@ -123,7 +123,7 @@ class PseudoDistance:
         tie between penetration directions); the gradients are then a valid
         one-sided choice.
     lp_solves : int
-        Number of solver calls made, 1 or 2. The d+1 penetration LPs of Eq. 3
+        Number of solver calls made (1 or 2, rarely 3). The d+1 penetration LPs of Eq. 3
         are independent and solved together as one block-diagonal LP. They are
         all feasible exactly when the value of Eq. 1 is 0, so the regime of the
         previous call with the same shapes is tried first (the result does not
@@ -316,16 +316,22 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     # The penetration LPs (Eq. 3) are all feasible exactly when the sets overlap or touch
     # (the q_k positively span R^d), which is when Eq. 1 gives 0. So the order of the two solves
     # does not change the result; the regime of the previous call of the same shape goes first.
-    steps = (_penetration, _separation) if lay.overlapped_last else (_separation, _penetration)
     solves = 0
-    for step in steps:
-        result = step(A, B, Q, lay, solver, zero)
+    result = None
+    if lay.overlapped_last:
+        result = _penetration(A, B, Q, lay, solver, zero, strict=False)
         solves += 1
-        if result is not None:
-            lay.overlapped_last = result.kind == "penetration"
-            return replace(result, lp_solves=solves)
-    # Eq. 1 within round-off of 0 but Eq. 3 infeasible within the solver's tolerance: touching
-    return replace(_separation(A, B, Q, lay, solver, zero, touching=True), lp_solves=solves + 1)
+    if result is None:
+        result = _separation(A, B, Q, lay, solver, zero)
+        solves += 1
+        if result is None:  # Eq. 1 gave 0: the sets touch or overlap
+            result = _penetration(A, B, Q, lay, solver, zero, strict=True)
+            solves += 1
+        if result is None:  # Eq. 1 within round-off of 0 but Eq. 3 infeasible within tolerance: touching
+            result = _separation(A, B, Q, lay, solver, zero, touching=True)
+            solves += 1
+    lay.overlapped_last = result.kind == "penetration"
+    return replace(result, lp_solves=solves)
 
 
 def _separation(A, B, Q, lay, solver, zero, touching=False):
@@ -359,8 +365,12 @@ def _separation(A, B, Q, lay, solver, zero, touching=False):
     )
 
 
-def _penetration(A, B, Q, lay, solver, zero):
-    """Eqs. 2-3 (the nq LPs stacked block-diagonally); None when infeasible (the sets are apart)."""
+def _penetration(A, B, Q, lay, solver, zero, strict=True):
+    """Eqs. 2-3 (the nq LPs stacked block-diagonally); None when infeasible (the sets are apart).
+
+    Tried first (``strict=False``), any status but optimal means "not this regime": a
+    simplex warm-started from a feasible neighbour may stop short of proving infeasibility.
+    """
     (na, d), nb, nq = A.shape, len(B), len(Q)
     # block k: x = [rho, alpha (na), beta (nb)], rho q_k - sum alpha a + sum beta b = 0
     nk, mk = 1 + na + nb, d + 2
@@ -368,7 +378,7 @@ def _penetration(A, B, Q, lay, solver, zero):
     blocks[:, :d], blocks[:, d:] = Q, _weight_data(A, B, -1.0)
     Gp = lp.CSC(lay.pen_ptr, lay.pen_rows, blocks.ravel(), (nq * mk, nq * nk))
     psol = solver.solve(lay.pen_c, Gp, lay.pen_h)
-    if psol.status == "infeasible":
+    if psol.status == "infeasible" or (not strict and not psol.optimal):
         return None
     _require_optimal(psol, "penetration (Eq. 3)")
     values = -psol.x[::nk]

@@ -186,5 +186,23 @@ def test_the_order_of_the_two_regimes_does_not_change_the_result(backend, rng):
     again = [sg.pseudo_distance(A, B, backend=backend) for B in reversed(cases)][::-1]
     for r, s in zip(first, again):
         assert r.kind == s.kind and r.value == pytest.approx(s.value, abs=1e-9)
-        assert np.allclose(r.grad_a, s.grad_a, atol=1e-7) and 1 <= r.lp_solves <= 2
+        assert np.allclose(r.grad_a, s.grad_a, atol=1e-7) and 1 <= r.lp_solves <= 3
     assert {r.kind for r in first} == {"separation", "penetration"}
+
+
+def test_a_failed_penetration_attempt_falls_back_to_separation(rng):
+    """Tried first, the penetration LP may stop short of proving infeasibility (HiGHS: Unknown)."""
+
+    class NoProofOfInfeasibility(Backend):
+        def _solve(self, c, A, b):
+            status, x, y, iterations, message = sg.lp.get_backend("highs")._solve(c, A, b)
+            return ("failed", None, None, iterations, "Unknown") if status == "infeasible" else (status, x, y, iterations, message)
+
+    backend = NoProofOfInfeasibility(name="flaky")
+    A = rng.normal(size=(7, 3))
+    overlapping = sg.pseudo_distance(A, rng.normal(size=(4, 3)), backend=backend)
+    assert overlapping.kind == "penetration"
+    B = rng.normal(size=(4, 3)) + 5.0
+    apart = sg.pseudo_distance(A, B, backend=backend)  # penetration is tried first and "fails"
+    assert apart.kind == "separation" and apart.lp_solves == 2
+    assert apart.value == pytest.approx(sg.pseudo_distance(A, B).value, abs=1e-9)
