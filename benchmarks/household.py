@@ -22,7 +22,6 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
-from scipy.spatial import ConvexHull, QhullError
 
 import synergrasp as sg
 
@@ -69,10 +68,7 @@ def verified(result, obj):
     if not result.success or result.penetration > 3.0 or len(result.contact_points) < 2:
         return False
     W = sg.contact_wrenches(result.contact_points, result.contact_normals, center=obj.center, torque_scale=obj.torque_scale)
-    try:
-        return bool((ConvexHull(W).equations[:, -1] < -1e-9).all())
-    except QhullError:
-        return False
+    return sg.force_closure_by_hull(W)
 
 
 def main(argv=None):

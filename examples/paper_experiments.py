@@ -22,7 +22,6 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 import synergrasp as sg
 from synergrasp import viz
@@ -48,10 +47,7 @@ def force_closed_by_hull(result, obj):
     if len(result.contact_points) < 2:
         return False
     W = sg.contact_wrenches(result.contact_points, result.contact_normals, center=obj.center, torque_scale=obj.torque_scale)
-    try:
-        return bool((ConvexHull(W).equations[:, -1] < -1e-9).all())
-    except QhullError:
-        return False
+    return sg.force_closure_by_hull(W)
 
 
 def run_case(name, grasp, repeats):

@@ -11,7 +11,7 @@ from . import lp, objects
 from .hand import SynergyHand
 from .planner import PlanResult, plan
 from .pseudo_distance import PseudoDistance, pseudo_distance, regular_simplex
-from .quality import QDistance, contact_wrenches, friction_cone_edges, q_distance
+from .quality import QDistance, contact_wrenches, force_closure_by_hull, friction_cone_edges, q_distance
 
 __version__ = "0.1.0"
 
@@ -21,6 +21,7 @@ __all__ = [
     "QDistance",
     "SynergyHand",
     "contact_wrenches",
+    "force_closure_by_hull",
     "friction_cone_edges",
     "lp",
     "objects",

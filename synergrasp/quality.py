@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from scipy.spatial import ConvexHull, QhullError
 
 from ._checks import as_points, as_vector, positive_scalar
 from .pseudo_distance import pseudo_distance
@@ -213,6 +214,39 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
     else:
         L = positive_scalar(torque_scale, "torque_scale")
     return points, nhat, length, mu, c, L
+
+
+def force_closure_by_hull(wrenches, tol=1e-9) -> bool:
+    """Independent force-closure test: the origin strictly inside the convex hull of the wrenches.
+
+    Uses qhull (``scipy.spatial.ConvexHull``), not an LP, so it can cross-check
+    :func:`q_distance`.
+
+    Parameters
+    ----------
+    wrenches : (k, 6) array_like
+        Primitive contact wrenches (``contact_wrenches``).
+    tol : float
+        Margin by which the origin must be inside every facet plane.
+
+    Returns
+    -------
+    bool
+        False as well when the wrenches span less than 6 dimensions.
+
+    Examples
+    --------
+    >>> t = 2 * np.pi * np.arange(3) / 3
+    >>> p = 40.0 * np.c_[np.cos(t), np.sin(t), np.zeros(3)]
+    >>> force_closure_by_hull(contact_wrenches(p, -p)), force_closure_by_hull(contact_wrenches(p[:2], -p[:2]))
+    (True, False)
+    """
+    W = as_points(wrenches, "wrenches", dim=6)
+    try:
+        hull = ConvexHull(W)
+    except QhullError:
+        return False
+    return bool((hull.equations[:, -1] < -tol).all())
 
 
 @dataclass(frozen=True)

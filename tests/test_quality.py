@@ -109,6 +109,14 @@ def test_well_spread_contacts_with_friction_are_force_closed(backend, n, low, hi
     assert sg.q_distance(P, -P, mu=1e-9, backend=backend).value > -1e-6
 
 
+def test_library_hull_test_matches_the_independent_one():
+    rng = np.random.default_rng(5)
+    for trial in range(30):
+        P, N = sphere_grasp(rng, int(rng.integers(2, 6)), noise=0.3)
+        W = sg.contact_wrenches(P, N)
+        assert sg.force_closure_by_hull(W) == hull_contains_origin(W)
+
+
 def test_force_closure_agrees_with_convex_hull():
     rng = np.random.default_rng(2024)
     checked, closed = 0, 0
