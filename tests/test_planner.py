@@ -61,10 +61,13 @@ def fake_status(cp, sq=0.0):
 
 
 def test_precision_stop_criterion(ellipsoid):
-    three = check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_cp=50.0)
+    three = check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_distance=lambda: 50.0)
     assert three.n_contacts == 3 and three.q < -0.1 and three.done  # 3 contacts need Q < -0.1
-    assert not check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_cp=2.0).done  # palm touches
-    far = check_grasp(ellipsoid, fake_status([1.0, 2.0, 6.0, 30.0, 40.0]), "precision", palm_cp=50.0)
+    assert not check_grasp(ellipsoid, fake_status([1.0, 2.0, 3.0, 30.0, 40.0]), "precision", palm_distance=lambda: 2.0).done  # palm touches
+    def unneeded():
+        raise AssertionError("the palm is checked only when the rest of the criterion holds")
+
+    far = check_grasp(ellipsoid, fake_status([1.0, 2.0, 6.0, 30.0, 40.0]), "precision", palm_distance=unneeded)
     assert far.n_contacts == 2 and not far.done
 
 

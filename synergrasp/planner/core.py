@@ -183,7 +183,10 @@ def hand_opening(hand):
 
 
 def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
-    """One attempt of the iteration from u0. Returns (reason, trajectory, statuses, checks, lp_solves)."""
+    """One attempt of the iteration from u0.
+
+    Returns (reason, trajectory, statuses, checks, final status, final penetration depth, lp_solves).
+    """
     size = obj.torque_scale
     n_u = len(u0)
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
@@ -191,11 +194,10 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
 
     def evaluate(u):
         st = grasp_status(hand, obj, u, kind, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
-        chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
-        if chk.done and kind == "precision":  # a pinch must not end with the palm on the object
-            palm_cp = float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])
-            chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
-                              palm_cp=palm_cp)
+        # a pinch must not end with the palm on the object
+        palm = lambda: float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])  # noqa: E731
+        chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
+                          palm_distance=palm if kind == "precision" else None)
         return st, chk
 
     u = np.array(u0, dtype=float)
@@ -208,11 +210,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
     reason = f"iteration cap ({budget}) reached"
     for _ in range(budget):
         if chk.done:
-            geo = hand.segments(u)
-            depth = obj.penetration(geo.capsules, geo.radius).depth
             reason = "stop criterion met"
-            if depth > opts.max_penetration:
-                reason = f"grasp rejected: a phalanx penetrates the object by {depth:.1f} mm"
             break
         target = np.full(n + 1, opts.contact_target)
         target[-1] = max(-1.0, st.g[-1] - opts.sq_step)
@@ -250,7 +248,11 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
         if stalled >= opts.stall_window:
             reason = f"stalled (no progress in {opts.stall_window} iterations)"
             break
-    return reason, traj, statuses, checks, solves
+    geo = hand.segments(u)
+    depth = obj.penetration(geo.capsules, geo.radius).depth
+    if reason == "stop criterion met" and depth > opts.max_penetration:
+        reason = f"grasp rejected: a phalanx penetrates the object by {depth:.1f} mm"
+    return reason, traj, statuses, checks, st, depth, solves
 
 
 def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, approach=None, hand=None,
@@ -330,7 +332,9 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         budget = min(opts.iterations_per_attempt, max_iter - total)
         if budget <= 0:
             break
-        reason, traj, statuses, checks, n_solves = _attempt(hand, obj, grasp, u_start, opts, backend, budget, progress)
+        reason, traj, statuses, checks, final, depth, n_solves = _attempt(
+            hand, obj, grasp, u_start, opts, backend, budget, progress
+        )
         total += len(traj) - 1
         solves += n_solves
         attempts.append({"start": u_start.tolist(), "iterations": len(traj) - 1, "reason": reason})
@@ -338,10 +342,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             break
     chk = checks[-1]
     success = reason == "stop criterion met"
-    points = grasp_status(hand, obj, traj[-1], grasp, mu=opts.mu, edges=opts.edges, backend=backend)
     labels = hand.point_labels(grasp)
-    geo = hand.segments(traj[-1])
-    depth = obj.penetration(geo.capsules, geo.radius).depth
     if success:
         reason = f"stop criterion met ({chk.n_contacts} contacts, g_Q = {chk.q:.4f})"
     else:
@@ -357,8 +358,8 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         status=np.array(statuses),
         target=np.r_[np.zeros(len(statuses[0]) - 1), -1.0],
         q_history=np.array([c.q for c in checks]),
-        contact_points=points.nearest[chk.contact],
-        contact_normals=points.normals[chk.contact],
+        contact_points=final.nearest[chk.contact],
+        contact_normals=final.normals[chk.contact],
         contact_labels=[lab for lab, c in zip(labels, chk.contact) if c],
         penetration=float(depth),
         time_s=time.perf_counter() - t0,

@@ -24,7 +24,8 @@ class GraspCheck:
         the object's normals there (NaN without contacts).
     palm : bool
         The palm point is in contact (power grasps need it; precision grasps
-        must not end with it).
+        must not end with it, and evaluate it only when the rest of their
+        criterion holds).
     done : bool
         The paper's stop criterion holds.
     lp_solves : int
@@ -38,7 +39,7 @@ class GraspCheck:
     lp_solves: int
 
 
-def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs", palm_cp=None) -> GraspCheck:
+def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs", palm_distance=None) -> GraspCheck:
     """Evaluate the paper's stop criterion at a status.
 
     Precision: N_c >= 3 and g_Q < -0.1, or N_c >= 4 and g_Q < 0, and no palm
@@ -53,9 +54,10 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
     kind : {"precision", "power"}
     eps_c : float
         Contact threshold (mm).
-    palm_cp : float, optional
-        cP of the palm point, for precision grasps (power grasps carry it as
-        their last hand point).
+    palm_distance : callable, optional
+        Returns the cP of the palm point, for precision grasps (power grasps
+        carry it as their last hand point). Called only when the rest of the
+        precision criterion holds, so the LP it costs is paid only then.
 
     Returns
     -------
@@ -83,6 +85,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
         palm = bool(abs(cp[-1]) < eps_c)
         done = palm and ((n_c >= 4 and q < -0.1) or (n_c >= 6 and q < 0))
     else:
-        palm = palm_cp is not None and palm_cp < eps_c
-        done = not palm and ((n_c >= 3 and q < -0.1) or (n_c >= 4 and q < 0))
+        done = (n_c >= 3 and q < -0.1) or (n_c >= 4 and q < 0)
+        palm = done and palm_distance is not None and palm_distance() < eps_c
+        done = done and not palm
     return GraspCheck(contact, n_c, float(q), palm, bool(done), solves)
