@@ -80,21 +80,20 @@ def smoothed_normals(obj, x, pieces, length):
     >>> bool(np.allclose(n, [[0.0, 0.0, -1.0]], atol=1e-2)), jac.shape
     (True, (1, 3, 3))
     """
-    normals = np.empty((len(x), 3))
-    jac = np.empty((len(x), 3, 3))
-    for i, (xi, k) in enumerate(zip(x, pieces)):
-        planes = obj.convex[k].planes
-        s = (planes[:, :3] @ xi + planes[:, 3]) / length
-        w = np.exp(s - s.max())
-        w /= w.sum()
-        a = planes[:, :3]
-        m = w @ a
-        dm = (a.T * w) @ a / length - np.outer(m, m) / length
-        norm = np.linalg.norm(m)
-        n_out = m / norm
-        normals[i] = -n_out
-        jac[i] = -(np.eye(3) - np.outer(n_out, n_out)) @ dm / norm
-    return normals, jac
+    m = np.empty((len(x), 3))  # softmax-weighted facet normals
+    dm = np.empty((len(x), 3, 3))  # their derivatives with respect to x
+    for k in np.unique(pieces):  # all points on one piece at once
+        rows = pieces == k
+        a, offset = obj.convex[k].planes[:, :3], obj.convex[k].planes[:, 3]
+        s = (x[rows] @ a.T + offset) / length
+        w = np.exp(s - s.max(axis=1, keepdims=True))
+        w /= w.sum(axis=1, keepdims=True)
+        m[rows] = w @ a
+        dm[rows] = (np.einsum("if,fa,fb->iab", w, a, a) - m[rows, :, None] * m[rows, None, :]) / length
+    norm = np.linalg.norm(m, axis=1)
+    n_out = m / norm[:, None]
+    projector = np.eye(3) - n_out[:, :, None] * n_out[:, None, :]
+    return -n_out, -(projector @ dm) / norm[:, None, None]
 
 
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
