@@ -2,15 +2,22 @@
 
 Usage::
 
-    python benchmarks/household.py [--meshes DIR] [--scale S] [--grasp precision|power|both]
+    python benchmarks/household.py [--meshes DIR] [--scale S] [--grasp precision|power|both] [--only NAME ...]
 
 Plans a precision and a power grasp of every object and counts the plans that
 end in a verified force-closed grasp (the paper's stop criterion met and the
 origin strictly inside the convex hull of the final contact wrenches) with no
-phalanx deeper than 3 mm in the object. The objects are a set of turned and
-extruded household shapes built here (bottles, mugs, cans, fruit, boxes...) and,
-with ``--meshes``, every mesh or point-cloud file in a folder (``--scale 1000``
-for files in metres), e.g. scanned or modelled objects such as the YCB set.
+phalanx deeper than 3 mm in the object. The objects are
+
+* 22 modelled and scanned meshes in ``benchmarks/meshes`` (household objects,
+  toys, the Stanford bunny, random everyday-like shapes; sources and licences in
+  ``benchmarks/meshes/SOURCES.md``), in millimetres at hand size;
+* 22 turned and extruded household shapes built here (bottles, mugs, cans,
+  fruit, boxes...);
+* with ``--meshes``, every mesh or point-cloud file in another folder
+  (``--scale 1000`` for files in metres), e.g. the YCB set.
+
+The rate is reported for each grasp type, over all objects and per group.
 """
 
 from __future__ import annotations
@@ -24,6 +31,9 @@ import numpy as np
 import trimesh
 
 import synergrasp as sg
+
+#: The committed modelled and scanned meshes (mm).
+MESHES = Path(__file__).parent / "meshes"
 
 
 def _profile(*points):
@@ -51,7 +61,7 @@ def household_objects():
         "bowl": revolve(_profile((35, 0), (70, 55)), name="bowl"),
         "spray bottle": revolve(_profile((34, 0), (34, 160), (20, 175), (12, 200)), name="spray bottle"),
         "salt shaker": revolve(_profile((22, 0), (18, 40), (22, 75), (16, 85)), name="salt shaker"),
-        "lemon": revolve(np.c_[28 * np.sin(t), 80 * (1 - np.cos(t)) / 2], name="lemon"),
+        "lemon (turned)": revolve(np.c_[28 * np.sin(t), 80 * (1 - np.cos(t)) / 2], name="lemon (turned)"),
         "cereal box": box(60, 190, 270, "cereal box"),
         "tissue box": box(120, 120, 130, "tissue box"),
         "phone": box(75, 150, 8, "phone"),
@@ -76,28 +86,47 @@ def main(argv=None):
     parser.add_argument("--meshes", type=Path, help="a folder of mesh or point-cloud files to add")
     parser.add_argument("--scale", type=float, default=1.0, help="scale of the files in --meshes (1000 for metres)")
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="plan only these objects")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    objects = household_objects()
+    groups = {"meshes": _files(MESHES, 1.0), "shapes": household_objects()}
     if args.meshes:
-        for path in sorted(args.meshes.iterdir()):
-            if path.suffix.lower().lstrip(".") in sg.objects.SUPPORTED_FORMATS:
-                objects[path.stem] = sg.objects.load(path, scale=args.scale)
+        groups[str(args.meshes)] = _files(args.meshes, args.scale)
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]
-    tally = {g: [0, 0] for g in grasps}
-    for name, obj in objects.items():
-        for grasp in grasps:
-            start = time.perf_counter()
-            try:
-                result = sg.plan(obj, grasp)
-                ok, why = verified(result, obj), result.reason
-            except ValueError as exc:  # e.g. an object the hand cannot hold
-                ok, why = False, str(exc)
-            tally[grasp][0] += ok
-            tally[grasp][1] += 1
-            print(f"{name:22s} {grasp:9s} {'ok' if ok else 'NO':3s} {time.perf_counter() - start:6.2f} s  {why[:90]}", flush=True)
-    for grasp, (ok, total) in tally.items():
-        print(f"{grasp}: {ok}/{total} verified force-closed grasps ({100.0 * ok / total:.0f}%)")
+    tally = {(group, g): [0, 0] for group in groups for g in grasps}
+    for group, objects in groups.items():
+        for name, obj in objects.items():
+            if args.only and name not in args.only:
+                continue
+            for grasp in grasps:
+                _run(name, obj, grasp, tally[group, grasp])
+    for grasp in grasps:
+        counts = [tally[group, grasp] for group in groups]
+        ok, total = sum(c[0] for c in counts), sum(c[1] for c in counts)
+        parts = ", ".join(f"{group} {c[0]}/{c[1]}" for group, c in zip(groups, counts) if c[1])
+        if total:
+            print(f"{grasp}: {ok}/{total} verified force-closed grasps ({100.0 * ok / total:.0f}%; {parts})")
+
+
+def _files(folder, scale):
+    """Mesh and point-cloud files of a folder: name -> GraspObject."""
+    return {
+        path.stem: sg.objects.load(path, scale=scale)
+        for path in sorted(Path(folder).iterdir())
+        if path.suffix.lower() in sg.objects.SUPPORTED_FORMATS
+    }
+
+
+def _run(name, obj, grasp, count):
+    start = time.perf_counter()
+    try:
+        result = sg.plan(obj, grasp)
+        ok, why = verified(result, obj), result.reason
+    except ValueError as exc:  # e.g. an object the hand cannot hold
+        ok, why = False, str(exc)
+    count[0] += ok
+    count[1] += 1
+    print(f"{name:22s} {grasp:9s} {'ok' if ok else 'NO':3s} {time.perf_counter() - start:6.2f} s  {why[:90]}", flush=True)
 
 
 if __name__ == "__main__":
