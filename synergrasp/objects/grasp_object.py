@@ -171,6 +171,15 @@ class GraspObject:
         return np.sqrt(np.maximum(np.minimum.reduceat(d2, starts, axis=1), 0.0))
 
     @cached_property
+    def _normal_moments(self) -> list[np.ndarray]:
+        """Per piece, (f, 12): each facet's outward normal n_f, then ``n_f n_f^T`` row by row."""
+        out = []
+        for p in self.convex:
+            a = p.planes[:, :3]
+            out.append(np.hstack([a, (a[:, :, None] * a[:, None, :]).reshape(-1, 9)]))
+        return out
+
+    @cached_property
     def _facet_nq(self) -> list[np.ndarray]:
         """Per piece, (f,): ``min_k n_f . q_k`` for each facet's outward normal."""
         return [(p.planes[:, :3] @ proximity._Q.T).min(axis=1) for p in self.convex]
@@ -328,9 +337,11 @@ class GraspObject:
     def scaled_contacts(self, points, backend="highs") -> "proximity.ScaledContacts":
         """sQ contacts: scale the object about its centre until it touches each hand point.
 
-        For each point p, ``t = max {t : c + t (p - c) in a piece}`` (one LP
-        per piece the ray leaves last, ``max t s.t. c + t (p - c) = sum
-        lambda_v v, sum lambda = 1``), the scale ``s = 1 / t``, the contact
+        For each point p, ``t = max {t : c + t (p - c) in a piece}`` (in closed
+        form from the exit facet's plane when the ray leaves one piece through
+        the inside of one facet, else one LP per piece the ray leaves last,
+        ``max t s.t. c + t (p - c) = sum lambda_v v, sum lambda = 1``), the
+        scale ``s = 1 / t``, the contact
         carried back to the object's scale ``c + t (p - c)`` (on its surface),
         and the inward normal from the LP dual. The planner's
         ``g_sQ = q_distance(contact, normal, center=obj.center,

@@ -37,7 +37,11 @@ Vertices passed to each LP (the narrow phase)
     facets the ray leaves through (closed form from the planes). The optimal
     face lies on one of them, so the value is unchanged and, when the LP is
     not degenerate, so are the duals (they are fixed by the optimal basis).
-    The LPs are then tiny (4 rows, typically 4-30 columns per block).
+    The LPs are then tiny (4 rows, typically 4-30 columns per block). An sQ
+    ray that leaves a single piece through the inside of a single facet needs
+    no LP at all: its optimum (the exit point) and duals (the facet's plane)
+    are in closed form, and only rays at ties (edges, vertices, coplanar
+    facets, several pieces) are solved.
 
 Every pruning uses valid bounds only; a property test checks the values
 against brute force over all pieces and all vertices.
@@ -147,7 +151,9 @@ class ScaledContacts:
         The ray leaves through an edge or vertex (or ties between pieces):
         the derivatives are a valid one-sided choice.
     lp_solves : int
-        Solver calls made: 1 (all blocks stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
+        Solver calls made: 0 when every ray leaves a single piece through the
+        inside of a single facet (closed form), else 1 (the other rays' blocks
+        stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
 
     Notes
     -----
@@ -234,6 +240,7 @@ class _Blocks:
 
     def __init__(self):
         self.batches = []
+        self.lp_solves = 0
 
     def add(self, lead, cost, vertices, counts, sign, rhs, origin) -> int:
         """Add a batch of B blocks; returns the batch index.
@@ -640,25 +647,36 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
             f"the rays from the object's centre {c0.tolist()} through points rows "
             f"{np.nonzero(missed)[0].tolist()} miss the object; the centre must lie inside the object"
         )
-    # the LP only for the pieces the ray leaves last (closed form, within a tolerance)
+    # the pieces the ray leaves last (closed form, within a tolerance)
     cand = T >= (best * (1 - 1e-7) - 1e-9)[:, None]
+    alone = cand.sum(axis=1) == 1
     blocks = _Blocks()
-    batches = []
+    batches = []  # (points, piece, t, y, degenerate) found in closed form, or (points, piece, LP batch index)
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j])[0]
         if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
             # the optimum is the exit point: only the facets the ray leaves through (closed form)
             D = np.broadcast_to(piece.planes[:, :3] @ c0 + piece.planes[:, 3], (len(rows), len(piece.planes)))
-            verts, counts = _facet_vertices(piece, _exit_facets(D, U[rows] @ piece.planes[:, :3].T))
-            rhs = np.broadcast_to(-c0, (len(rows), 3))
-            batches.append((blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0), rows, j))
-    solved = blocks.solve(solver, "sQ ray")
+            exits = _exit_facets(D, U[rows] @ piece.planes[:, :3].T)
+            closed, t, y = _facet_exit(piece, c0, U[rows], exits)
+            closed &= alone[rows]
+            if closed.any():
+                batches.append((rows[closed], j, t[closed], y[closed], np.zeros(int(closed.sum()), dtype=bool)))
+            if not closed.all():
+                rows, exits = rows[~closed], exits[~closed]
+                verts, counts = _facet_vertices(piece, exits)
+                rhs = np.broadcast_to(-c0, (len(rows), 3))
+                batches.append((rows, j, blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0)))
+    if blocks.batches:
+        solved = blocks.solve(solver, "sQ ray")
+        batches = [b if len(b) == 5 else b[:2] + (solved[b[2]][0][:, 0], solved[b[2]][2], solved[b[2]][3])
+                   for b in batches]
 
-    pts = np.concatenate([rows for _, rows, _ in batches])
-    pcs = np.concatenate([np.full(len(rows), j) for _, rows, j in batches])
-    ts = np.concatenate([solved[b][0][:, 0] for b, _, _ in batches])
-    ys = np.concatenate([solved[b][2] for b, _, _ in batches])
-    degs = np.concatenate([solved[b][3] for b, _, _ in batches])
+    pts = np.concatenate([b[0] for b in batches])
+    pcs = np.concatenate([np.full(len(b[0]), b[1]) for b in batches])
+    ts = np.concatenate([b[2] for b in batches])
+    ys = np.concatenate([b[3] for b in batches])
+    degs = np.concatenate([b[4] for b in batches])
     order, first = _first_per_group(pts, -ts)
     chosen = order[first]
     degenerate = degs[chosen].copy()
@@ -687,6 +705,47 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
         degenerate=degenerate,
         lp_solves=blocks.lp_solves,
     )
+
+
+def _facet_exit(piece, c0, U, exits):
+    """The sQ LP's optimum in closed form, where the ray leaves through the inside of one facet.
+
+    With a single exit facet f (outward normal n_f, offset o_f) the LP has only
+    f's three vertices: the optimum is the ray's exit point, ``t = -(n_f . c + o_f) / (n_f . u)``,
+    its weights are the exit point's barycentric coordinates, and the duals of
+    the coordinate rows ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``). When
+    the weights are all clearly positive the optimal basis is unique, so this is
+    the solution the LP would give.
+
+    Parameters
+    ----------
+    piece : ConvexPiece
+    c0 : (3,) float
+        The rays' origin (the object's centre).
+    U : (m, 3) float
+        The rays' directions ``p - c``.
+    exits : (m, f) bool
+        The facets each ray may leave through (`_exit_facets`).
+
+    Returns
+    -------
+    closed : (m,) bool
+        The rays settled here: one exit facet and every weight above ``10 *
+        DEGENERACY_TOL`` (so the LP's degeneracy test would not fire).
+    t : (m,) float
+        Exit parameters (meaningful where ``closed``).
+    y : (m, 3) float
+        Duals of the coordinate rows (meaningful where ``closed``).
+    """
+    facet = exits.argmax(axis=1)
+    normal, offset = piece.planes[facet, :3], piece.planes[facet, 3]
+    a = np.einsum("ij,ij->i", normal, U)
+    t = -(normal @ c0 + offset) / a
+    tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[:, None, :]  # vertices about the exit point
+    area = np.einsum("ikj,ij->ik", np.cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), normal)
+    weights = area / area.sum(axis=1, keepdims=True)
+    closed = (exits.sum(axis=1) == 1) & (weights.min(axis=1) > 10 * DEGENERACY_TOL * np.maximum(1.0, t))
+    return closed, t, -normal / a[:, None]
 
 
 # --------------------------------------------------------------------------- capsules
