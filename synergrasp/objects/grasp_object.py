@@ -131,8 +131,12 @@ class GraspObject:
 
     def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
         """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
+        return self._plane_bounds_and_values(points)[0]
+
+    def _plane_bounds_and_values(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """`_plane_bounds` and the (n, F) values ``n_f . p + o_f`` it takes the maximum of (F: all facets)."""
         s = points @ self._planes[:, :3].T + self._planes[:, 3]
-        return np.maximum.reduceat(s, self._plane_starts, axis=1)
+        return np.maximum.reduceat(s, self._plane_starts, axis=1), s
 
     @cached_property
     def _vertices_all(self):

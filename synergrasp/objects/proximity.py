@@ -414,10 +414,21 @@ def _facet_vertices(piece, facet_mask):
     return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
 
 
+def _followed(first):
+    """Whether each sorted row is followed by another of its group (``first`` marks group starts)."""
+    out = np.empty(len(first), dtype=bool)
+    np.logical_not(first[1:], out=out[:-1])
+    out[-1:] = False
+    return out
+
+
 def _first_per_group(group, key):
     """Index of the smallest ``key`` within each group (and the order used)."""
     order = np.lexsort((key, group))
-    first = np.r_[True, group[order][1:] != group[order][:-1]]
+    sorted_group = group[order]
+    first = np.empty(len(order), dtype=bool)
+    first[:1] = True
+    np.not_equal(sorted_group[1:], sorted_group[:-1], out=first[1:])
     return order, first
 
 
@@ -495,14 +506,12 @@ def _separation_facets(obj, j, D, PQ, bound):
     of the ball (normal ``-q_k``, offset ``bound / 3``) separates them.
     """
     tol = 1e-9 * (1.0 + bound[:, None])
-    facing = D > 0.0
-    reach = D + bound[:, None] * obj._facet_nq[j][None] <= tol
-    # the ball's facet k separates a triangle when all its vertices lie beyond it
-    mq = obj._facet_mq[j]
-    apart = np.zeros_like(facing)
-    for k in range(4):
-        apart |= mq[None, :, k] + PQ[:, None, k] > bound[:, None] / 3.0 + tol
-    return facing & reach & ~apart
+    keep = (D > 0.0) & (D + bound[:, None] * obj._facet_nq[j][None] <= tol)  # facing p, within reach
+    # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
+    rows, facet = np.nonzero(keep)
+    apart = (obj._facet_mq[j][facet] + PQ[rows] > (bound[rows] / 3.0 + tol[rows, 0])[:, None]).any(axis=1)
+    keep[rows[apart], facet[apart]] = False
+    return keep
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
@@ -510,7 +519,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     P = _check_points(points)
     solver = lp.get_backend(backend)
     n = len(P)
-    S = obj._plane_bounds(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
+    S, values = obj._plane_bounds_and_values(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
     cand, bound = _candidates(obj, P, S)
     PQ = P @ _Q.T
 
@@ -518,7 +527,8 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     facets, covered = [], np.zeros(n, dtype=bool)
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
-        D = P[rows] @ piece.planes[:, :3].T + piece.planes[:, 3]
+        first = obj._plane_starts[j]
+        D = values[rows, first : first + len(piece.planes)]  # n_f . p + o_f
         keep = _separation_facets(obj, j, D, PQ[rows], bound[rows])
         facets.append((rows, D, keep))
         covered[rows[keep.any(axis=1)]] = True
@@ -579,7 +589,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
         raise RuntimeError("cP: a hand point lost all its candidate pieces; please report this bug")
     degenerate = degs[chosen].copy()
     # a tie between pieces with different gradients: the derivative is one-sided
-    nxt = first2 & np.r_[~first2[1:], False]
+    nxt = first2 & _followed(first2)
     if nxt.any():
         a, b = best_rows[order2[nxt]], best_rows[order2[np.nonzero(nxt)[0] + 1]]
         close = np.abs(vals[b] - vals[a]) <= 1e-9 * (1 + np.abs(vals[a]))
@@ -609,6 +619,9 @@ def _ray_exits(obj, u):
     -------
     t_exit : (n, J) float
         Largest t with ``c + t u`` in piece j; -inf when the ray misses it.
+    r : (n, F) float
+        Where each ray crosses each facet plane it leaves through (``n_f . u > 0``),
+        inf for the other planes; F counts the facets of all pieces.
     """
     c = obj.center
     N, o = obj._planes[:, :3], obj._planes[:, 3]
@@ -623,7 +636,7 @@ def _ray_exits(obj, u):
     t_hi = np.minimum.reduceat(upper, starts, axis=1)
     t_lo = np.maximum(np.maximum.reduceat(lower, starts, axis=1), 0.0)
     miss = np.logical_or.reduceat(blocked, starts, axis=1) | (t_lo > t_hi * (1 + 1e-12) + 1e-12)
-    return np.where(miss, -np.inf, t_hi)
+    return np.where(miss, -np.inf, t_hi), upper
 
 
 def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
@@ -639,7 +652,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
             f"points rows {np.nonzero(at_centre)[0].tolist()} coincide with the object's centre "
             f"{c0.tolist()}: the ray from the centre through the point, and so the sQ scale, is undefined"
         )
-    T = _ray_exits(obj, U)
+    T, R = _ray_exits(obj, U)
     best = T.max(axis=1)
     missed = ~np.isfinite(best)
     if missed.any():
@@ -655,9 +668,9 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j])[0]
         if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
-            # the optimum is the exit point: only the facets the ray leaves through (closed form)
-            D = np.broadcast_to(piece.planes[:, :3] @ c0 + piece.planes[:, 3], (len(rows), len(piece.planes)))
-            exits = _exit_facets(D, U[rows] @ piece.planes[:, :3].T)
+            # the optimum is the exit point: only the facets the ray leaves through (as in _exit_facets)
+            first = obj._plane_starts[j]
+            exits = R[rows, first : first + len(piece.planes)] <= T[rows, j, None] * (1 + 1e-9) + 1e-9
             closed, t, y = _facet_exit(piece, c0, U[rows], exits)
             closed &= alone[rows]
             if closed.any():
@@ -680,7 +693,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     order, first = _first_per_group(pts, -ts)
     chosen = order[first]
     degenerate = degs[chosen].copy()
-    nxt = first & np.r_[~first[1:], False]
+    nxt = first & _followed(first)
     if nxt.any():  # the ray leaves two pieces at once: one-sided derivatives unless the planes agree
         a, b = order[nxt], order[np.nonzero(nxt)[0] + 1]
         close = np.abs(ts[b] - ts[a]) <= 1e-9 * (1 + np.abs(ts[a]))
