@@ -177,8 +177,8 @@ class _Optimum(NamedTuple):
 
 def _degenerate(x, reduced, m) -> bool:
     """Not a vertex optimum with exactly m positive primal and m zero reduced costs."""
-    positive = int((x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max()))).sum())
-    tight = int((np.abs(reduced) <= DEGENERACY_TOL).sum())
+    positive = np.count_nonzero(x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max())))
+    tight = np.count_nonzero(np.abs(reduced) <= DEGENERACY_TOL)
     return positive != m or tight != m
 
 

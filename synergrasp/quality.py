@@ -23,8 +23,9 @@ from functools import lru_cache
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from ._checks import as_points, as_vector, positive_scalar
 from . import lp
+from ._checks import as_points, as_vector, positive_scalar
+from ._vectors import cross
 from .pseudo_distance import _min_vertex_norm, _pseudo_distance, _regular_simplex
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
@@ -33,18 +34,6 @@ FORCE_CLOSURE_TOL = 1e-9
 _ORIGIN = np.zeros((1, 6))  # the origin of wrench space, the set the Q distance is measured to
 _ORIGIN.setflags(write=False)
 _SIMPLEX, _SIMPLEX_MIN_NORM = _regular_simplex(6), _min_vertex_norm(6)
-
-
-#: The Levi-Civita symbol: ``(a x b)_i = eps_ijk a_j b_k``.
-_LEVI_CIVITA = np.zeros((3, 3, 3))
-_LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0
-_LEVI_CIVITA[[0, 1, 2], [2, 0, 1], [1, 2, 0]] = -1.0
-_LEVI_CIVITA.setflags(write=False)
-
-
-def _cross(a, b):
-    """Cross product over the last axis, broadcasting (one numpy call; faster than numpy.cross on small arrays)."""
-    return np.einsum("ijk,...j,...k->...i", _LEVI_CIVITA, a, b)
 
 
 def _unit_normals(normals, n_points):
@@ -82,7 +71,7 @@ def _frame(nhat):
     basis = np.empty((3,) + nhat.shape)
     basis[0] = nhat
     np.divide(v, vnorm[:, None], out=basis[1])
-    basis[2] = _cross(nhat, basis[1])
+    basis[2] = cross(nhat, basis[1])
     return basis, (C, vnorm)
 
 
@@ -92,7 +81,7 @@ def _basis_vjp(basis, C, vnorm, g1, g2):
     With de1/dn = (I - e1 e1^T) [a]x / |a x n| and e2 = n x e1, so
     de2/dn = -[e1]x + [n]x de1/dn; ``(de1/dn)^T w = -[a]x (I - e1 e1^T) w / |a x n|``.
     """
-    n_g2, e1_g2 = _cross(basis[:2], g2)
+    n_g2, e1_g2 = cross(basis[:2], g2)
     e1 = basis[1]
     w = g1 - n_g2
     w -= e1 * np.einsum("ij,ij->i", e1, w)[:, None]
@@ -113,7 +102,7 @@ def _cos_sin(edges):
 
 
 def _cone(nhat, mu, edges):
-    """Cone edges as combinations of (n, e1, e2).
+    """Cone edges as combinations of (n, e1, e2), for a validated ``mu`` and ``edges``.
 
     Edge j of contact i is ``sum_k M[k, j] basis[k, i]`` with
     ``M[:, j] = (1, mu cos t_j, mu sin t_j)`` and ``basis = (n, e1, e2)``.
@@ -125,7 +114,6 @@ def _cone(nhat, mu, edges):
     tangent : tuple
         For :func:`_basis_vjp` (see :func:`_frame`).
     """
-    _angles(edges)
     basis, tangent = _frame(nhat)
     return _cone_matrix(float(mu), int(edges)), basis, tangent
 
@@ -141,7 +129,7 @@ def _cone_matrix(mu, edges):
 
 def _wrenches(M, basis, arm, L):
     """(n*m, 6) wrenches ``[d_ij ; arm_i x d_ij / L]``, contact-major."""
-    frames = np.concatenate([basis, _cross(arm / L, basis)], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
+    frames = np.concatenate([basis, cross(arm / L, basis)], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
     return np.einsum("kj,kia->ija", M, frames).reshape(-1, 6)
 
 
@@ -170,7 +158,9 @@ def friction_cone_edges(normals, mu=0.3, edges=8):
     """
     normals = as_points(normals, "normals", dim=3)
     nhat, _ = _unit_normals(normals, len(normals))
-    M, basis, _ = _cone(nhat, positive_scalar(mu, "mu"), edges)
+    mu = positive_scalar(mu, "mu")
+    _angles(edges)
+    M, basis, _ = _cone(nhat, mu, edges)
     return np.einsum("kj,kia->ija", M, basis)
 
 
@@ -352,9 +342,10 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     # s = M alpha_i (the weights of n, e1, e2): d value / d (n, e1, e2)_i = s_i (g_f + g_t x arm_i / L)
     s = M @ res.alpha.reshape(len(points), -1).T  # (3, n)
     g = -res.dual
-    grad_points = _cross(np.einsum("ki,kia->ia", s, basis), g[3:]) / L  # sum_j d_ij x g_t / L
-    h = g[:3] + _cross(g[3:], arm) / L
-    grad_nhat = s[0, :, None] * h + _basis_vjp(basis, *tangent, s[1, :, None] * h, s[2, :, None] * h)
+    grad_points = cross(np.einsum("ki,kia->ia", s, basis), g[3:]) / L  # sum_j d_ij x g_t / L
+    h = g[:3] + cross(g[3:], arm) / L
+    sh = s[:, :, None] * h  # d value / d (n, e1, e2)
+    grad_nhat = sh[0] + _basis_vjp(basis, *tangent, sh[1], sh[2])
     grad_normals = (grad_nhat - np.einsum("ij,ij->i", grad_nhat, nhat)[:, None] * nhat) / length[:, None]
     return QDistance(
         value=res.value,

@@ -60,6 +60,7 @@ import numpy as np
 
 from .. import lp
 from .._checks import as_points, positive_scalar
+from .._vectors import cross
 from ..pseudo_distance import regular_simplex
 
 _Q = regular_simplex(3)
@@ -755,7 +756,7 @@ def _facet_exit(piece, c0, U, exits):
     a = np.einsum("ij,ij->i", normal, U)
     t = -(normal @ c0 + offset) / a
     tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[:, None, :]  # vertices about the exit point
-    area = np.einsum("ikj,ij->ik", np.cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), normal)
+    area = np.einsum("ikj,ij->ik", cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), normal)
     weights = area / area.sum(axis=1, keepdims=True)
     closed = (exits.sum(axis=1) == 1) & (weights.min(axis=1) > 10 * DEGENERACY_TOL * np.maximum(1.0, t))
     return closed, t, -normal / a[:, None]
