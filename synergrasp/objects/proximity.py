@@ -455,17 +455,21 @@ def _candidates(obj, P, S):
     called for the points the cheap bounds leave with several candidates.
     """
     n, J = S.shape
-    inside = S <= 0.0
     PQ = P @ _Q.T  # (n, 4)
-    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
     upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ))
+    bound = upper.min(axis=1)
+    if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
+        return np.ones(S.shape, dtype=bool), bound
+    inside = S <= 0.0
+    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
     tol = 1e-9 * (1.0 + np.abs(upper).min(axis=1, keepdims=True))
     cand = lower <= upper.min(axis=1, keepdims=True) + tol
     out = inside.any(axis=1)
     cand[out] = inside[out]
-    bound = upper.min(axis=1)
-    query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
-    for i in np.nonzero(~out & (cand.sum(axis=1) > 1))[0]:
+    todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]
+    if len(todo):
+        query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
+    for i in todo:
         js = np.nonzero(cand[i])[0]
         query.setTranslation(P[i])
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
