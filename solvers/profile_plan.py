@@ -2,15 +2,18 @@
 
 Usage::
 
-    python -m solvers.profile_plan [--out solvers/results] [--baseline-ref 079b621] [--repeats 5]
+    python -m solvers.profile_plan [--out solvers/results] [--baseline-ref e9c86e9] [--repeats 5]
 
 Profiles ``sg.plan(sg.objects.ellipsoid(), "precision")`` on HiGHS twice, each in
 its own subprocess:
 
-* ``before``: the current package with the LP layer (``synergrasp/lp/*.py``),
-  ``pseudo_distance.py`` and ``quality.py`` taken from ``--baseline-ref`` (the
-  commit before the overhead work), everything else (planner, objects, hand)
-  as it is now, so that only those files differ;
+* ``before``: the current package with the files of the overhead work (the LP
+  layer ``synergrasp/lp/*.py``, ``pseudo_distance.py``, ``quality.py``, the
+  geometry around the LPs ``objects/proximity.py``, ``objects/grasp_object.py``,
+  ``planner/status.py`` and the hand kinematics ``hand.py``) taken from
+  ``--baseline-ref`` (the commit before that work), everything else (the
+  planner's loop and step, the objects' loading) as it is now, so that only
+  those files differ;
 * ``after``: the current package.
 
 Both are measured ``--rounds`` times, alternating, and the medians kept. For
@@ -39,14 +42,16 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_OUT = ROOT / "solvers" / "results"
-#: The commit before the overhead work on the LP layer, pseudo_distance and quality.
-BASELINE_REF = "079b621"
+#: The commit before the overhead work on the Q distance and the geometry around the LPs. (The earlier
+#: work on the LP layer started from 079b621, whose files no longer fit the rest of the package.)
+BASELINE_REF = "e9c86e9"
 #: The files the overhead work may change (relative to the repository root).
 TOUCHED = ("synergrasp/lp/__init__.py", "synergrasp/lp/base.py", "synergrasp/lp/highs.py",
            "synergrasp/lp/clarabel.py", "synergrasp/lp/cvxpy.py", "synergrasp/pseudo_distance.py",
-           "synergrasp/quality.py")
+           "synergrasp/quality.py", "synergrasp/objects/proximity.py", "synergrasp/objects/grasp_object.py",
+           "synergrasp/planner/status.py", "synergrasp/hand.py")
 
-#: Functions whose cumulative time is reported: (label, file suffix, function name).
+#: Functions whose cumulative time is reported: (label, file suffix, function name or names).
 FUNCTIONS = (
     ("plan (total)", "planner/core.py", "plan"),
     ("grasp_status (cP, sQ, g_sQ, Jacobian)", "planner/status.py", "grasp_status"),
@@ -55,7 +60,7 @@ FUNCTIONS = (
     ("scaled_contacts (sQ contacts)", "objects/proximity.py", "scaled_contacts"),
     ("smoothed_normals", "planner/status.py", "smoothed_normals"),
     ("q_distance", "synergrasp/quality.py", "q_distance"),
-    ("pseudo_distance", "synergrasp/pseudo_distance.py", "pseudo_distance"),
+    ("pseudo_distance (its LP optimum)", "synergrasp/pseudo_distance.py", ("pseudo_distance", "_pseudo_distance")),
     ("Backend.solve (LP layer)", "lp/base.py", "solve"),
     ("HiGHS run (solver itself)", "~", "<built-in method highspy._core.run>"),
     ("hand points and Jacobians", "synergrasp/hand.py", "points_and_jacobian"),
@@ -132,9 +137,8 @@ def baseline_tree(ref: str, where: Path) -> Path:
 
 
 def measure(tree: Path | None, repeats: int) -> dict:
-    env = dict(os.environ)
-    if tree is not None:
-        env["PYTHONPATH"] = str(tree) + os.pathsep + env.get("PYTHONPATH", "")
+    env = dict(os.environ)  # the package of this checkout (not an installed copy) unless a tree is given
+    env["PYTHONPATH"] = str(tree if tree is not None else ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     proc = subprocess.run([sys.executable, "-c", MEASURE, str(repeats), str(ROOT)], cwd=tempfile.gettempdir(),
                           env=env, capture_output=True, text=True, check=True)
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -155,7 +159,7 @@ def cumulative(result: dict, suffix: str, name: str):
     calls, total = 0, 0.0
     for key, (n, t) in result["profile"].items():
         path, func = key.split("::", 1)
-        if func == name and (suffix == "~" or path.endswith(suffix)):
+        if func in ((name,) if isinstance(name, str) else name) and (suffix == "~" or path.endswith(suffix)):
             calls += n
             total += t
     return calls, total
@@ -187,8 +191,9 @@ def report(before: dict, after: dict, ref: str) -> tuple[str, list]:
         "### Profile: where a plan's time goes",
         "",
         "`python -m solvers.profile_plan`: `sg.plan(sg.objects.ellipsoid(), \"precision\")` on HiGHS. *Before* = "
-        f"the LP layer, `pseudo_distance.py` and `quality.py` as of commit `{ref}`, *after* = now; the planner, "
-        "objects and hand are the current ones in both, so only the overhead work differs.",
+        f"the LP layer, `pseudo_distance.py`, `quality.py`, the cP/sQ geometry (`objects/proximity.py`, "
+        f"`objects/grasp_object.py`), `planner/status.py` and `hand.py` as of commit `{ref}`, *after* = now; "
+        "the rest of the planner and of the objects is the current one in both, so only the overhead work differs.",
         "",
         "| measure | before | after | speed-up |",
         "|---|---|---|---|",
@@ -226,16 +231,21 @@ def report(before: dict, after: dict, ref: str) -> tuple[str, list]:
         csv_rows.append(dict(measure=f"cProfile cumulative: {label}", before=f"{tb:.4f}", after=f"{ta:.4f}", speedup=""))
     lines += [
         "",
-        "What changed around the solver (files `synergrasp/lp/*.py`, `pseudo_distance.py`, `quality.py`): "
-        "HiGHS starts from the last optimal basis of an LP with the same *structure* (shape and sparsity "
-        "pattern), else of the same shape (before: shape only), so LP kinds that share a shape no longer "
-        "hand each other bases that do not fit; `pseudo_distance` builds its LPs from per-shape cached index "
-        "arrays, costs and right-hand sides and takes reduced costs from cached column indices; `quality` "
-        "caches the cone-edge matrix and uses a cheaper broadcasting cross product; the LP layer checks for "
-        "NaN/inf with one sum instead of three scans; Clarabel's `[A; -I]` is assembled directly in "
-        "compressed-column form. With the objects layer as it is now (pruned, mostly constant LP patterns) "
-        "the plan's LP solver time is about what it was: the remaining time is outside the LP layer "
-        "(see the cumulative table: cP and sQ assembly, smoothed normals, the planner).",
+        "What changed (earlier, from commit `079b621`, in the LP layer and `pseudo_distance.py`, already in "
+        "*before*): HiGHS starts from the last optimal basis of an LP with the same structure (shape and "
+        "sparsity pattern), else of the same shape; `pseudo_distance` builds its LPs from per-shape cached "
+        "index arrays; the LP layer checks for NaN/inf with one sum; Clarabel's `[A; -I]` is assembled "
+        "directly in compressed-column form. Since *before*: `q_distance` works on the pseudo-distance "
+        "optimum itself (no derived arrays), sums its gradients over the cone edges through the rank-one "
+        "structure of the duals and computes every cross product with one `einsum` (shared with the hand "
+        "kinematics); an sQ ray that leaves one piece through the inside of one facet is settled in closed "
+        "form (exit point, barycentric weights, the facet's plane as the dual; the LP only at ties), its "
+        "exit facets taken from the ray exits already computed; cP computes the facet plane values once "
+        "for the broad phase and the facet pruning and tests the gauge ball only on facets that face the "
+        "point and are in reach; the smoothed normals weight the facet normals and their outer products "
+        "in one matrix product. The LP solver's own time per solve is unchanged (fewer solves: no sQ LP "
+        "away from ties); what remains outside it is the status assembly, the cP geometry and the planner "
+        "(see the cumulative table).",
     ]
     return "\n".join(lines) + "\n", csv_rows
 
@@ -255,6 +265,7 @@ def main(argv=None):
             for results, where in pair if i % 2 == 0 else pair[::-1]:
                 results.append(measure(where, args.repeats))
         assert all(b["synergrasp"].startswith(tmp) for b in befores), befores[0]["synergrasp"]
+    assert all(a["synergrasp"].startswith(str(ROOT)) for a in afters), afters[0]["synergrasp"]
     before, after = combine(befores), combine(afters)
     text, rows = report(before, after, args.baseline_ref)
     args.out.mkdir(parents=True, exist_ok=True)

@@ -34,6 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._vectors import cross
+
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 
 POINT_KINDS = ("precision", "power")
@@ -79,15 +81,6 @@ def _skew(v):
     k[..., 1, 0], k[..., 1, 2] = v[..., 2], -v[..., 0]
     k[..., 2, 0], k[..., 2, 1] = -v[..., 1], v[..., 0]
     return k
-
-
-def _cross(a, b):
-    """Cross product of broadcast ``(..., 3)`` arrays (faster than np.cross for small ones)."""
-    return np.stack([
-        a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
-        a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-        a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0],
-    ], axis=-1)
 
 
 @dataclass(frozen=True)
@@ -625,8 +618,8 @@ class SynergyHand:
         jac[:, :, :3] = np.eye(3)
         c1, s1 = math.cos(u[3]), math.sin(u[3])
         euler_axes = np.array([[1.0, 0.0, 0.0], [0.0, c1, s1], rot[:, 2]])        # x, Rx y, Rx Ry z
-        jac[:, :, 3:6] = _cross(euler_axes[None], arm[:, None]).transpose(0, 2, 1)
-        dq = _cross(axes[None], local[:, None] - origins[None])                   # (n, n_joints, 3)
+        jac[:, :, 3:6] = cross(euler_axes[None], arm[:, None]).transpose(0, 2, 1)
+        dq = cross(axes[None], local[:, None] - origins[None])                   # (n, n_joints, 3)
         jac[:, :, 6:] = rot @ (dq.transpose(0, 2, 1) @ q_z_masked)
         return u[:3] + arm, jac
 

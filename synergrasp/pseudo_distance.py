@@ -23,8 +23,10 @@ the max) the derivative does not exist; a valid one-sided choice is returned and
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import math
+from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -156,10 +158,27 @@ class PseudoDistance:
     active: int
 
 
+class _Optimum(NamedTuple):
+    """What one solve of :func:`_pseudo_distance` found (internal, no derived arrays).
+
+    ``dual`` (d,) is signed so that ``grad_a = -alpha[:, None] * dual`` and
+    ``grad_b = beta[:, None] * dual``; the other fields are those of :class:`PseudoDistance`.
+    """
+
+    value: float
+    kind: str
+    degenerate: bool
+    lp_solves: int
+    alpha: np.ndarray
+    beta: np.ndarray
+    dual: np.ndarray
+    active: int
+
+
 def _degenerate(x, reduced, m) -> bool:
     """Not a vertex optimum with exactly m positive primal and m zero reduced costs."""
-    positive = int((x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max()))).sum())
-    tight = int((np.abs(reduced) <= DEGENERACY_TOL).sum())
+    positive = np.count_nonzero(x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max())))
+    tight = np.count_nonzero(np.abs(reduced) <= DEGENERACY_TOL)
     return positive != m or tight != m
 
 
@@ -255,7 +274,7 @@ def _require_optimal(sol, what: str):
 
 
 def _unit(v):
-    n = np.linalg.norm(v)
+    n = math.sqrt(float(v @ v))
     return v / n if n > 0 else v
 
 
@@ -308,7 +327,43 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     else:
         Q = check_simplex(simplex, d)
         qmin = float(np.linalg.norm(Q, axis=1).min())
-    solver = lp.get_backend(backend)
+    opt = _pseudo_distance(A, B, Q, qmin, lp.get_backend(backend))
+    alpha, beta, dual = opt.alpha, opt.beta, opt.dual
+    return PseudoDistance(
+        value=opt.value,
+        kind=opt.kind,
+        grad_a=alpha[:, None] * -dual,
+        grad_b=beta[:, None] * dual,
+        simplex=Q,
+        degenerate=opt.degenerate,
+        lp_solves=opt.lp_solves,
+        alpha=alpha,
+        beta=beta,
+        point_a=alpha @ A,
+        point_b=beta @ B,
+        normal_b=_unit(dual),
+        active=opt.active,
+    )
+
+
+def _pseudo_distance(A, B, Q, qmin, solver) -> _Optimum:
+    """The optimum behind :func:`pseudo_distance`, on validated input (finite float arrays).
+
+    Parameters
+    ----------
+    A : (na, d) float ndarray
+    B : (nb, d) float ndarray
+    Q : (d+1, d) float ndarray
+        The simplex.
+    qmin : float
+        Smallest ``|q_k|``.
+    solver : synergrasp.lp.Backend
+
+    Returns
+    -------
+    _Optimum
+    """
+    d = A.shape[1]
     coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
     zero = ZERO_TOL * coord_scale * d / qmin
     lay = _layout(len(A), len(B), d)
@@ -319,22 +374,22 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     solves = 0
     result = None
     if lay.overlapped_last:
-        result = _penetration(A, B, Q, lay, solver, zero, strict=False)
         solves += 1
+        result = _penetration(A, B, Q, lay, solver, zero, solves, strict=False)
     if result is None:
-        result = _separation(A, B, Q, lay, solver, zero)
         solves += 1
+        result = _separation(A, B, Q, lay, solver, zero, solves)
         if result is None:  # Eq. 1 gave 0: the sets touch or overlap
-            result = _penetration(A, B, Q, lay, solver, zero, strict=True)
             solves += 1
+            result = _penetration(A, B, Q, lay, solver, zero, solves, strict=True)
         if result is None:  # Eq. 1 within round-off of 0 but Eq. 3 infeasible within tolerance: touching
-            result = _separation(A, B, Q, lay, solver, zero, touching=True)
             solves += 1
+            result = _separation(A, B, Q, lay, solver, zero, solves, touching=True)
     lay.overlapped_last = result.kind == "penetration"
-    return replace(result, lp_solves=solves)
+    return result
 
 
-def _separation(A, B, Q, lay, solver, zero, touching=False):
+def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
     """Eq. 1; None when its value is 0 (the sets touch or overlap), unless ``touching``."""
     (na, d), nb, nq = A.shape, len(B), len(Q)
     # x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
@@ -346,26 +401,13 @@ def _separation(A, B, Q, lay, solver, zero, touching=False):
     _require_optimal(sol, "separation (Eq. 1)")
     if sol.objective <= zero and not touching:
         return None
-    alpha, beta, y = sol.x[nq : nq + na], sol.x[nq + na :], sol.y[:d]
-    reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * sol.y[lay.sep_rows], minlength=len(lay.sep_c))
-    return PseudoDistance(
-        value=sol.objective,
-        kind="separation",
-        grad_a=-alpha[:, None] * y,
-        grad_b=beta[:, None] * y,
-        simplex=Q,
-        degenerate=_degenerate(sol.x, reduced, d + 2),
-        lp_solves=1,
-        alpha=alpha,
-        beta=beta,
-        point_a=alpha @ A,
-        point_b=beta @ B,
-        normal_b=_unit(y),
-        active=-1,
-    )
+    x, y = sol.x, sol.y
+    reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * y[lay.sep_rows], minlength=len(lay.sep_c))
+    return _Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
+                    x[nq + na :], y[:d], -1)
 
 
-def _penetration(A, B, Q, lay, solver, zero, strict=True):
+def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     """Eqs. 2-3 (the nq LPs stacked block-diagonally); None when infeasible (the sets are apart).
 
     Tried first (``strict=False``), any status but optimal means "not this regime": a
@@ -384,21 +426,7 @@ def _penetration(A, B, Q, lay, solver, zero, strict=True):
     values = -psol.x[::nk]
     k = int(np.argmax(values))
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
-    alpha, beta = x[1 : 1 + na], x[1 + na :]
     ties = int((values >= values[k] - zero).sum()) > 1
     reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
-    return PseudoDistance(
-        value=float(values[k]),
-        kind="penetration",
-        grad_a=alpha[:, None] * y[:d],
-        grad_b=-beta[:, None] * y[:d],
-        simplex=Q,
-        degenerate=ties or _degenerate(x, reduced, mk),
-        lp_solves=1,
-        alpha=alpha,
-        beta=beta,
-        point_a=alpha @ A,
-        point_b=beta @ B,
-        normal_b=_unit(-y[:d]),
-        active=k,
-    )
+    return _Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
+                    x[1 + na :], -y[:d], k)

@@ -23,72 +23,69 @@ from functools import lru_cache
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from . import lp
 from ._checks import as_points, as_vector, positive_scalar
-from .pseudo_distance import pseudo_distance
+from ._vectors import cross
+from .pseudo_distance import _min_vertex_norm, _pseudo_distance, _regular_simplex
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
 FORCE_CLOSURE_TOL = 1e-9
 
-
-_NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])
-
-
-def _cross(a, b):
-    """Cross product over the last axis, broadcasting (faster than numpy.cross on small arrays)."""
-    if a.shape != b.shape:  # fancy indexing broadcasts in fewer numpy calls than the components
-        return a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
-    out = np.empty(a.shape)
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    out[..., 0] = a1 * b2 - a2 * b1
-    out[..., 1] = a2 * b0 - a0 * b2
-    out[..., 2] = a0 * b1 - a1 * b0
-    return out
+_ORIGIN = np.zeros((1, 6))  # the origin of wrench space, the set the Q distance is measured to
+_ORIGIN.setflags(write=False)
+_SIMPLEX, _SIMPLEX_MIN_NORM = _regular_simplex(6), _min_vertex_norm(6)
 
 
 def _unit_normals(normals, n_points):
     normals = as_points(normals, "normals", dim=3)
     if len(normals) != n_points:
         raise ValueError(f"normals has {len(normals)} rows but points has {n_points}; give one normal per contact")
-    length = np.linalg.norm(normals, axis=1)
-    if (length < 1e-12).any():
+    length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+    if length.min() < 1e-12:
         raise ValueError(f"normals has zero-length rows {np.nonzero(length < 1e-12)[0].tolist()}; each contact needs a direction")
     return normals / length[:, None], length
 
 
-def _tangent_basis(nhat):
-    """Tangent basis of unit normals: e1 = normalise(a x n), e2 = n x e1.
+#: ``_AXIS_CROSS[k] @ v = e_k x v`` for the coordinate axes e_k.
+_AXIS_CROSS = np.array([[[0, 0, 0], [0, 0, -1], [0, 1, 0]], [[0, 0, 1], [0, 0, 0], [-1, 0, 0]],
+                        [[0, -1, 0], [1, 0, 0], [0, 0, 0]]], dtype=float)
+_AXIS_CROSS.setflags(write=False)
+
+
+def _frame(nhat):
+    """The basis (n, e1, e2) of each contact: e1 = normalise(a x n), e2 = n x e1.
 
     ``a`` is the coordinate axis least aligned with n (piecewise constant).
 
     Returns
     -------
-    e1, e2 : (n, 3) float
-    axis : (n, 3) float
-        The axis a of each contact.
-    vnorm : (n,) float
-        ``|a x n|``.
+    basis : (3, n, 3) float
+        ``basis[0] = nhat``, ``basis[1] = e1``, ``basis[2] = e2``.
+    tangent : tuple
+        ``(C, vnorm)`` for :func:`_basis_vjp`: ``C`` (n, 3, 3) the matrices
+        ``[a]x`` of the axes and ``vnorm`` (n,) ``|a x n|``.
     """
-    n = len(nhat)
-    axis = np.zeros((n, 3))
-    axis[np.arange(n), np.argmin(np.abs(nhat), axis=1)] = 1.0
-    v = _cross(axis, nhat)
+    C = _AXIS_CROSS[np.abs(nhat).argmin(axis=1)]
+    v = np.einsum("iab,ib->ia", C, nhat)
     vnorm = np.sqrt(np.einsum("ij,ij->i", v, v))
-    e1 = v / vnorm[:, None]
-    return e1, _cross(nhat, e1), axis, vnorm
+    basis = np.empty((3,) + nhat.shape)
+    basis[0] = nhat
+    np.divide(v, vnorm[:, None], out=basis[1])
+    basis[2] = cross(nhat, basis[1])
+    return basis, (C, vnorm)
 
 
-def _basis_vjp(nhat, e1, axis, vnorm, g1, g2):
+def _basis_vjp(basis, C, vnorm, g1, g2):
     """Vector-Jacobian product of the tangent basis: ``(de1/dn)^T g1 + (de2/dn)^T g2``.
 
     With de1/dn = (I - e1 e1^T) [a]x / |a x n| and e2 = n x e1, so
-    de2/dn = -[e1]x + [n]x de1/dn.
+    de2/dn = -[e1]x + [n]x de1/dn; ``(de1/dn)^T w = -[a]x (I - e1 e1^T) w / |a x n|``.
     """
-
-    def e1_vjp(g):
-        return _cross(g - e1 * np.einsum("ij,ij->i", e1, g)[:, None], axis) / vnorm[:, None]
-
-    return e1_vjp(g1 - _cross(nhat, g2)) + _cross(e1, g2)
+    n_g2, e1_g2 = cross(basis[:2], g2)
+    e1 = basis[1]
+    w = g1 - n_g2
+    w -= e1 * np.einsum("ij,ij->i", e1, w)[:, None]
+    return e1_g2 - np.einsum("iab,ib->ia", C, w) / vnorm[:, None]
 
 
 def _angles(edges):
@@ -105,7 +102,7 @@ def _cos_sin(edges):
 
 
 def _cone(nhat, mu, edges):
-    """Cone edges as combinations of (n, e1, e2).
+    """Cone edges as combinations of (n, e1, e2), for a validated ``mu`` and ``edges``.
 
     Edge j of contact i is ``sum_k M[k, j] basis[k, i]`` with
     ``M[:, j] = (1, mu cos t_j, mu sin t_j)`` and ``basis = (n, e1, e2)``.
@@ -115,11 +112,10 @@ def _cone(nhat, mu, edges):
     M : (3, m) float
     basis : (3, n, 3) float
     tangent : tuple
-        ``(e1, axis, vnorm)`` for :func:`_basis_vjp`.
+        For :func:`_basis_vjp` (see :func:`_frame`).
     """
-    _angles(edges)
-    e1, e2, axis, vnorm = _tangent_basis(nhat)
-    return _cone_matrix(float(mu), int(edges)), np.stack([nhat, e1, e2]), (e1, axis, vnorm)
+    basis, tangent = _frame(nhat)
+    return _cone_matrix(float(mu), int(edges)), basis, tangent
 
 
 @lru_cache(maxsize=32)
@@ -133,9 +129,8 @@ def _cone_matrix(mu, edges):
 
 def _wrenches(M, basis, arm, L):
     """(n*m, 6) wrenches ``[d_ij ; arm_i x d_ij / L]``, contact-major."""
-    (_, m), n = M.shape, basis.shape[1]
-    frames = np.concatenate([basis, _cross(arm, basis) / L], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
-    return (M.T @ frames.reshape(3, n * 6)).reshape(m, n, 6).transpose(1, 0, 2).reshape(n * m, 6)
+    frames = np.concatenate([basis, cross(arm / L, basis)], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
+    return np.einsum("kj,kia->ija", M, frames).reshape(-1, 6)
 
 
 def friction_cone_edges(normals, mu=0.3, edges=8):
@@ -163,7 +158,9 @@ def friction_cone_edges(normals, mu=0.3, edges=8):
     """
     normals = as_points(normals, "normals", dim=3)
     nhat, _ = _unit_normals(normals, len(normals))
-    M, basis, _ = _cone(nhat, positive_scalar(mu, "mu"), edges)
+    mu = positive_scalar(mu, "mu")
+    _angles(edges)
+    M, basis, _ = _cone(nhat, mu, edges)
     return np.einsum("kj,kia->ija", M, basis)
 
 
@@ -338,23 +335,24 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     points, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     M, basis, tangent = _cone(nhat, mu, edges)
     arm = points - c
-    n, m = len(points), M.shape[1]
     W = _wrenches(M, basis, arm, L)
-    res = pseudo_distance(W, np.zeros((1, 6)), backend=backend)
+    res = _pseudo_distance(W, _ORIGIN, _SIMPLEX, _SIMPLEX_MIN_NORM, lp.get_backend(backend))
 
-    # edges, torques and so the gradients' sums over edges all go through M
-    S = (M @ res.grad_a.reshape(n, m, 6).transpose(1, 0, 2).reshape(m, n * 6)).reshape(3, n, 6)
-    Sf, St = S[..., :3], S[..., 3:]
-    grad_points = _cross(basis, St).sum(axis=0) / L  # sum_j d_j x gt_j / L
-    grad_basis = Sf + _cross(St, arm) / L  # d value / d (n, e1, e2) through the edges
-    grad_nhat = grad_basis[0] + _basis_vjp(nhat, *tangent, grad_basis[1], grad_basis[2])
+    # d value / d w_ij = -alpha_ij dual = alpha_ij g, so every sum over the edges j goes through
+    # s = M alpha_i (the weights of n, e1, e2): d value / d (n, e1, e2)_i = s_i (g_f + g_t x arm_i / L)
+    s = M @ res.alpha.reshape(len(points), -1).T  # (3, n)
+    g = -res.dual
+    grad_points = cross(np.einsum("ki,kia->ia", s, basis), g[3:]) / L  # sum_j d_ij x g_t / L
+    h = g[:3] + cross(g[3:], arm) / L
+    sh = s[:, :, None] * h  # d value / d (n, e1, e2)
+    grad_nhat = sh[0] + _basis_vjp(basis, *tangent, sh[1], sh[2])
     grad_normals = (grad_nhat - np.einsum("ij,ij->i", grad_nhat, nhat)[:, None] * nhat) / length[:, None]
     return QDistance(
         value=res.value,
         grad_points=grad_points,
         grad_normals=grad_normals,
         wrenches=W,
-        simplex=res.simplex,
+        simplex=_SIMPLEX,
         center=c,
         torque_scale=L,
         force_closure=res.value < -FORCE_CLOSURE_TOL,

@@ -131,8 +131,12 @@ class GraspObject:
 
     def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
         """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
+        return self._plane_bounds_and_values(points)[0]
+
+    def _plane_bounds_and_values(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """`_plane_bounds` and the (n, F) values ``n_f . p + o_f`` it takes the maximum of (F: all facets)."""
         s = points @ self._planes[:, :3].T + self._planes[:, 3]
-        return np.maximum.reduceat(s, self._plane_starts, axis=1)
+        return np.maximum.reduceat(s, self._plane_starts, axis=1), s
 
     @cached_property
     def _vertices_all(self):
@@ -169,6 +173,15 @@ class GraspObject:
         verts, sq, starts = self._vertices_all
         d2 = (points**2).sum(axis=1)[:, None] - 2.0 * points @ verts.T + sq
         return np.sqrt(np.maximum(np.minimum.reduceat(d2, starts, axis=1), 0.0))
+
+    @cached_property
+    def _normal_moments(self) -> list[np.ndarray]:
+        """Per piece, (f, 12): each facet's outward normal n_f, then ``n_f n_f^T`` row by row."""
+        out = []
+        for p in self.convex:
+            a = p.planes[:, :3]
+            out.append(np.hstack([a, (a[:, :, None] * a[:, None, :]).reshape(-1, 9)]))
+        return out
 
     @cached_property
     def _facet_nq(self) -> list[np.ndarray]:
@@ -328,9 +341,11 @@ class GraspObject:
     def scaled_contacts(self, points, backend="highs") -> "proximity.ScaledContacts":
         """sQ contacts: scale the object about its centre until it touches each hand point.
 
-        For each point p, ``t = max {t : c + t (p - c) in a piece}`` (one LP
-        per piece the ray leaves last, ``max t s.t. c + t (p - c) = sum
-        lambda_v v, sum lambda = 1``), the scale ``s = 1 / t``, the contact
+        For each point p, ``t = max {t : c + t (p - c) in a piece}`` (in closed
+        form from the exit facet's plane when the ray leaves one piece through
+        the inside of one facet, else one LP per piece the ray leaves last,
+        ``max t s.t. c + t (p - c) = sum lambda_v v, sum lambda = 1``), the
+        scale ``s = 1 / t``, the contact
         carried back to the object's scale ``c + t (p - c)`` (on its surface),
         and the inward normal from the LP dual. The planner's
         ``g_sQ = q_distance(contact, normal, center=obj.center,

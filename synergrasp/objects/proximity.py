@@ -37,7 +37,11 @@ Vertices passed to each LP (the narrow phase)
     facets the ray leaves through (closed form from the planes). The optimal
     face lies on one of them, so the value is unchanged and, when the LP is
     not degenerate, so are the duals (they are fixed by the optimal basis).
-    The LPs are then tiny (4 rows, typically 4-30 columns per block).
+    The LPs are then tiny (4 rows, typically 4-30 columns per block). An sQ
+    ray that leaves a single piece through the inside of a single facet needs
+    no LP at all: its optimum (the exit point) and duals (the facet's plane)
+    are in closed form, and only rays at ties (edges, vertices, coplanar
+    facets, several pieces) are solved.
 
 Every pruning uses valid bounds only; a property test checks the values
 against brute force over all pieces and all vertices.
@@ -56,6 +60,7 @@ import numpy as np
 
 from .. import lp
 from .._checks import as_points, positive_scalar
+from .._vectors import cross
 from ..pseudo_distance import regular_simplex
 
 _Q = regular_simplex(3)
@@ -147,7 +152,9 @@ class ScaledContacts:
         The ray leaves through an edge or vertex (or ties between pieces):
         the derivatives are a valid one-sided choice.
     lp_solves : int
-        Solver calls made: 1 (all blocks stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
+        Solver calls made: 0 when every ray leaves a single piece through the
+        inside of a single facet (closed form), else 1 (the other rays' blocks
+        stacked), more only for backends with an LP size limit (``MAX_LP_COLUMNS``).
 
     Notes
     -----
@@ -234,6 +241,7 @@ class _Blocks:
 
     def __init__(self):
         self.batches = []
+        self.lp_solves = 0
 
     def add(self, lead, cost, vertices, counts, sign, rhs, origin) -> int:
         """Add a batch of B blocks; returns the batch index.
@@ -407,10 +415,21 @@ def _facet_vertices(piece, facet_mask):
     return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
 
 
+def _followed(first):
+    """Whether each sorted row is followed by another of its group (``first`` marks group starts)."""
+    out = np.empty(len(first), dtype=bool)
+    np.logical_not(first[1:], out=out[:-1])
+    out[-1:] = False
+    return out
+
+
 def _first_per_group(group, key):
     """Index of the smallest ``key`` within each group (and the order used)."""
     order = np.lexsort((key, group))
-    first = np.r_[True, group[order][1:] != group[order][:-1]]
+    sorted_group = group[order]
+    first = np.empty(len(order), dtype=bool)
+    first[:1] = True
+    np.not_equal(sorted_group[1:], sorted_group[:-1], out=first[1:])
     return order, first
 
 
@@ -436,17 +455,21 @@ def _candidates(obj, P, S):
     called for the points the cheap bounds leave with several candidates.
     """
     n, J = S.shape
-    inside = S <= 0.0
     PQ = P @ _Q.T  # (n, 4)
-    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
     upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ))
+    bound = upper.min(axis=1)
+    if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
+        return np.ones(S.shape, dtype=bool), bound
+    inside = S <= 0.0
+    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
     tol = 1e-9 * (1.0 + np.abs(upper).min(axis=1, keepdims=True))
     cand = lower <= upper.min(axis=1, keepdims=True) + tol
     out = inside.any(axis=1)
     cand[out] = inside[out]
-    bound = upper.min(axis=1)
-    query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
-    for i in np.nonzero(~out & (cand.sum(axis=1) > 1))[0]:
+    todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]
+    if len(todo):
+        query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
+    for i in todo:
         js = np.nonzero(cand[i])[0]
         query.setTranslation(P[i])
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
@@ -488,14 +511,12 @@ def _separation_facets(obj, j, D, PQ, bound):
     of the ball (normal ``-q_k``, offset ``bound / 3``) separates them.
     """
     tol = 1e-9 * (1.0 + bound[:, None])
-    facing = D > 0.0
-    reach = D + bound[:, None] * obj._facet_nq[j][None] <= tol
-    # the ball's facet k separates a triangle when all its vertices lie beyond it
-    mq = obj._facet_mq[j]
-    apart = np.zeros_like(facing)
-    for k in range(4):
-        apart |= mq[None, :, k] + PQ[:, None, k] > bound[:, None] / 3.0 + tol
-    return facing & reach & ~apart
+    keep = (D > 0.0) & (D + bound[:, None] * obj._facet_nq[j][None] <= tol)  # facing p, within reach
+    # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
+    rows, facet = np.nonzero(keep)
+    apart = (obj._facet_mq[j][facet] + PQ[rows] > (bound[rows] / 3.0 + tol[rows, 0])[:, None]).any(axis=1)
+    keep[rows[apart], facet[apart]] = False
+    return keep
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
@@ -503,7 +524,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     P = _check_points(points)
     solver = lp.get_backend(backend)
     n = len(P)
-    S = obj._plane_bounds(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
+    S, values = obj._plane_bounds_and_values(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
     cand, bound = _candidates(obj, P, S)
     PQ = P @ _Q.T
 
@@ -511,7 +532,8 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     facets, covered = [], np.zeros(n, dtype=bool)
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
-        D = P[rows] @ piece.planes[:, :3].T + piece.planes[:, 3]
+        first = obj._plane_starts[j]
+        D = values[rows, first : first + len(piece.planes)]  # n_f . p + o_f
         keep = _separation_facets(obj, j, D, PQ[rows], bound[rows])
         facets.append((rows, D, keep))
         covered[rows[keep.any(axis=1)]] = True
@@ -572,7 +594,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
         raise RuntimeError("cP: a hand point lost all its candidate pieces; please report this bug")
     degenerate = degs[chosen].copy()
     # a tie between pieces with different gradients: the derivative is one-sided
-    nxt = first2 & np.r_[~first2[1:], False]
+    nxt = first2 & _followed(first2)
     if nxt.any():
         a, b = best_rows[order2[nxt]], best_rows[order2[np.nonzero(nxt)[0] + 1]]
         close = np.abs(vals[b] - vals[a]) <= 1e-9 * (1 + np.abs(vals[a]))
@@ -602,6 +624,9 @@ def _ray_exits(obj, u):
     -------
     t_exit : (n, J) float
         Largest t with ``c + t u`` in piece j; -inf when the ray misses it.
+    r : (n, F) float
+        Where each ray crosses each facet plane it leaves through (``n_f . u > 0``),
+        inf for the other planes; F counts the facets of all pieces.
     """
     c = obj.center
     N, o = obj._planes[:, :3], obj._planes[:, 3]
@@ -616,7 +641,7 @@ def _ray_exits(obj, u):
     t_hi = np.minimum.reduceat(upper, starts, axis=1)
     t_lo = np.maximum(np.maximum.reduceat(lower, starts, axis=1), 0.0)
     miss = np.logical_or.reduceat(blocked, starts, axis=1) | (t_lo > t_hi * (1 + 1e-12) + 1e-12)
-    return np.where(miss, -np.inf, t_hi)
+    return np.where(miss, -np.inf, t_hi), upper
 
 
 def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
@@ -632,7 +657,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
             f"points rows {np.nonzero(at_centre)[0].tolist()} coincide with the object's centre "
             f"{c0.tolist()}: the ray from the centre through the point, and so the sQ scale, is undefined"
         )
-    T = _ray_exits(obj, U)
+    T, R = _ray_exits(obj, U)
     best = T.max(axis=1)
     missed = ~np.isfinite(best)
     if missed.any():
@@ -640,29 +665,40 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
             f"the rays from the object's centre {c0.tolist()} through points rows "
             f"{np.nonzero(missed)[0].tolist()} miss the object; the centre must lie inside the object"
         )
-    # the LP only for the pieces the ray leaves last (closed form, within a tolerance)
+    # the pieces the ray leaves last (closed form, within a tolerance)
     cand = T >= (best * (1 - 1e-7) - 1e-9)[:, None]
+    alone = cand.sum(axis=1) == 1
     blocks = _Blocks()
-    batches = []
+    batches = []  # (points, piece, t, y, degenerate) found in closed form, or (points, piece, LP batch index)
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j])[0]
         if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
-            # the optimum is the exit point: only the facets the ray leaves through (closed form)
-            D = np.broadcast_to(piece.planes[:, :3] @ c0 + piece.planes[:, 3], (len(rows), len(piece.planes)))
-            verts, counts = _facet_vertices(piece, _exit_facets(D, U[rows] @ piece.planes[:, :3].T))
-            rhs = np.broadcast_to(-c0, (len(rows), 3))
-            batches.append((blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0), rows, j))
-    solved = blocks.solve(solver, "sQ ray")
+            # the optimum is the exit point: only the facets the ray leaves through (as in _exit_facets)
+            first = obj._plane_starts[j]
+            exits = R[rows, first : first + len(piece.planes)] <= T[rows, j, None] * (1 + 1e-9) + 1e-9
+            closed, t, y = _facet_exit(piece, c0, U[rows], exits)
+            closed &= alone[rows]
+            if closed.any():
+                batches.append((rows[closed], j, t[closed], y[closed], np.zeros(int(closed.sum()), dtype=bool)))
+            if not closed.all():
+                rows, exits = rows[~closed], exits[~closed]
+                verts, counts = _facet_vertices(piece, exits)
+                rhs = np.broadcast_to(-c0, (len(rows), 3))
+                batches.append((rows, j, blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0)))
+    if blocks.batches:
+        solved = blocks.solve(solver, "sQ ray")
+        batches = [b if len(b) == 5 else b[:2] + (solved[b[2]][0][:, 0], solved[b[2]][2], solved[b[2]][3])
+                   for b in batches]
 
-    pts = np.concatenate([rows for _, rows, _ in batches])
-    pcs = np.concatenate([np.full(len(rows), j) for _, rows, j in batches])
-    ts = np.concatenate([solved[b][0][:, 0] for b, _, _ in batches])
-    ys = np.concatenate([solved[b][2] for b, _, _ in batches])
-    degs = np.concatenate([solved[b][3] for b, _, _ in batches])
+    pts = np.concatenate([b[0] for b in batches])
+    pcs = np.concatenate([np.full(len(b[0]), b[1]) for b in batches])
+    ts = np.concatenate([b[2] for b in batches])
+    ys = np.concatenate([b[3] for b in batches])
+    degs = np.concatenate([b[4] for b in batches])
     order, first = _first_per_group(pts, -ts)
     chosen = order[first]
     degenerate = degs[chosen].copy()
-    nxt = first & np.r_[~first[1:], False]
+    nxt = first & _followed(first)
     if nxt.any():  # the ray leaves two pieces at once: one-sided derivatives unless the planes agree
         a, b = order[nxt], order[np.nonzero(nxt)[0] + 1]
         close = np.abs(ts[b] - ts[a]) <= 1e-9 * (1 + np.abs(ts[a]))
@@ -687,6 +723,47 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
         degenerate=degenerate,
         lp_solves=blocks.lp_solves,
     )
+
+
+def _facet_exit(piece, c0, U, exits):
+    """The sQ LP's optimum in closed form, where the ray leaves through the inside of one facet.
+
+    With a single exit facet f (outward normal n_f, offset o_f) the LP has only
+    f's three vertices: the optimum is the ray's exit point, ``t = -(n_f . c + o_f) / (n_f . u)``,
+    its weights are the exit point's barycentric coordinates, and the duals of
+    the coordinate rows ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``). When
+    the weights are all clearly positive the optimal basis is unique, so this is
+    the solution the LP would give.
+
+    Parameters
+    ----------
+    piece : ConvexPiece
+    c0 : (3,) float
+        The rays' origin (the object's centre).
+    U : (m, 3) float
+        The rays' directions ``p - c``.
+    exits : (m, f) bool
+        The facets each ray may leave through (`_exit_facets`).
+
+    Returns
+    -------
+    closed : (m,) bool
+        The rays settled here: one exit facet and every weight above ``10 *
+        DEGENERACY_TOL`` (so the LP's degeneracy test would not fire).
+    t : (m,) float
+        Exit parameters (meaningful where ``closed``).
+    y : (m, 3) float
+        Duals of the coordinate rows (meaningful where ``closed``).
+    """
+    facet = exits.argmax(axis=1)
+    normal, offset = piece.planes[facet, :3], piece.planes[facet, 3]
+    a = np.einsum("ij,ij->i", normal, U)
+    t = -(normal @ c0 + offset) / a
+    tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[:, None, :]  # vertices about the exit point
+    area = np.einsum("ikj,ij->ik", cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), normal)
+    weights = area / area.sum(axis=1, keepdims=True)
+    closed = (exits.sum(axis=1) == 1) & (weights.min(axis=1) > 10 * DEGENERACY_TOL * np.maximum(1.0, t))
+    return closed, t, -normal / a[:, None]
 
 
 # --------------------------------------------------------------------------- capsules

@@ -88,8 +88,9 @@ def smoothed_normals(obj, x, pieces, length):
         s = (x[rows] @ a.T + offset) / length
         w = np.exp(s - s.max(axis=1, keepdims=True))
         w /= w.sum(axis=1, keepdims=True)
-        m[rows] = w @ a
-        dm[rows] = (np.einsum("if,fa,fb->iab", w, a, a) - m[rows, :, None] * m[rows, None, :]) / length
+        moments = w @ obj._normal_moments[k]  # the weighted n_f and n_f n_f^T in one product
+        m[rows] = moments[:, :3]
+        dm[rows] = (moments[:, 3:].reshape(-1, 3, 3) - m[rows, :, None] * m[rows, None, :]) / length
     norm = np.linalg.norm(m, axis=1)
     n_out = m / norm[:, None]
     projector = np.eye(3) - n_out[:, :, None] * n_out[:, None, :]
