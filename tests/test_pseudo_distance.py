@@ -129,6 +129,14 @@ def test_degenerate_vertex_direction_is_flagged():
     assert np.isfinite(r.grad_a).all()
 
 
+def test_nearly_coplanar_touching_sets(backend):
+    # A sliver 1e-7 thick with B on it: the unscaled HiGHS simplex runs into numerical
+    # trouble here; every backend must still return ~0 and not raise.
+    A = np.array([[0, -1.5436589, 1e-7], [0, 1e-7, 1e-7], [1e-7, 1, 3], [0, -1.95845851, 1e-7], [1e-7, 1e-7, 1e-7]])
+    for shift in (0.0, 1.9):
+        assert sg.pseudo_distance(A + shift, np.zeros((1, 3)) + shift, backend=backend).value == pytest.approx(0.0, abs=1e-6)
+
+
 points = arrays(np.float64, st.tuples(st.integers(1, 5), st.just(3)), elements=st.floats(-5, 5))
 
 

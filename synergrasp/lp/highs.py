@@ -28,6 +28,10 @@ _STATUS = {
     highspy.HighsModelStatus.kUnboundedOrInfeasible: "infeasible",
 }
 
+#: HiGHS's own defaults for the options that the fast path turns off, used once more when an
+#: unscaled, unpresolved solve runs into numerical trouble (e.g. nearly coplanar point sets).
+_RESCUE = {"simplex_scale_strategy": 2, "presolve": "choose"}
+
 #: Number of LP structures and shapes whose last optimal basis is remembered.
 BASIS_CACHE_SIZE = 64
 
@@ -58,6 +62,20 @@ class HighsBackend(Backend):
         self._basis = OrderedDict()
         self._bounds_cache = {}
 
+    def _rescue(self):
+        """Solve the loaded model again from scratch with HiGHS's own scaling and presolve."""
+        h = self._h
+        fast = {key: h.getOptionValue(key)[1] for key in _RESCUE}
+        h.clearSolver()
+        for key, value in _RESCUE.items():
+            h.setOptionValue(key, value)
+        try:
+            h.run()
+        finally:
+            for key, value in fast.items():
+                h.setOptionValue(key, value)
+        return h.getModelStatus()
+
     def _bounds(self, n):
         if n not in self._bounds_cache:
             self._bounds_cache[n] = (np.zeros(n), np.full(n, highspy.kHighsInf), np.zeros(n, dtype=np.int32))
@@ -81,6 +99,9 @@ class HighsBackend(Backend):
         h.run()
         model_status = h.getModelStatus()
         status = _STATUS.get(model_status, "failed")
+        if status == "failed":  # numerical trouble (e.g. nearly coplanar sets): once more, cold and scaled
+            model_status = self._rescue()
+            status = _STATUS.get(model_status, "failed")
         iterations = h.getInfoValue("simplex_iteration_count")[1]
         if status != "optimal":
             self._basis.pop(key, None)
