@@ -18,7 +18,7 @@ import trimesh  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-__all__ = ["animate", "plot_poses", "plot_status", "scene", "write_html"]
+__all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "write_html"]
 
 _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
 
@@ -162,6 +162,55 @@ def plot_poses(result, obj, hand, path, count=5):
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_grasps(plans, hand, path, columns=6):
+    """A gallery of final grasps: one small 3-D view per plan.
+
+    Parameters
+    ----------
+    plans : sequence of (PlanResult, GraspObject, str)
+        Each plan with its object and a caption (e.g. "mug: ok").
+    hand : SynergyHand
+        The hand that made the plans.
+    path : str or Path
+        Output image (.png, .svg, .pdf).
+    columns : int
+        Views per row.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from synergrasp import SynergyHand, objects, plan
+    >>> obj, hand = objects.ellipsoid(), SynergyHand.default()
+    >>> result = plan(obj, "precision", max_iter=3, restarts=1)
+    >>> plot_grasps([(result, obj, "ellipsoid")], hand, pathlib.Path(tempfile.mkdtemp()) / "g.png").exists()
+    True
+    """
+    if not plans:
+        raise ValueError("plot_grasps needs at least one (result, object, caption) triple")
+    columns = max(1, min(int(columns), len(plans)))
+    rows = -(-len(plans) // columns)
+    fig = plt.figure(figsize=(2.6 * columns, 2.6 * rows))
+    for i, (result, obj, caption) in enumerate(plans):
+        ax = fig.add_subplot(rows, columns, i + 1, projection="3d")
+        _draw_object(ax, obj)
+        _draw_hand(ax, hand, np.asarray(result.u), lw=2.0)
+        if len(result.contact_points):
+            ax.scatter(*np.asarray(result.contact_points).T, color="k", s=6, depthshade=False)
+        _frame_axes(ax, obj, hand.segments(result.u).capsules.reshape(-1, 3))
+        ax.set_axis_off()
+        ax.set_title(caption, fontsize=8)
+    fig.tight_layout()
+    path = Path(path)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
 

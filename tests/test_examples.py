@@ -122,7 +122,9 @@ def test_every_example_is_checked():
 def test_example_runs(name, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
-    env = dict(os.environ, MPLBACKEND="Agg", SYNERGRASP_CACHE=str(tmp_path / "cache"), PYTHONWARNINGS="default")
+    # the examples import the package under test, not another installed copy
+    path = os.pathsep.join(filter(None, [str(EXAMPLES.parent), os.environ.get("PYTHONPATH")]))
+    env = dict(os.environ, MPLBACKEND="Agg", SYNERGRASP_CACHE=str(tmp_path / "cache"), PYTHONWARNINGS="default", PYTHONPATH=path)
     proc = subprocess.run([sys.executable, str(EXAMPLES / name), *arguments(name, out)], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=TIMEOUT)
     assert proc.returncode == 0, f"{name} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}"

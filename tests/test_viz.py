@@ -1,0 +1,26 @@
+"""Figures: the grasp gallery's layout and its bad input."""
+
+import matplotlib.image as mpimg
+import pytest
+
+import synergrasp as sg
+from synergrasp import viz
+
+
+@pytest.fixture(scope="module")
+def short_plan():
+    obj = sg.objects.ellipsoid()
+    return sg.plan(obj, "precision", max_iter=2, restarts=1), obj
+
+
+def test_gallery_grid(tmp_path, short_plan):
+    result, obj = short_plan
+    hand = sg.SynergyHand.default()
+    image = mpimg.imread(viz.plot_grasps([(result, obj, f"view {i}") for i in range(5)], hand, tmp_path / "g.png", columns=3))
+    height, width = image.shape[:2]
+    assert width == pytest.approx(3 * 2.6 * 110, abs=2) and height == pytest.approx(2 * 2.6 * 110, abs=2)
+
+
+def test_gallery_needs_a_plan(tmp_path):
+    with pytest.raises(ValueError, match="at least one"):
+        viz.plot_grasps([], sg.SynergyHand.default(), tmp_path / "g.png")
