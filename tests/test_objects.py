@@ -269,6 +269,20 @@ def test_broad_phase_pruning_never_changes_the_value(seed):
             assert r.grad[i] == pytest.approx(b.grad_a[0], abs=1e-7)
 
 
+def test_points_on_the_surface_between_pieces(backend):
+    # fcl reports a point it finds on a piece as colliding (distance -1); the broad phase
+    # must still keep that piece. Points on the cup's rim, where two slabs meet, and on
+    # the flat cut between two of its slabs.
+    cup = sg.objects.cup()
+    rim = np.array([[32.35326496, -18.01677626, 77.57033301]])
+    top = cup.bounds[1, 2]
+    cut = [v for v in np.vstack(cup.pieces) if abs(v[2] - top) > 1.0 and abs(v[2] - cup.bounds[0, 2]) > 1.0][0]
+    r = cup.contact_distance(np.vstack([rim, cut]), backend=backend)
+    assert (np.abs(r.value) < 1e-6).all()
+    brute = [min(sg.pseudo_distance([p], V, backend=backend).value for V in cup.pieces) for p in (rim[0], cut)]
+    assert r.value == pytest.approx(brute, abs=1e-7)
+
+
 def test_broad_phase_prunes_far_pieces(goblet):
     # beside the bowl the foot is far: only the bowl is solved
     r = goblet.contact_distance([[45.0, 0.0, 120.0]])

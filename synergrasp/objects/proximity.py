@@ -473,6 +473,7 @@ def _candidates(obj, P, S):
         js = np.nonzero(cand[i])[0]
         query.setTranslation(P[i])
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
+        np.maximum(exact, 0.0, out=exact)  # fcl reports -1 for a point it finds on or in a piece
         low = np.maximum(exact, lower[i, js])
         high = min(GAUGE_RATIO * exact.min(), upper[i].min()) * (1 + 1e-6) + 1e-6
         cand[i, js] = low <= high
