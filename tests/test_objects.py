@@ -274,7 +274,7 @@ def test_points_on_the_surface_between_pieces(backend):
     # must still keep that piece. Points on the cup's rim, where two slabs meet, and on
     # the flat cut between two of its slabs.
     cup = sg.objects.cup()
-    rim = np.array([[32.35326496, -18.01677626, 77.57033301]])
+    rim = np.array([[32.35326495677755, -18.01677625537442, 77.5703330116028]])
     top = cup.bounds[1, 2]
     cut = [v for v in np.vstack(cup.pieces) if abs(v[2] - top) > 1.0 and abs(v[2] - cup.bounds[0, 2]) > 1.0][0]
     r = cup.contact_distance(np.vstack([rim, cut]), backend=backend)
