@@ -90,6 +90,11 @@ class PlannerOptions:
     stall_window : int
         Iterations without progress (a lower merit: the contact errors plus
         g_sQ floored at -0.1) that end an attempt.
+    crawl_window, crawl_fraction : int, float
+        An attempt whose best merit fell by less than ``crawl_fraction`` of
+        (its size + 0.1) over the last ``crawl_window`` iterations has stalled
+        too (it creeps: fingers hovering with sQ far from negative). 0 turns
+        this test off.
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
@@ -97,6 +102,11 @@ class PlannerOptions:
         caps their iterations in all.
     start_distance : float
         Distance (mm) of the start pose from the object's centre.
+    start_clearance : float
+        The start pose is moved back along the approach, if needed, until the
+        fingertips are this far (mm) in front of the object's farthest point
+        along the approach: a long object approached along its length does not
+        start with the fingers inside it.
     max_penetration : float
         Deepest penetration of a phalanx capsule into the object (mm) allowed
         in the final grasp. A grasp that meets the paper's criterion with a
@@ -131,12 +141,16 @@ class PlannerOptions:
     max_penetration: float = 3.0
     backoffs: int = 2
     standoff: float = 20.0
+    crawl_window: int = 30
+    crawl_fraction: float = 0.05
+    start_clearance: float = 5.0
 
 
-def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0):
+def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None):
     """The default start: mean pose, palm facing the object's centre.
 
-    The palm is ``distance`` mm from the centre along ``approach`` and faces it;
+    The palm is ``distance`` mm from the centre along ``approach`` (farther if
+    ``clearance`` asks for it) and faces it;
     the hand is rolled about the approach so that the thumb-to-fingers direction
     (the palm's y axis) lies across the object's thinnest extent orthogonal to
     the approach, as a person pre-shapes a pinch. An approach within 18 degrees
@@ -152,6 +166,10 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0):
         Direction from the object's centre to the hand.
     distance : float
         mm.
+    clearance : float, optional
+        If given, the palm is moved back until the fingertips' mean depth in
+        front of the palm is at least this (mm) beyond the object's farthest
+        point along ``approach``.
 
     Returns
     -------
@@ -184,6 +202,9 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0):
     u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
     tips = hand.points(u, "precision")
     aim = np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
+    if clearance is not None:  # the fingertips start outside the object, however long it is along the approach
+        reach = max(float(np.max((p.vertices - obj.center) @ a)) for p in obj.convex)
+        distance = max(distance, reach + float(tips[:, 2].mean()) + clearance)
     u[:3] = obj.center + a * distance - R @ aim
     u[3:6] = phi
     return u
@@ -194,15 +215,16 @@ def attempt_schedule(approach=None, standoff=20.0):
 
     The caller's approach (if any) and then `APPROACHES` without a stand-off for the
     first `PLAIN_FIRST` attempts; then attempts alternate between the rest of
-    `APPROACHES` and `STANDOFF_APPROACHES` with ``standoff``. A direction equal to
-    the caller's is not repeated without a stand-off.
+    `APPROACHES` and `STANDOFF_APPROACHES`, the latter with ``standoff`` and half
+    of it in turn (which one works varies from object to object). A direction
+    equal to the caller's is not repeated without a stand-off.
 
     Parameters
     ----------
     approach : (3,) float, optional
         The caller's first direction (object centre to hand).
     standoff : float
-        Stand-off (mm) of the alternate attempts.
+        Largest stand-off (mm) of the alternate attempts.
 
     Returns
     -------
@@ -222,7 +244,7 @@ def attempt_schedule(approach=None, standoff=20.0):
         plain = [a] + [d for d in plain if not same(d)]
     schedule = [(d, 0.0) for d in plain[:PLAIN_FIRST]]
     rest = [(d, 0.0) for d in plain[PLAIN_FIRST:]]
-    aside = [(tuple(d), float(standoff)) for d in STANDOFF_APPROACHES] if standoff > 0 else []
+    aside = [(tuple(d), float(standoff) * (1.0 if k % 2 == 0 else 0.5)) for k, d in enumerate(STANDOFF_APPROACHES)] if standoff > 0 else []
     for k in range(max(len(rest), len(aside))):
         schedule += rest[k : k + 1] + aside[k : k + 1]
     return schedule
@@ -282,6 +304,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
     rows_of = {seg: [i for i, lab in enumerate(labels) if lab == seg] or [i for i, lab in enumerate(labels) if lab[0] == seg[0]]
                for seg in geo.labels}
     backoff, backoffs, depth = np.zeros(n), 0, None
+    bests = []
     for _ in range(budget):
         if chk.done:
             geo = hand.segments(u)
@@ -294,7 +317,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
             for seg, d in zip(geo.labels, pen.depths):
                 if d > opts.max_penetration:
                     backoff[rows_of[seg]] = np.maximum(backoff[rows_of[seg]], d)
-            best, stalled = np.inf, 0
+            best, stalled, bests = np.inf, 0, []
         depth = None
         target = np.full(n + 1, opts.contact_target + standoff * np.clip(st.g[-1], 0.0, 1.0))
         target[:-1] += backoff
@@ -330,9 +353,15 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
             best, stalled = merit, 0
         else:
             stalled += 1
+        bests.append(best)
         if stalled >= opts.stall_window:
             reason = f"stalled (no progress in {opts.stall_window} iterations)"
             break
+        if opts.crawl_window and len(bests) > opts.crawl_window:
+            before = bests[-1 - opts.crawl_window]
+            if before - best < opts.crawl_fraction * (abs(before) + 0.1):
+                reason = f"stalled (merit down less than {opts.crawl_fraction:.0%} in {opts.crawl_window} iterations)"
+                break
     if depth is None:
         geo = hand.segments(u)
         depth = obj.penetration(geo.capsules, geo.radius).depth
@@ -411,7 +440,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
     else:
         first = as_vector(approach, "approach", 3) if approach is not None else None
-        starts = [(start_configuration(hand, obj, d, opts.start_distance), standoff)
+        starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
                   for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]]
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
