@@ -4,11 +4,12 @@ import warnings
 
 import numpy as np
 import pytest
+import trimesh
 
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.hand import SynergyHand
-from synergrasp.planner import PlanResult, check_grasp, grasp_status, plan, start_configuration
+from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, start_configuration
 from synergrasp.planner.status import Status
 
 from .conftest import BACKENDS
@@ -106,6 +107,45 @@ def test_power_plan_has_a_palm_contact():
     verify(r, obj)
     assert "P" in r.contact_labels and len(r.contact_points) >= 4
     assert r.status.shape[1] == 17
+
+
+@pytest.mark.parametrize(
+    "obj",
+    [so.ellipsoid(33.0, 33.0, 33.0), so.from_mesh(trimesh.creation.box((45.0, 170.0, 22.0)), name="flat bar", cache=False)],
+    ids=["sphere", "flat bar"],
+)
+def test_precision_plan_of_household_shapes(obj):
+    r = plan(obj, "precision")
+    verify(r, obj)
+    assert len(r.contact_points) >= 3 and "P" not in r.contact_labels
+    assert r.total_iterations <= 600
+
+
+def test_a_sphere_needs_the_stand_off():
+    obj = so.ellipsoid(33.0, 33.0, 33.0)
+    r = plan(obj, "precision")
+    assert r.success and r.attempts[-1]["standoff"] > 0  # the fingertips land on the near side otherwise
+    assert all(a["standoff"] == 0 for a in r.attempts[:2])
+
+
+def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():
+    obj = so.revolve(np.array([[38.0, 0.0], [41.0, 95.0]]), name="mug body")
+    rejected = plan(obj, "precision", restarts=1, backoffs=0)
+    assert not rejected.success and "phalanx penetrates" in rejected.reason
+    r = plan(obj, "precision", restarts=1)
+    verify(r, obj)
+    assert r.iterations > rejected.iterations
+
+
+def test_attempt_schedule():
+    plain = attempt_schedule(standoff=0.0)
+    assert [d for d, _ in plain] == [tuple(d) for d in sg.planner.APPROACHES] and all(s == 0 for _, s in plain)
+    mine = (1.0, 0.0, 0.5)  # one of APPROACHES: first, and not tried again without a stand-off
+    schedule = attempt_schedule(mine, 20.0)
+    assert schedule[0] == (mine, 0.0)
+    assert sum(1 for d, s in schedule if s == 0 and np.allclose(d, mine)) == 1
+    assert [s for _, s in schedule[:8]] == [0.0, 0.0, 0.0, 20.0, 0.0, 10.0, 0.0, 20.0]
+    assert len(schedule) == len(sg.planner.APPROACHES) + len(sg.planner.STANDOFF_APPROACHES)
 
 
 def test_save_load_round_trip(goblet_plan, tmp_path):
