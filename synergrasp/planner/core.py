@@ -86,6 +86,21 @@ class PlannerOptions:
         phalanx deeper than this (the status vector watches only the hand
         points, not the phalanges between them) is rejected and the next
         approach direction is tried.
+    power_phases : bool
+        Power grasps only: reach with the palm, then wrap. While the palm point
+        is not in contact the finger rows are left out of the step (except
+        those of penetrating segments, kept in the first priority level) and
+        the synergies hold their pre-shape, so the open hand is carried palm
+        first to the surface; once the palm touches, its row joins the first
+        priority level and keeps it on the surface while the synergies close
+        the fingers. A grasp meeting the criterion with a phalanx deeper than
+        ``max_penetration`` does not stop the attempt: the iteration goes on
+        and the penetrating segments' rows push the phalanx out.
+    power_preshape : tuple of float or None
+        Synergy values of the default start poses of a power grasp (one per
+        synergy): (0, 1) cups the paper's hand open (the second synergy opens
+        the fingers). None keeps the mean pose (z = 0). Ignored when ``u0``
+        is given.
     """
 
     eps_c: float = 5.0
@@ -102,6 +117,8 @@ class PlannerOptions:
     restarts: int = 12
     start_distance: float = 150.0
     max_penetration: float = 3.0
+    power_phases: bool = True
+    power_preshape: tuple | None = (0.0, 1.0)
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0):
@@ -198,6 +215,11 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
         palm = lambda: float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])  # noqa: E731
         chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
                           palm_distance=palm if kind == "precision" else None)
+        if chk.done and kind == "power" and opts.power_phases:
+            # not done while a phalanx is in the object: its pad line, penetrating, pushes it out
+            geo = hand.segments(u)
+            if obj.penetration(geo.capsules, geo.radius).depth > opts.max_penetration:
+                chk = replace(chk, done=False)
         return st, chk
 
     u = np.array(u0, dtype=float)
@@ -214,10 +236,19 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
             break
         target = np.full(n + 1, opts.contact_target)
         target[-1] = max(-1.0, st.g[-1] - opts.sq_step)
-        e = row_scale * (target - st.g)
-        J = row_scale[:, None] * st.J * scale_u
         first = np.r_[st.g[:-1] < 0.0, True]  # first priority: sQ and penetrating hand points
-        du = limited_step(J, e, u[6:], hand.synergy_limits, first)
+        active, reaching = np.ones(n + 1, bool), False
+        if kind == "power" and opts.power_phases:
+            if st.g[-2] < opts.eps_c:  # wrap: the palm has touched, it stays on the surface
+                first[-2] = True
+            else:  # reach: the palm leads with the hand held open, the fingers only kept out of the object
+                active[:-2] = st.g[:-2] < 0.0
+                reaching = True
+        e = active * row_scale * (target - st.g)
+        J = (active * row_scale)[:, None] * st.J * scale_u
+        if reaching:
+            J[:, 6:] = 0.0  # the synergies keep their pre-shape
+        du = limited_step(J[active], e[active], u[6:], hand.synergy_limits, first[active])
         step = np.abs(du).max()
         if step > radius:
             du *= radius / step
@@ -227,7 +258,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress):
         solves += st_new.lp_solves + chk_new.lp_solves
         # adaptive step length: compare the achieved with the predicted change of the residual
         before = np.sum(e**2)
-        after = np.sum((row_scale * (target - st_new.g)) ** 2)
+        after = np.sum((active * row_scale * (target - st_new.g)) ** 2)
         predicted = np.sum((e - J @ ((u_new - u) / scale_u)) ** 2)
         ratio = (before - after) / max(before - predicted, 1e-15)
         if ratio > 0.75:
@@ -320,12 +351,23 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
+    if grasp == "power" and opts.power_preshape is not None:
+        preshape = np.asarray(opts.power_preshape, dtype=float)
+        if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
+            raise ValueError(
+                f"power_preshape must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
+                f"got {opts.power_preshape!r}; pass power_preshape=None to start from the mean pose"
+            )
+        preshape = np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
     if u0 is not None:
         starts = [as_vector(u0, "u0", hand.n_u)]
     else:
         first = [tuple(as_vector(approach, "approach", 3))] if approach is not None else []
         dirs = first + [d for d in APPROACHES if not first or not np.allclose(np.cross(d, first[0]), 0) or np.dot(d, first[0]) < 0]
         starts = [start_configuration(hand, obj, d, opts.start_distance) for d in dirs[: opts.restarts]]
+        if grasp == "power" and opts.power_preshape is not None:
+            for u_start in starts:
+                u_start[6:] = preshape
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
     for u_start in starts:
@@ -367,6 +409,6 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         backend=get_backend(backend).name,
         grasp=grasp,
         object_name=getattr(obj, "name", ""),
-        options=asdict(opts),
+        options={k: list(v) if isinstance(v, tuple) else v for k, v in asdict(opts).items()},  # as JSON keeps them
         attempts=attempts,
     )
