@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..objects.proximity import cp_bounds
 from ..quality import q_distance
 
 
@@ -128,7 +129,10 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
     (`SynergyHand.skin_and_jacobian`: both ends, the middle, the palmar and
     the two lateral sides), so a phalanx whose end or side dips into the
     object reads as penetrating. Its derivative is that of the skin point
-    attaining the minimum. All points are one call of
+    attaining the minimum. Skin points whose lower bound of cP exceeds an
+    upper bound of another point of the same segment cannot attain it and
+    are left out (`synergrasp.objects.proximity.cp_bounds`, valid bounds, so
+    the rows are unchanged); the rest are one call of
     `GraspObject.contact_distance` (one LP).
 
     Parameters
@@ -159,10 +163,17 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
     (16, 8)
     """
     k, m = skin.shape[:2]
-    cp = obj.contact_distance(np.vstack([skin.reshape(-1, 3), palm]), backend=backend)
-    rows = m * np.arange(k) + cp.value[:-1].reshape(k, m).argmin(axis=1)
-    jac = np.einsum("ka,kab->kb", cp.grad[rows], jac_skin.reshape(k * m, 3, -1)[rows])
-    rows = np.r_[rows, k * m]
+    points = skin.reshape(-1, 3)
+    lower, upper = (b.reshape(k, m) for b in cp_bounds(obj, points))
+    candidate = lower <= upper.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-9
+    index = np.flatnonzero(candidate)  # skin points that can be their segment's minimum
+    cp = obj.contact_distance(np.vstack([points[index], palm]), backend=backend)
+    values = np.full(k * m, np.inf)
+    values[index] = cp.value[:-1]
+    best = m * np.arange(k) + values.reshape(k, m).argmin(axis=1)
+    rows = np.searchsorted(index, best)  # rows of cp
+    jac = np.einsum("ka,kab->kb", cp.grad[rows], jac_skin.reshape(k * m, 3, -1)[best])
+    rows = np.r_[rows, len(index)]
     return PadDistance(
         value=cp.value[rows],
         jac=np.vstack([jac, cp.grad[-1] @ jac_palm]),
