@@ -41,6 +41,9 @@ __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 POINT_KINDS = ("precision", "power")
 
 _DEFAULT_FILE = "paper_hand.json"
+#: Skin points of a segment: fractions along its axis, and angles round it from the palmar side.
+SKIN_ALONG = (0.0, 0.5, 1.0)
+SKIN_AROUND = (-math.pi / 2, 0.0, math.pi / 2)
 
 
 def rotation_xyz(phi):
@@ -324,6 +327,10 @@ class SynergyHand:
             # the two ends of every capsule (on the axis), for collision avoidance
             "_capsules": [(f"{self.finger_names[c]}{k}{end}", {node[c, j + e]: 1.0}, c, j + 1)
                           for c, k, j in segments for e, end in ((0, "a"), (1, "b"))],
+            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then the palm point
+            "_skin": [(f"{self.finger_names[c]}{k}", {node[c, j]: 1.0 - t, node[c, j + 1]: t}, c, j + 1)
+                      for c, k, j in segments for t in SKIN_ALONG for _ in SKIN_AROUND]
+                     + [("P", {n_nodes - 1: 1.0}, 0, 0)],
         }
         # the palmar side of link j: where its far end moves when joint j flexes, axis_j x e_y
         palmar = np.cross(self._axes, [0.0, 1.0, 0.0])
@@ -333,6 +340,7 @@ class SynergyHand:
             "precision": [(c, last[c]) for c in range(n_c)],
             "power": [(c, j) for c, _, j in segments] + [None],
             "_capsules": [None] * (2 * len(segments)),
+            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND] + [None],
         }
         self._kinds = {}
         for kind, rows in points.items():
@@ -347,10 +355,12 @@ class SynergyHand:
             offset = np.zeros((len(rows), 3))       # in that frame
             for i, link in enumerate(links[kind]):
                 if link is not None:
-                    c, j = link
+                    c, j = link[:2]
                     frame[i] = c * (n_j + 1) + j + 1
                     # fingertips touch with the front of the pad, halfway round the tip's cap
                     side = palmar[c, j] + (np.array([0.0, 1.0, 0.0]) if kind == "precision" else 0.0)
+                    if len(link) == 3:  # round the segment from the palmar side towards its joint axis
+                        side = np.cos(link[2]) * palmar[c, j] + np.sin(link[2]) * self._axes[c, j]
                     offset[i] = self.contact_offset * side / np.linalg.norm(side)
             self._kinds[kind] = (select, q_z_masked, [r[0] for r in rows], frame, offset)
 
@@ -451,7 +461,7 @@ class SynergyHand:
         return u
 
     def _check_kind(self, kind):
-        if kind not in self._kinds or (kind.startswith("_") and kind != "_capsules"):
+        if kind not in self._kinds or (kind.startswith("_") and kind not in ("_capsules", "_skin")):
             raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
         return self._kinds[kind]
 
@@ -644,6 +654,48 @@ class SynergyHand:
         """
         points, jac = self.points_and_jacobian(u, "_capsules")
         return points.reshape(-1, 2, 3), jac.reshape(-1, 2, 3, self.n_u)
+
+    def skin_and_jacobian(self, u):
+        """Points on the skin of every segment and the palm point, with their Jacobians.
+
+        Each segment carries ``len(SKIN_ALONG) * len(SKIN_AROUND)`` points:
+        at the fractions `SKIN_ALONG` of its axis, ``contact_offset`` mm from
+        the axis towards the angles `SKIN_AROUND` (0: the palmar side, where
+        the power point sits; +-pi/2: the two lateral sides, along the joint
+        axis). With ``contact_offset`` equal to the finger radius they lie on
+        the phalanx capsule's surface.
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+
+        Returns
+        -------
+        skin : (k, m, 3) float
+            The k segments' m skin points, segments in the order of the power points.
+        palm : (3,) float
+            The palm point P.
+        jacobian : (k, m, 3, 6 + n_syn) float
+            ``d skin / d u``.
+        palm_jacobian : (3, 6 + n_syn) float
+            ``d palm / d u``.
+
+        Examples
+        --------
+        The power points are the palmar skin points halfway along the segments:
+
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.3, 0.5, -0.4])
+        >>> skin, palm, jac, palm_jac = hand.skin_and_jacobian(u)
+        >>> skin.shape, jac.shape
+        ((15, 9, 3), (15, 9, 3, 8))
+        >>> bool(np.allclose(skin[:, 4], hand.points(u, "power")[:-1]))
+        True
+        """
+        points, jac = self.points_and_jacobian(u, "_skin")
+        k, m = (len(points) - 1) // (len(SKIN_ALONG) * len(SKIN_AROUND)), len(SKIN_ALONG) * len(SKIN_AROUND)
+        return points[:-1].reshape(k, m, 3), points[-1], jac[:-1].reshape(k, m, 3, self.n_u), jac[-1]
 
     def segments(self, u):
         """Capsules of the phalanges and the palm box, in the world frame.

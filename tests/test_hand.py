@@ -339,3 +339,21 @@ def test_segment_end_jacobians_match_finite_differences(hand):
             step[k] = 1e-6
             fd = (hand.segments_and_jacobian(u + step)[0] - hand.segments_and_jacobian(u - step)[0]) / 2e-6
             np.testing.assert_allclose(jac[..., k], fd, atol=1e-6)
+
+
+def test_skin_points_lie_on_the_capsules_and_their_jacobians_match_finite_differences(hand):
+    for u in random_configs(3, seed=12):
+        skin, palm, jac, palm_jac = hand.skin_and_jacobian(u)
+        capsules = hand.segments(u).capsules
+        a, b = capsules[:, None, 0], capsules[:, None, 1]
+        t = np.clip(np.einsum("kma,kma->km", skin - a, b - a) / np.einsum("kma,kma->km", b - a, b - a), 0, 1)
+        to_axis = np.linalg.norm(skin - (a + t[..., None] * (b - a)), axis=-1)
+        np.testing.assert_allclose(to_axis, hand.finger_radius, atol=1e-9)  # on the capsule surface
+        np.testing.assert_allclose(skin[:, 4], hand.points(u, "power")[:-1], atol=1e-12)  # palmar middle = power point
+        np.testing.assert_allclose(palm, hand.points(u, "power")[-1], atol=1e-12)
+        for k in range(len(u)):
+            step = np.zeros(len(u))
+            step[k] = 1e-6
+            plus, minus = hand.skin_and_jacobian(u + step), hand.skin_and_jacobian(u - step)
+            np.testing.assert_allclose(jac[..., k], (plus[0] - minus[0]) / 2e-6, atol=1e-6)
+            np.testing.assert_allclose(palm_jac[:, k], (plus[1] - minus[1]) / 2e-6, atol=1e-6)

@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 import synergrasp as sg
 import synergrasp.objects as so
-from synergrasp.objects.proximity import MAX_LP_COLUMNS
+from synergrasp.objects.proximity import MAX_LP_COLUMNS, cp_bounds
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -281,6 +281,19 @@ def test_points_on_the_surface_between_pieces(backend):
     assert (np.abs(r.value) < 1e-6).all()
     brute = [min(sg.pseudo_distance([p], V, backend=backend).value for V in cup.pieces) for p in (rim[0], cut)]
     assert r.value == pytest.approx(brute, abs=1e-7)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_cp_bounds_bracket_the_value(seed):
+    obj, rng = _random_object(seed)
+    pts = rng.uniform(-70, 70, size=(8, 3))
+    pts[:2] = obj.pieces[0].mean(axis=0) + rng.normal(size=(2, 3))  # inside or near a piece
+    lower, upper = cp_bounds(obj, pts)
+    value = obj.contact_distance(pts).value
+    tol = 1e-7 * (1 + np.abs(value))
+    assert np.all(lower <= value + tol) and np.all(value <= upper + tol)
+    assert np.all(np.isfinite(upper)) and np.isfinite(lower).any()
 
 
 def test_broad_phase_prunes_far_pieces(goblet):

@@ -10,7 +10,7 @@ import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.hand import SynergyHand
 from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, start_configuration
-from synergrasp.planner.status import Status
+from synergrasp.planner.status import Status, segment_distance
 
 from .conftest import BACKENDS
 from .test_quality import hull_contains_origin
@@ -49,6 +49,25 @@ def test_status_jacobian_matches_finite_differences(hand, ellipsoid, kind):
               - grasp_status(hand, ellipsoid, um, kind, smoothing=smoothing).g) / (2 * h[k])
         scale = np.maximum(np.abs(fd), 1e-3)
         assert np.all(np.abs(st.J[:, k] - fd) <= 1e-4 * scale + 1e-6), (k, st.J[:, k], fd)
+
+
+def test_a_power_row_is_the_deepest_skin_point_of_its_segment(hand, ellipsoid, backend):
+    u = near_start(hand, ellipsoid, distance=60.0)
+    skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(u)
+    rows = segment_distance(ellipsoid, skin, palm, jac_skin, jac_palm, backend)
+    every = ellipsoid.contact_distance(skin.reshape(-1, 3), backend=backend).value.reshape(skin.shape[:2])
+    np.testing.assert_allclose(rows.value[:-1], every.min(axis=1), atol=1e-6)
+    np.testing.assert_allclose(rows.value[-1], ellipsoid.contact_distance(palm[None], backend=backend).value[0], atol=1e-6)
+    # some phalanx dips in with its skin while its power point (the palmar middle) is still outside
+    mid = every[:, 4]
+    assert np.any((rows.value[:-1] < 0) & (mid > 0)) and (rows.value < 0).any()
+
+
+def test_power_rows_see_a_phalanx_end_in_the_object(hand, ellipsoid):
+    u = near_start(hand, ellipsoid, distance=60.0)
+    st = grasp_status(hand, ellipsoid, u, "power")
+    depth = ellipsoid.penetration(hand.segments(u).capsules, hand.finger_radius).depths
+    assert (depth > 5.0).any() and np.all(st.g[:-2][depth > 5.0] < 0.0)  # a phalanx 5 mm deep reads as penetrating
 
 
 def fake_status(cp, sq=0.0):
@@ -148,6 +167,21 @@ def test_attempt_schedule():
     assert len(schedule) == len(sg.planner.APPROACHES) + len(sg.planner.STANDOFF_APPROACHES)
 
 
+def test_power_plan_reaches_with_the_palm_then_wraps():
+    obj = so.goblet()
+    r = plan(obj, "power", approach=(0.0, 0.0, 1.0), restarts=1)
+    verify(r, obj)
+    assert "P" in r.contact_labels and len(r.attempts) == 1
+    touch = int(np.argmax(r.status[:, -2] < 5.0))  # first palm contact
+    assert touch > 0 and np.all(r.trajectory[: touch + 1, 6:] == [0.0, 1.0])  # the pre-shape held while reaching
+    assert np.any(r.trajectory[touch + 1 :, 6:] != [0.0, 1.0])  # then the synergies close the fingers
+
+
+def test_power_plans_without_phases_keep_the_mean_pose_start(hand, ellipsoid):
+    r = plan(ellipsoid, "power", max_iter=1, power_phases=False, power_preshape=None)
+    np.testing.assert_array_equal(r.trajectory[0, 6:], np.zeros(2))
+
+
 def test_save_load_round_trip(goblet_plan, tmp_path):
     path = goblet_plan.save(tmp_path / "plan.json")
     back = PlanResult.load(path)
@@ -174,6 +208,15 @@ def test_first_iterations_agree_on_every_backend(hand):
         np.testing.assert_allclose(r.trajectory[:k], reference[:k], atol=1e-6, err_msg=name)
 
 
+def test_first_power_iterations_agree_on_every_backend(hand):
+    obj = so.ellipsoid()
+    runs = {name: plan(obj, "power", backend=name, approach=(1.0, -1.0, 1.0), max_iter=20) for name in BACKENDS}
+    reference = runs["highs"].trajectory
+    for name, r in runs.items():
+        k = min(len(r.trajectory), len(reference))
+        np.testing.assert_allclose(r.trajectory[:k], reference[:k], atol=1e-6, err_msg=name)
+
+
 def test_the_caller_chooses_the_approach(hand, ellipsoid):
     a = plan(ellipsoid, "precision", approach=(0.0, 0.0, 1.0), max_iter=1)
     u = a.trajectory[0]
@@ -193,6 +236,7 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"max_iter": 0}, "max_iter must be >= 1"),
         ({"backend": "simplex"}, "unknown LP backend"),
         ({"stepsize": 3}, "unknown planner options"),
+        ({"grasp": "power", "power_preshape": (0.0, 1.0, 0.5)}, "power_preshape must hold one finite value per synergy"),
     ],
 )
 def test_bad_input(ellipsoid, kwargs, match):

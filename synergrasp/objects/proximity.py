@@ -481,6 +481,41 @@ def _candidates(obj, P, S):
     return cand, bound
 
 
+def cp_bounds(obj, points):
+    """Cheap lower and upper bounds of the cP of points, without an LP.
+
+    The bounds of the broad phase (see `_candidates`), taken over all pieces:
+    outside the object ``max(plane bound, gauge support bound) <= cP <=
+    min(3 x nearest-vertex distance, gauge to the nearest vertex)``; inside a
+    piece ``-inf < cP <= 0``.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    points : (n, 3) float
+
+    Returns
+    -------
+    lower, upper : (n,) float
+
+    Examples
+    --------
+    >>> from synergrasp import objects
+    >>> obj = objects.ellipsoid()
+    >>> lower, upper = cp_bounds(obj, [[0.0, 0.0, 80.0], [0.0, 0.0, 0.0]])
+    >>> value = obj.contact_distance([[0.0, 0.0, 80.0]]).value[0]
+    >>> bool(lower[0] <= value <= upper[0]), bool(lower[1] == -np.inf), bool(upper[1] == 0.0)
+    (True, True, True)
+    """
+    P = _check_points(points)
+    S = obj._plane_bounds(P)
+    PQ = P @ _Q.T
+    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2)).min(axis=1)
+    upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ)).min(axis=1)
+    inside = (S <= 0.0).any(axis=1)
+    return np.where(inside, -np.inf, lower), np.where(inside, 0.0, upper)
+
+
 def _exit_facets(D, a, tol=1e-9):
     """Facets through which rays leave a piece.
 

@@ -123,6 +123,21 @@ class PlannerOptions:
         predicted grasp is poor: ``standoff * clip(g_sQ, 0, 1)``. The fingertips
         stay clear of the near side of the object until sQ says they surround
         it, instead of landing on it (a local minimum of sQ); spheres need it.
+    power_phases : bool
+        Power grasps only: reach with the palm, then wrap. While the palm point
+        is not in contact the finger rows are left out of the step (except
+        those of penetrating segments, kept in the first priority level) and
+        the synergies hold their pre-shape, so the open hand is carried palm
+        first to the surface; once the palm touches, its row joins the first
+        priority level and keeps it on the surface while the synergies close
+        the fingers. A grasp meeting the criterion with a phalanx deeper than
+        ``max_penetration`` does not stop the attempt: the iteration goes on
+        and the penetrating segments' rows push the phalanx out.
+    power_preshape : tuple of float or None
+        Synergy values of the default start poses of a power grasp (one per
+        synergy): (0, 1) cups the paper's hand open (the second synergy opens
+        the fingers). None keeps the mean pose (z = 0). Ignored when ``u0``
+        is given.
     """
 
     eps_c: float = 5.0
@@ -144,6 +159,8 @@ class PlannerOptions:
     crawl_window: int = 30
     crawl_fraction: float = 0.05
     start_clearance: float = 5.0
+    power_phases: bool = True
+    power_preshape: tuple | None = (0.0, 1.0)
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None):
@@ -288,6 +305,11 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         palm = lambda: float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])  # noqa: E731
         chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
                           palm_distance=palm if kind == "precision" else None)
+        if chk.done and kind == "power" and opts.power_phases:
+            # not done while a phalanx is in the object: its penetrating row pushes it out
+            geo = hand.segments(u)
+            if obj.penetration(geo.capsules, geo.radius).depth > opts.max_penetration:
+                chk = replace(chk, done=False)
         return st, chk
 
     u = np.array(u0, dtype=float)
@@ -322,10 +344,19 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         target = np.full(n + 1, opts.contact_target + standoff * np.clip(st.g[-1], 0.0, 1.0))
         target[:-1] += backoff
         target[-1] = max(-1.0, st.g[-1] - opts.sq_step)
-        e = row_scale * (target - st.g)
-        J = row_scale[:, None] * st.J * scale_u
         first = np.r_[st.g[:-1] < 0.0, True]  # first priority: sQ and penetrating hand points
-        du = limited_step(J, e, u[6:], hand.synergy_limits, first)
+        active, reaching = np.ones(n + 1, bool), False
+        if kind == "power" and opts.power_phases:
+            if st.g[-2] < opts.eps_c:  # wrap: the palm has touched, it stays on the surface
+                first[-2] = True
+            else:  # reach: the palm leads with the hand held open, the fingers only kept out of the object
+                active[:-2] = st.g[:-2] < 0.0
+                reaching = True
+        e = active * row_scale * (target - st.g)
+        J = (active * row_scale)[:, None] * st.J * scale_u
+        if reaching:
+            J[:, 6:] = 0.0  # the synergies keep their pre-shape
+        du = limited_step(J[active], e[active], u[6:], hand.synergy_limits, first[active])
         step = np.abs(du).max()
         if step > radius:
             du *= radius / step
@@ -335,7 +366,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         solves += st_new.lp_solves + chk_new.lp_solves
         # adaptive step length: compare the achieved with the predicted change of the residual
         before = np.sum(e**2)
-        after = np.sum((row_scale * (target - st_new.g)) ** 2)
+        after = np.sum((active * row_scale * (target - st_new.g)) ** 2)
         predicted = np.sum((e - J @ ((u_new - u) / scale_u)) ** 2)
         ratio = (before - after) / max(before - predicted, 1e-15)
         if ratio > 0.75:
@@ -358,8 +389,8 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
             reason = f"stalled (no progress in {opts.stall_window} iterations)"
             break
         if opts.crawl_window and len(bests) > opts.crawl_window:
-            before = bests[-1 - opts.crawl_window]
-            if before - best < opts.crawl_fraction * (abs(before) + 0.1):
+            earlier = bests[-1 - opts.crawl_window]
+            if earlier - best < opts.crawl_fraction * (abs(earlier) + 0.1):
                 reason = f"stalled (merit down less than {opts.crawl_fraction:.0%} in {opts.crawl_window} iterations)"
                 break
     if depth is None:
@@ -436,12 +467,24 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
+    if grasp == "power" and opts.power_preshape is not None:
+        preshape = np.asarray(opts.power_preshape, dtype=float)
+        if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
+            raise ValueError(
+                f"power_preshape must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
+                f"got {opts.power_preshape!r}; pass power_preshape=None to start from the mean pose"
+            )
+        preshape = np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
     if u0 is not None:
         starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
     else:
         first = as_vector(approach, "approach", 3) if approach is not None else None
+        schedule = attempt_schedule(first, opts.standoff if grasp == "precision" else 0.0)
         starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
-                  for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]]
+                  for d, standoff in schedule[: opts.restarts]]
+        if grasp == "power" and opts.power_preshape is not None:
+            for u_start, _ in starts:
+                u_start[6:] = preshape
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
     for u_start, standoff in starts:
@@ -483,6 +526,6 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         backend=get_backend(backend).name,
         grasp=grasp,
         object_name=getattr(obj, "name", ""),
-        options=asdict(opts),
+        options={k: list(v) if isinstance(v, tuple) else v for k, v in asdict(opts).items()},  # as JSON keeps them
         attempts=attempts,
     )

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..objects.proximity import cp_bounds
 from ..quality import q_distance
 
 
@@ -97,6 +98,92 @@ def smoothed_normals(obj, x, pieces, length):
     return -n_out, -(projector @ dm) / norm[:, None, None]
 
 
+@dataclass(frozen=True)
+class PadDistance:
+    """cP rows of the status: one per watched hand point or pad line.
+
+    Attributes
+    ----------
+    value : (n,) float
+        cP (mm).
+    jac : (n, len(u)) float
+        d value / d u.
+    nearest : (n, 3) float
+        Nearest object point.
+    normal : (n, 3) float
+        Inward object normal there.
+    lp_solves : int
+    """
+
+    value: np.ndarray
+    jac: np.ndarray
+    nearest: np.ndarray
+    normal: np.ndarray
+    lp_solves: int
+
+
+def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> PadDistance:
+    """cP of the phalanges and of the palm point (the power grasp's contact rows).
+
+    A phalanx touches an object anywhere on its skin, not only at one point:
+    the cP of a segment is the smallest cP of its skin points
+    (`SynergyHand.skin_and_jacobian`: both ends, the middle, the palmar and
+    the two lateral sides), so a phalanx whose end or side dips into the
+    object reads as penetrating. Its derivative is that of the skin point
+    attaining the minimum. Skin points whose lower bound of cP exceeds an
+    upper bound of another point of the same segment cannot attain it and
+    are left out (`synergrasp.objects.proximity.cp_bounds`, valid bounds, so
+    the rows are unchanged); the rest are one call of
+    `GraspObject.contact_distance` (one LP).
+
+    Parameters
+    ----------
+    obj : GraspObject
+    skin : (k, m, 3) float
+        Skin points of each segment.
+    palm : (3,) float
+        The palm point.
+    jac_skin : (k, m, 3, nu) float
+        d skin / d u.
+    jac_palm : (3, nu) float
+        d palm / d u.
+    backend : str
+
+    Returns
+    -------
+    PadDistance
+        k + 1 rows: the segments, then the palm point.
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> from synergrasp.planner import start_configuration
+    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
+    >>> skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(start_configuration(hand, obj))
+    >>> segment_distance(obj, skin, palm, jac_skin, jac_palm).jac.shape
+    (16, 8)
+    """
+    k, m = skin.shape[:2]
+    points = skin.reshape(-1, 3)
+    lower, upper = (b.reshape(k, m) for b in cp_bounds(obj, points))
+    candidate = lower <= upper.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-9
+    index = np.flatnonzero(candidate)  # skin points that can be their segment's minimum
+    cp = obj.contact_distance(np.vstack([points[index], palm]), backend=backend)
+    values = np.full(k * m, np.inf)
+    values[index] = cp.value[:-1]
+    best = m * np.arange(k) + values.reshape(k, m).argmin(axis=1)
+    rows = np.searchsorted(index, best)  # rows of cp
+    jac = np.einsum("ka,kab->kb", cp.grad[rows], jac_skin.reshape(k * m, 3, -1)[best])
+    rows = np.r_[rows, len(index)]
+    return PadDistance(
+        value=cp.value[rows],
+        jac=np.vstack([jac, cp.grad[-1] @ jac_palm]),
+        nearest=cp.nearest[rows],
+        normal=cp.normal[rows],
+        lp_solves=cp.lp_solves,
+    )
+
+
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
@@ -126,8 +213,14 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     >>> st.g.shape, st.J.shape
     ((6,), (6, 8))
     """
-    points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
-    cp = obj.contact_distance(points, backend=backend)
+    if kind == "power":
+        skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(u)
+        points, jac = hand.points_and_jacobian(u, kind)
+        cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)
+    else:
+        points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
+        cp = obj.contact_distance(points, backend=backend)
+        cp = PadDistance(cp.value, np.einsum("ia,iab->ib", cp.grad, jac), cp.nearest, cp.normal, cp.lp_solves)
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:
         normals, jac_n = smoothed_normals(obj, sc.contact, sc.piece, smoothing)
@@ -139,7 +232,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     )
     # d g_sQ / d p_i through the contact carried back to the object and its normal
     grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
-    J = np.vstack([np.einsum("ia,iab->ib", cp.grad, jac), np.einsum("ia,iab->b", grad_sq, jac)])
+    J = np.vstack([cp.jac, np.einsum("ia,iab->b", grad_sq, jac)])
     return Status(
         g=np.append(cp.value, sq.value),
         J=J,
