@@ -165,6 +165,16 @@ def test_attempt_schedule():
     assert sum(1 for d, s in schedule if s == 0 and np.allclose(d, mine)) == 1
     assert [s for _, s in schedule[:8]] == [0.0, 0.0, 0.0, 20.0, 0.0, 10.0, 0.0, 20.0]
     assert len(schedule) == len(sg.planner.APPROACHES) + len(sg.planner.STANDOFF_APPROACHES)
+    power = attempt_schedule(None, 0.0, sg.planner.POWER_APPROACHES)
+    assert [d for d, _ in power] == [tuple(d) for d in sg.planner.POWER_APPROACHES]
+
+
+def test_power_plans_follow_the_power_order():
+    r = plan(so.ellipsoid(), "power", max_iter=2, restarts=2)
+    starts = [np.array(a["start"][:3]) - so.ellipsoid().center for a in r.attempts]
+    for start, d in zip(starts, sg.planner.POWER_APPROACHES):
+        d = np.array(d) / np.linalg.norm(d)
+        assert start @ d / np.linalg.norm(start) > 0.9  # the palm starts on the side of that direction
 
 
 def test_power_plan_reaches_with_the_palm_then_wraps():

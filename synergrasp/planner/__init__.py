@@ -1,12 +1,13 @@
 """The reach-to-grasp planner (paper Sec. 3.2): status vector, step, stop rules, results."""
 
-from .core import APPROACHES, GRASPS, STANDOFF_APPROACHES, PlannerOptions, attempt_schedule, plan, start_configuration
+from .core import APPROACHES, GRASPS, POWER_APPROACHES, STANDOFF_APPROACHES, PlannerOptions, attempt_schedule, plan, start_configuration
 from .result import PlanResult
 from .status import Status, grasp_status, smoothed_normals
 from .stop import GraspCheck, check_grasp
 
 __all__ = [
     "APPROACHES",
+    "POWER_APPROACHES",
     "STANDOFF_APPROACHES",
     "attempt_schedule",
     "GRASPS",
