@@ -88,7 +88,8 @@ def main(argv=None):
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="plan only these objects")
     parser.add_argument("--docs", action="store_true",
-                        help=f"write the table to {PAGE.relative_to(ROOT)} and the galleries to {FIGURES.relative_to(ROOT)}")
+                        help=f"write the table to {PAGE.relative_to(ROOT)}, the galleries to {FIGURES.relative_to(ROOT)} "
+                             "and the rates to the README")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
     groups = {"meshes": _files(MESHES, 1.0), "shapes": household_objects()}
@@ -141,6 +142,7 @@ def _rate(rows, grasp, groups):
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "household-objects.md"
 FIGURES = ROOT / "docs" / "figures" / "household"
+README_MARKERS = ("<!-- household:start -->", "<!-- household:end -->")
 
 
 def _write_docs(rows, grasps, summary):
@@ -180,7 +182,11 @@ def _write_docs(rows, grasps, summary):
             )
         lines.append("")
     PAGE.write_text("\n".join(lines))
-    print(f"wrote {PAGE} and {FIGURES}")
+    readme = ROOT / "README.md"
+    text = readme.read_text()
+    start, end = text.index(README_MARKERS[0]) + len(README_MARKERS[0]), text.index(README_MARKERS[1])
+    readme.write_text(text[:start] + "\n" + "\n".join(f"- **{line}**" for line in summary) + "\n" + text[end:])
+    print(f"wrote {PAGE}, {FIGURES} and the summary in {readme}")
 
 
 if __name__ == "__main__":
