@@ -79,9 +79,14 @@ def plot_status(result, path, labels=None):
     bottom.set_ylabel("Q distance")
     bottom.set_xlabel("iteration k")
     bottom.legend(fontsize=8, loc="upper right")
+    return _save(fig, path, dpi=120)
+
+
+def _save(fig, path, dpi):
+    """Lay out, write and close a figure; returns ``Path(path)``."""
     fig.tight_layout()
     path = Path(path)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path
 
@@ -159,11 +164,7 @@ def plot_poses(result, obj, hand, path, count=5):
         ax.scatter(*np.asarray(result.contact_points).T, color="k", s=18, depthshade=False)
     _frame_axes(ax, obj, np.vstack(points))
     ax.set_title(f"{result.object_name}, {result.grasp}: iterations {', '.join(map(str, picks))}")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return _save(fig, path, dpi=120)
 
 
 def plot_grasps(plans, hand, path, columns=6):
@@ -208,11 +209,7 @@ def plot_grasps(plans, hand, path, columns=6):
         _frame_axes(ax, obj, hand.segments(result.u).capsules.reshape(-1, 3))
         ax.set_axis_off()
         ax.set_title(caption, fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(fig, path, dpi=110)
 
 
 def animate(result, obj, hand, path, fps=15, max_frames=120):

@@ -253,12 +253,18 @@ def _random_object(seed):
     return so.GraspObject(pieces), rng
 
 
+def _probe_points(obj, rng, n):
+    """n points around a random object, the first two inside or near its first piece."""
+    pts = rng.uniform(-70, 70, size=(n, 3))
+    pts[:2] = obj.pieces[0].mean(axis=0) + rng.normal(size=(2, 3))
+    return pts
+
+
 @settings(max_examples=40, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1))
 def test_broad_phase_pruning_never_changes_the_value(seed):
     obj, rng = _random_object(seed)
-    pts = rng.uniform(-70, 70, size=(6, 3))
-    pts[:2] = obj.pieces[0].mean(axis=0) + rng.normal(size=(2, 3))  # inside or near a piece
+    pts = _probe_points(obj, rng, 6)
     r = obj.contact_distance(pts)
     best = [min((sg.pseudo_distance([p], V) for V in obj.pieces), key=lambda x: x.value) for p in pts]
     brute = np.array([b.value for b in best])
@@ -287,8 +293,7 @@ def test_points_on_the_surface_between_pieces(backend):
 @given(seed=st.integers(0, 2**31 - 1))
 def test_cp_bounds_bracket_the_value(seed):
     obj, rng = _random_object(seed)
-    pts = rng.uniform(-70, 70, size=(8, 3))
-    pts[:2] = obj.pieces[0].mean(axis=0) + rng.normal(size=(2, 3))  # inside or near a piece
+    pts = _probe_points(obj, rng, 8)
     lower, upper = cp_bounds(obj, pts)
     value = obj.contact_distance(pts).value
     tol = 1e-7 * (1 + np.abs(value))
