@@ -354,6 +354,27 @@ def test_sq_derivatives_match_finite_differences(goblet, ellipsoid, backend):
                 assert_gradient(s.jac_contact[i, a], central_difference(contact, pts[i], h=1e-5))
 
 
+@pytest.mark.parametrize("name", ["cup", "goblet", "cube"])
+def test_sq_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
+    """The exit-facet closed form (coplanar triangles included) gives the LP's contacts and normals."""
+    obj = {"cup": so.cup(), "goblet": goblet, "cube": cube}[name]
+    rng = np.random.default_rng(11)
+    pts = np.vstack([around(obj, 12, rng, gap=(1, 60)), obj.center + rng.normal(size=(3, 3)) * 4])
+    closed = obj.scaled_contacts(pts, backend=backend)
+    if name != "cube":  # faces of these meshes are split into coplanar triangles
+        assert closed.lp_solves == 0
+    from synergrasp.objects import proximity
+
+    monkeypatch.setattr(proximity, "_facet_exit", lambda piece, c0, U, exits: (
+        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    lp_only = obj.scaled_contacts(pts, backend=backend)
+    assert lp_only.lp_solves >= 1
+    assert closed.scale == pytest.approx(lp_only.scale, rel=1e-7)
+    assert closed.normal == pytest.approx(lp_only.normal, abs=1e-6)
+    assert closed.jac_contact == pytest.approx(lp_only.jac_contact, rel=1e-6, abs=1e-6)
+    assert (closed.degenerate <= lp_only.degenerate).all()  # closed form only where the LP's basis is unique
+
+
 def test_sq_q_distance_chain(goblet):
     """g_sQ's gradient with respect to the hand points through jac_contact (the planner's chain)."""
     rng = np.random.default_rng(10)

@@ -764,12 +764,14 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
 def _facet_exit(piece, c0, U, exits):
     """The sQ LP's optimum in closed form, where the ray leaves through the inside of one facet.
 
-    With a single exit facet f (outward normal n_f, offset o_f) the LP has only
-    f's three vertices: the optimum is the ray's exit point, ``t = -(n_f . c + o_f) / (n_f . u)``,
-    its weights are the exit point's barycentric coordinates, and the duals of
-    the coordinate rows ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``). When
-    the weights are all clearly positive the optimal basis is unique, so this is
-    the solution the LP would give.
+    With a single exit plane (outward normal n_f, offset o_f) the optimum is the
+    ray's exit point, ``t = -(n_f . c + o_f) / (n_f . u)``, and the duals of the
+    coordinate rows are ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``). Faces
+    of a mesh are often split into coplanar triangles (a quad into two, a cap
+    into a fan), all of them exit facets of the ray: when the exit point lies
+    clearly inside one of them (its barycentric weights all above ``10 *
+    DEGENERACY_TOL``) the LP's optimal basis is that triangle, unique, and this
+    is the solution the LP would give.
 
     Parameters
     ----------
@@ -779,26 +781,32 @@ def _facet_exit(piece, c0, U, exits):
     U : (m, 3) float
         The rays' directions ``p - c``.
     exits : (m, f) bool
-        The facets each ray may leave through (`_exit_facets`).
+        The facets each ray may leave through (`_exit_facets`; at least one per ray).
 
     Returns
     -------
     closed : (m,) bool
-        The rays settled here: one exit facet and every weight above ``10 *
-        DEGENERACY_TOL`` (so the LP's degeneracy test would not fire).
+        The rays settled here: every exit facet in one plane and the exit point
+        clearly inside one of them (so the LP's degeneracy test would not fire).
     t : (m,) float
         Exit parameters (meaningful where ``closed``).
     y : (m, 3) float
         Duals of the coordinate rows (meaningful where ``closed``).
     """
-    facet = exits.argmax(axis=1)
-    normal, offset = piece.planes[facet, :3], piece.planes[facet, 3]
+    rows, facet = np.nonzero(exits)  # sorted by row
+    start = np.searchsorted(rows, np.arange(len(U)))
+    first = facet[start]  # each ray's first exit facet: its plane
+    normal, offset = piece.planes[first, :3], piece.planes[first, 3]
     a = np.einsum("ij,ij->i", normal, U)
     t = -(normal @ c0 + offset) / a
-    tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[:, None, :]  # vertices about the exit point
-    area = np.einsum("ikj,ij->ik", cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), normal)
-    weights = area / area.sum(axis=1, keepdims=True)
-    closed = (exits.sum(axis=1) == 1) & (weights.min(axis=1) > 10 * DEGENERACY_TOL * np.maximum(1.0, t))
+    plane = piece.planes[facet]
+    coplanar = np.abs(plane - piece.planes[first][rows]).max(axis=1) <= 1e-9 * (1.0 + np.abs(plane[:, 3]))
+    # barycentric weights of the exit point in every exit facet
+    tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[rows, None, :]
+    area = np.einsum("ikj,ij->ik", cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), plane[:, :3])
+    inner = (area / area.sum(axis=1, keepdims=True)).min(axis=1)
+    closed = np.logical_and.reduceat(coplanar, start) & (
+        np.maximum.reduceat(inner, start) > 10 * DEGENERACY_TOL * np.maximum(1.0, t))
     return closed, t, -normal / a[:, None]
 
 
