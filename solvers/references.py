@@ -111,6 +111,7 @@ class TimedBackend(Backend):
     def __init__(self, inner):
         self.inner = get_backend(inner)
         super().__init__(name=self.inner.name)
+        self.vertex_solutions = self.inner.vertex_solutions
         self.lp_time = 0.0
         self.lp_calls = 0
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
@@ -85,6 +85,12 @@ class Backend:
     ----------
     name : str
         Registry name of the backend.
+    vertex_solutions : bool
+        Class attribute: the optimal ``x`` is always a basic (vertex) solution
+        with its exact duals, as a simplex method gives; an interior-point
+        solution may lie inside an optimal face and is only accurate to the
+        solver's tolerance. Callers that move a solution onto its optimal
+        basis can skip that step when this is True.
     calls : int
         Number of solves done by this instance.
 
@@ -101,6 +107,7 @@ class Backend:
 
     name: str = "base"
     calls: int = field(default=0, init=False)
+    vertex_solutions: ClassVar[bool] = False
 
     def solve(self, c, A, b) -> LPSolution:
         """Solve ``min c @ x  s.t.  A @ x == b, x >= 0``.

@@ -48,6 +48,8 @@ class HighsBackend(Backend):
         Extra HiGHS options (``setOptionValue(key, value)``).
     """
 
+    vertex_solutions = True  # simplex: basic solutions with exact duals
+
     def __init__(self, warm_start: bool = True, **options):
         super().__init__(name="highs")
         self.warm_start = warm_start

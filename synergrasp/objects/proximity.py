@@ -320,7 +320,8 @@ class _Blocks:
                 )
             x[cols], y[first:last] = sol.x, sol.y.reshape(-1, _ROWS)
             first = last
-        x, y = _polish(entries, c, rhs, x, y, start, block_of)
+        if not getattr(solver, "vertex_solutions", False):  # a simplex's solution is already basic and exact
+            x, y = _polish(entries, c, rhs, x, y, start, block_of)
         # The derivatives with respect to the hand point need only the duals y. They are unique
         # when the optimum has 4 positive variables in the block (a non-degenerate basis: B^T y = c_B);
         # several primal optima (a face of B parallel to one of Q's) leave y unique and are not flagged.
