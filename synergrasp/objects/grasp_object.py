@@ -184,14 +184,19 @@ class GraspObject:
         return out
 
     @cached_property
-    def _facet_nq(self) -> list[np.ndarray]:
-        """Per piece, (f,): ``min_k n_f . q_k`` for each facet's outward normal."""
-        return [(p.planes[:, :3] @ proximity._Q.T).min(axis=1) for p in self.convex]
+    def _facet_nq(self) -> np.ndarray:
+        """(F,): ``min_k n_f . q_k`` for each facet's outward normal (all pieces, in plane order)."""
+        return (self._planes[:, :3] @ proximity._Q.T).min(axis=1)
 
     @cached_property
-    def _facet_mq(self) -> list[np.ndarray]:
-        """Per piece, (f, 4): ``min over the facet's vertices t of -q_k . t``."""
-        return [(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex]
+    def _facet_mq(self) -> np.ndarray:
+        """(F, 4): ``min over the facet's vertices t of -q_k . t`` (all pieces, in plane order)."""
+        return np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex])
+
+    @cached_property
+    def _plane_piece(self) -> np.ndarray:
+        """(F,): the piece of each facet plane."""
+        return np.repeat(np.arange(len(self.convex)), [len(p.planes) for p in self.convex])
 
     def contains(self, points) -> np.ndarray:
         """Whether each point is inside (or on) some piece.

@@ -539,19 +539,35 @@ def _exit_facets(D, a, tol=1e-9):
     return r <= r_exit * (1 + tol) + tol
 
 
-def _separation_facets(obj, j, D, PQ, bound):
-    """Facets of piece j that can carry the separation optimum for each point.
+def _separation_facets(obj, D, PQ, bound, reach):
+    """Facets that can carry the separation optimum of each point, over all pieces.
 
     The optimum b* lies on a facet facing p (``n . p + o > 0``), and inside the
     gauge ball ``p + v Q`` with v <= ``bound``. A facet is dropped when that
     ball cannot reach it: it lies beyond the facet's plane, or a facet plane
     of the ball (normal ``-q_k``, offset ``bound / 3``) separates them.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    D : (n, F) float
+        ``n_f . p + o_f`` of every facet plane of every piece.
+    PQ : (n, 4) float
+        ``q_k . p``.
+    bound : (n,) float
+        Upper bound of each point's cP.
+    reach : (n, F) bool
+        The facets of the pieces still in question for each point.
+
+    Returns
+    -------
+    (n, F) bool
     """
     tol = 1e-9 * (1.0 + bound[:, None])
-    keep = (D > 0.0) & (D + bound[:, None] * obj._facet_nq[j][None] <= tol)  # facing p, within reach
+    keep = reach & (D > 0.0) & (D + bound[:, None] * obj._facet_nq <= tol)  # facing p, within reach
     # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
     rows, facet = np.nonzero(keep)
-    apart = (obj._facet_mq[j][facet] + PQ[rows] > (bound[rows] / 3.0 + tol[rows, 0])[:, None]).any(axis=1)
+    apart = (obj._facet_mq[facet] + PQ[rows] > (bound[rows] / 3.0 + tol[rows, 0])[:, None]).any(axis=1)
     keep[rows[apart], facet[apart]] = False
     return keep
 
@@ -566,31 +582,25 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     PQ = P @ _Q.T
 
     # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
-    facets, covered = [], np.zeros(n, dtype=bool)
-    for j, piece in enumerate(obj.convex):
-        rows = np.nonzero(cand[:, j] & (S[:, j] > 0.0))[0]
-        first = obj._plane_starts[j]
-        D = values[rows, first : first + len(piece.planes)]  # n_f . p + o_f
-        keep = _separation_facets(obj, j, D, PQ[rows], bound[rows])
-        facets.append((rows, D, keep))
-        covered[rows[keep.any(axis=1)]] = True
+    reach = (cand & (S > 0.0))[:, obj._plane_piece]
+    keep = _separation_facets(obj, values, PQ, bound, reach)
+    # a piece the gauge ball cannot reach is not the minimiser; should round-off leave a
+    # point with no piece at all, fall back to every facet facing it
+    lost = reach.any(axis=1) & ~keep.any(axis=1)
+    keep[lost] = reach[lost] & (values[lost] > 0.0)
     blocks = _Blocks()
     batches = []  # (batch index, points, piece, separation?)
-    for j, (piece, (rows, D, keep)) in enumerate(zip(obj.convex, facets)):
-        # a piece the gauge ball cannot reach is not the minimiser; should round-off leave a
-        # point with no piece at all, fall back to every facet facing it
-        lost = ~covered[rows]
-        keep[lost] = D[lost] > 0.0
-        some = keep.any(axis=1)
-        rows, keep = rows[some], keep[some]
+    for j, piece in enumerate(obj.convex):
+        planes = slice(obj._plane_starts[j], obj._plane_starts[j] + len(piece.planes))
+        rows = np.nonzero(keep[:, planes].any(axis=1))[0]
         if len(rows):
-            verts, counts = _facet_vertices(piece, keep)
+            verts, counts = _facet_vertices(piece, keep[rows, planes])
             lead = np.broadcast_to(_Q, (len(rows), 4, 3))
             batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows]), rows, j, True))
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
         if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
-            D = P[rows] @ piece.planes[:, :3].T + piece.planes[:, 3]
+            D = values[rows, obj._plane_starts[j] : obj._plane_starts[j] + len(piece.planes)]
             for k in range(4):
                 # the optimum is where the ray p - rho q_k leaves the piece
                 verts, counts = _facet_vertices(piece, _exit_facets(D, -(piece.planes[:, :3] @ _Q[k])[None]))
