@@ -142,7 +142,7 @@ class GraspObject:
     def _vertices_all(self):
         verts = np.vstack([p.vertices for p in self.convex])
         starts = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
-        return verts, (verts**2).sum(axis=1), starts
+        return verts, starts
 
     @cached_property
     def _support(self) -> np.ndarray:
@@ -166,13 +166,7 @@ class GraspObject:
         g = pq[:, 0, None] - vq[:, 0]
         for k in range(1, 4):
             np.maximum(g, pq[:, k, None] - vq[:, k], out=g)
-        return proximity.GAUGE_RATIO * np.minimum.reduceat(g, self._vertices_all[2], axis=1)
-
-    def _vertex_distance(self, points: np.ndarray) -> np.ndarray:
-        """(n, J): distance from each point to the nearest vertex of each piece (an upper bound)."""
-        verts, sq, starts = self._vertices_all
-        d2 = (points**2).sum(axis=1)[:, None] - 2.0 * points @ verts.T + sq
-        return np.sqrt(np.maximum(np.minimum.reduceat(d2, starts, axis=1), 0.0))
+        return proximity.GAUGE_RATIO * np.minimum.reduceat(g, self._vertices_all[1], axis=1)
 
     @cached_property
     def _normal_moments(self) -> list[np.ndarray]:

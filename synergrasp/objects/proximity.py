@@ -446,18 +446,19 @@ def _candidates(obj, P, S):
 
     * the gauge's Lipschitz bounds, ``e_j <= value_j <= 3 e_j`` with e_j the
       Euclidean distance: python-fcl's exact (GJK) distance, the facet planes
-      giving a cheaper lower bound ``max_f n_f . p + o_f`` and the nearest
-      vertex an upper bound of e_j;
+      giving a cheaper lower bound ``max_f n_f . p + o_f``;
     * the simplex gauge itself, ``gauge(x) = 3 max_k (-q_k . x)``: the value
       is at least ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function
-      of the piece) and at most the gauge distance to any vertex.
+      of the piece) and at most the gauge distance to any vertex (never more
+      than 3 times the distance to the nearest vertex, so that Euclidean
+      bound would add nothing).
 
     Every bound is valid, so the pruning never changes a value; fcl is only
     called for the points the cheap bounds leave with several candidates.
     """
     n, J = S.shape
     PQ = P @ _Q.T  # (n, 4)
-    upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ))
+    upper = obj._vertex_gauge(PQ)
     bound = upper.min(axis=1)
     if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
         return np.ones(S.shape, dtype=bool), bound
@@ -487,8 +488,7 @@ def cp_bounds(obj, points):
 
     The bounds of the broad phase (see `_candidates`), taken over all pieces:
     outside the object ``max(plane bound, gauge support bound) <= cP <=
-    min(3 x nearest-vertex distance, gauge to the nearest vertex)``; inside a
-    piece ``-inf < cP <= 0``.
+    gauge to the nearest vertex``; inside a piece ``-inf < cP <= 0``.
 
     Parameters
     ----------
@@ -512,7 +512,7 @@ def cp_bounds(obj, points):
     S = obj._plane_bounds(P)
     PQ = P @ _Q.T
     lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2)).min(axis=1)
-    upper = np.minimum(GAUGE_RATIO * obj._vertex_distance(P), obj._vertex_gauge(PQ)).min(axis=1)
+    upper = obj._vertex_gauge(PQ).min(axis=1)
     inside = (S <= 0.0).any(axis=1)
     return np.where(inside, -np.inf, lower), np.where(inside, 0.0, upper)
 
