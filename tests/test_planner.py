@@ -156,6 +156,15 @@ def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():
     assert r.iterations > rejected.iterations
 
 
+def test_an_attempt_whose_fingertips_never_reach_the_surface_ends(hand, ellipsoid):
+    far = start_configuration(hand, ellipsoid, (0.0, 1.0, 0.0), 1000.0)  # out of reach in a few iterations
+    r = plan(ellipsoid, "precision", u0=far, touch_window=5)
+    assert not r.success and r.iterations == 5
+    assert "no fingertip reached the surface in 5 iterations" in r.reason
+    assert plan(ellipsoid, "precision", u0=far, touch_window=0, max_iter=8).iterations == 8
+    assert plan(ellipsoid, "power", u0=far, touch_window=5, max_iter=8).iterations == 8  # precision attempts only
+
+
 def test_attempt_schedule():
     plain = attempt_schedule(standoff=0.0)
     assert [d for d, _ in plain] == [tuple(d) for d in sg.planner.APPROACHES] and all(s == 0 for _, s in plain)

@@ -103,6 +103,11 @@ class PlannerOptions:
         (its size + 0.1) over the last ``crawl_window`` iterations has stalled
         too (it creeps: fingers hovering with sQ far from negative). 0 turns
         this test off.
+    touch_window : int
+        A precision attempt in which no fingertip has come within ``eps_c``
+        of the surface (or of its stand-off) after this many iterations has
+        stalled too: the hand hovers in front of the object. 0 turns this
+        test off.
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
@@ -166,6 +171,7 @@ class PlannerOptions:
     standoff: float = 20.0
     crawl_window: int = 30
     crawl_fraction: float = 0.05
+    touch_window: int = 30
     start_clearance: float = 5.0
     power_phases: bool = True
     power_preshape: tuple | None = (0.0, 1.0)
@@ -337,7 +343,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
     rows_of = {seg: [i for i, lab in enumerate(labels) if lab == seg] or [i for i, lab in enumerate(labels) if lab[0] == seg[0]]
                for seg in geo.labels}
     backoff, backoffs, depth = np.zeros(n), 0, None
-    bests = []
+    bests, touched = [], False
     for _ in range(budget):
         if chk.done:
             geo = hand.segments(u)
@@ -396,6 +402,10 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         else:
             stalled += 1
         bests.append(best)
+        touched = touched or st.g[:-1].min() < opts.eps_c + standoff * np.clip(st.g[-1], 0.0, 1.0)
+        if kind == "precision" and opts.touch_window and not touched and len(traj) > opts.touch_window:
+            reason = f"stalled (no fingertip reached the surface in {opts.touch_window} iterations)"
+            break
         if stalled >= opts.stall_window:
             reason = f"stalled (no progress in {opts.stall_window} iterations)"
             break
