@@ -10,6 +10,7 @@ import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.hand import SynergyHand
 from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, start_configuration
+from synergrasp.planner.core import sq_request
 from synergrasp.planner.status import Status, segment_distance
 
 from .conftest import BACKENDS
@@ -154,6 +155,22 @@ def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():
     r = plan(obj, "precision", restarts=1)
     verify(r, obj)
     assert r.iterations > rejected.iterations
+
+
+def test_an_attempt_whose_fingertips_never_reach_the_surface_ends(hand, ellipsoid):
+    far = start_configuration(hand, ellipsoid, (0.0, 1.0, 0.0), 1000.0)  # out of reach in a few iterations
+    r = plan(ellipsoid, "precision", u0=far, touch_window=5)
+    assert not r.success and r.iterations == 5
+    assert "no fingertip reached the surface in 5 iterations" in r.reason
+    assert plan(ellipsoid, "precision", u0=far, touch_window=0, max_iter=8).iterations == 8
+    assert plan(ellipsoid, "power", u0=far, touch_window=5, max_iter=8).iterations == 8  # precision attempts only
+
+
+def test_the_sq_request_is_what_a_step_within_the_radius_can_give():
+    grad = np.array([0.0, 3.0, 4.0])
+    assert sq_request(0.1, 0.2, grad) == 0.1  # the moving target as asked
+    assert sq_request(0.1, 0.01, grad) == pytest.approx(0.05)  # |grad| * radius
+    assert sq_request(0.1, 0.2, np.zeros(3)) == 0.0  # a flat sQ: nothing asked, the contact rows steer
 
 
 def test_attempt_schedule():

@@ -81,6 +81,9 @@ class PlannerOptions:
         Friction cone edges, paper: 8.
     sq_step : float
         Decrease of g_sQ requested per iteration (the moving sQ target).
+        Precision grasps ask at most the trust radius times the norm of the
+        (normalised) gradient of g_sQ, the decrease the linear model promises
+        for a step within the radius.
     contact_target : float
         Target cP of the hand points (mm). The paper's 0 puts the skin points
         on the surface, where solver and faceting errors push fingers in;
@@ -103,6 +106,11 @@ class PlannerOptions:
         (its size + 0.1) over the last ``crawl_window`` iterations has stalled
         too (it creeps: fingers hovering with sQ far from negative). 0 turns
         this test off.
+    touch_window : int
+        A precision attempt in which no fingertip has come within ``eps_c``
+        of the surface (or of its stand-off) after this many iterations has
+        stalled too: the hand hovers in front of the object. 0 turns this
+        test off.
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
@@ -166,6 +174,7 @@ class PlannerOptions:
     standoff: float = 20.0
     crawl_window: int = 30
     crawl_fraction: float = 0.05
+    touch_window: int = 30
     start_clearance: float = 5.0
     power_phases: bool = True
     power_preshape: tuple | None = (0.0, 1.0)
@@ -300,6 +309,35 @@ def hand_opening(hand):
     return widest
 
 
+def sq_request(sq_step, radius, gradient):
+    """Decrease of g_sQ that one precision step asks for: ``sq_step``, or what a step within the trust radius gives.
+
+    A request larger than the linear model can deliver within the radius
+    would make the sQ row dominate the direction of the (then truncated)
+    step, and the contact rows would get almost nothing of it.
+
+    Parameters
+    ----------
+    sq_step : float
+        The requested decrease per iteration.
+    radius : float
+        Trust radius of the normalised step.
+    gradient : (k,) float
+        Gradient of g_sQ with respect to the normalised configuration.
+
+    Returns
+    -------
+    float
+        ``min(sq_step, radius * |gradient|)``.
+
+    Examples
+    --------
+    >>> sq_request(0.1, 0.01, np.array([3.0, 4.0]))
+    0.05
+    """
+    return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
+
+
 def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0):
     """One attempt of the iteration from u0, the contact rows asking ``standoff * clip(g_sQ, 0, 1)`` mm more.
 
@@ -337,7 +375,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
     rows_of = {seg: [i for i, lab in enumerate(labels) if lab == seg] or [i for i, lab in enumerate(labels) if lab[0] == seg[0]]
                for seg in geo.labels}
     backoff, backoffs, depth = np.zeros(n), 0, None
-    bests = []
+    bests, touched = [], False
     for _ in range(budget):
         if chk.done:
             geo = hand.segments(u)
@@ -354,7 +392,8 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         depth = None
         target = np.full(n + 1, opts.contact_target + standoff * np.clip(st.g[-1], 0.0, 1.0))
         target[:-1] += backoff
-        target[-1] = max(-1.0, st.g[-1] - opts.sq_step)
+        sq_step = sq_request(opts.sq_step, radius, st.J[-1] * scale_u) if kind == "precision" else opts.sq_step
+        target[-1] = max(-1.0, st.g[-1] - sq_step)
         first = np.r_[st.g[:-1] < 0.0, True]  # first priority: sQ and penetrating hand points
         active, reaching = np.ones(n + 1, bool), False
         if kind == "power" and opts.power_phases:
@@ -396,6 +435,10 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         else:
             stalled += 1
         bests.append(best)
+        touched = touched or st.g[:-1].min() < opts.eps_c + standoff * np.clip(st.g[-1], 0.0, 1.0)
+        if kind == "precision" and opts.touch_window and not touched and len(traj) > opts.touch_window:
+            reason = f"stalled (no fingertip reached the surface in {opts.touch_window} iterations)"
+            break
         if stalled >= opts.stall_window:
             reason = f"stalled (no progress in {opts.stall_window} iterations)"
             break

@@ -65,7 +65,7 @@ class PlanResult:
     >>> import synergrasp as sg
     >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision")
     >>> result.success, result.grasp, result.contact_labels
-    (True, 'precision', ['T0', 'I0', 'M0', 'R0', 'L0'])
+    (True, 'precision', ['T0', 'I0', 'R0', 'L0'])
     >>> result.trajectory.shape == (result.iterations + 1, 8)
     True
     >>> bool(result.final_q < 0)         # the final contacts are force-closed
