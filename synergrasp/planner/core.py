@@ -16,7 +16,7 @@ One attempt iterates from a start pose:
 If an attempt stalls (the status stops improving) the next start of a
 schedule is tried: approach directions in the order of `APPROACHES`, and after
 the first two attempts every other one with a stand-off (`STANDOFF_APPROACHES`)
-(power grasps: `POWER_APPROACHES`, no stand-off),
+(power grasps: `power_schedule`, two pre-shapes in turn, no stand-off),
 up to ``restarts`` attempts or ``max_iter`` iterations in all. A grasp that
 meets the criterion with a phalanx too deep in the object is not dropped at
 once: that finger's hand points are asked to back off by the depth and the
@@ -56,12 +56,18 @@ STANDOFF_APPROACHES = (
     (-1.0, 1.0, 1.0), (1.0, 1.0, 1.0), (-1.0, -1.0, 1.0), (0.0, 1.0, 0.0), (1.0, 1.0, -1.0), (1.0, -1.0, 1.0),
     (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (1.0, 0.0, 0.5), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0),
 )
-#: Approach directions of power grasps, in order: sorted by how often a single power attempt from
-#: them ended in a verified grasp over the paper's four objects and four household meshes (mug,
-#: can, bottle, duck); the diagonals from above first.
+#: Approach directions of power grasps from the cupped pre-shape (``power_preshape``), in order:
+#: sorted by how often a single power attempt from them ended in a verified grasp over the 44
+#: household objects and the paper's four (benchmarks/household.py); the diagonals from above first.
 POWER_APPROACHES = (
-    (1.0, 1.0, 1.0), (-1.0, -1.0, 1.0), (0.0, 1.0, 0.0), (-1.0, 1.0, 1.0), (1.0, 0.0, 0.5), (1.0, -1.0, 1.0),
-    (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0), (0.0, -1.0, 0.0), (1.0, 1.0, -1.0),
+    (-1.0, 1.0, 1.0), (1.0, -1.0, 1.0), (-1.0, -1.0, 1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, -1.0), (1.0, 1.0, -1.0),
+    (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (1.0, 0.0, 0.5), (0.0, -1.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0),
+)
+#: Approach directions of power grasps from the wide pre-shape (``power_wide_preshape``), ordered
+#: the same way.
+POWER_WIDE_APPROACHES = (
+    (1.0, 1.0, 1.0), (1.0, -1.0, 1.0), (0.0, 0.0, 1.0), (-1.0, -1.0, 1.0), (-1.0, 1.0, 1.0), (0.0, -1.0, 0.0),
+    (0.0, 1.0, 0.0), (1.0, 0.0, 0.5), (-1.0, 1.0, -1.0), (1.0, 1.0, -1.0), (-1.0, 0.0, 0.5), (0.0, 0.0, -1.0),
 )
 #: Attempts without a stand-off before the schedule alternates.
 PLAIN_FIRST = 2
@@ -135,8 +141,8 @@ class PlannerOptions:
         Power grasps only: reach with the palm, then wrap. While the palm point
         is not in contact the finger rows are left out of the step (except
         those of penetrating segments, kept in the first priority level) and
-        the synergies hold their pre-shape, so the open hand is carried palm
-        first to the surface; once the palm touches, its row joins the first
+        the synergies hold their pre-shape (see ``power_free_reach``), so the
+        open hand is carried palm first to the surface; once the palm touches, its row joins the first
         priority level and keeps it on the surface while the synergies close
         the fingers. A grasp meeting the criterion with a phalanx deeper than
         ``max_penetration`` does not stop the attempt: the iteration goes on
@@ -146,6 +152,18 @@ class PlannerOptions:
         synergy): (0, 1) cups the paper's hand open (the second synergy opens
         the fingers). None keeps the mean pose (z = 0). Ignored when ``u0``
         is given.
+    power_wide_preshape : tuple of float or None
+        Pre-shape of every other default power start, the first included:
+        (-1, 1) opens the paper's hand widest, its fingers nearly flat. Its
+        attempts come from `POWER_WIDE_APPROACHES`, the cupped ones' from
+        `POWER_APPROACHES` (see `power_schedule`). None: cupped starts only.
+    power_free_reach : bool
+        While reaching, the synergies are free for the rows of the first
+        priority level (sQ and any penetrating phalanx): the hand is shaped
+        by the predicted grasp on the way, and a phalanx that dips into the
+        object is pushed out by the synergies as well as by the hand's pose.
+        The finger contact rows still wait for the palm. False: the
+        synergies hold the pre-shape until the palm touches.
     """
 
     eps_c: float = 5.0
@@ -169,6 +187,8 @@ class PlannerOptions:
     start_clearance: float = 5.0
     power_phases: bool = True
     power_preshape: tuple | None = (0.0, 1.0)
+    power_wide_preshape: tuple | None = (-1.0, 1.0)
+    power_free_reach: bool = True
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None):
@@ -251,8 +271,8 @@ def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     standoff : float
         Largest stand-off (mm) of the alternate attempts (0: none).
     directions : sequence of (3,) float
-        The plain attempts' directions in order: `APPROACHES` for precision
-        grasps, `POWER_APPROACHES` for power grasps.
+        The plain attempts' directions in order (`plan` passes `APPROACHES`;
+        power grasps have their own `power_schedule`).
 
     Returns
     -------
@@ -278,6 +298,42 @@ def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     return schedule
 
 
+def power_schedule(approach=None, wide=True):
+    """The starts of a power plan: approach directions and the pre-shape of each attempt.
+
+    Attempts alternate between the wide pre-shape (from `POWER_WIDE_APPROACHES`,
+    first) and the cupped one (from `POWER_APPROACHES`): which one closes on an
+    object varies from object to object. The caller's approach, if any, comes
+    first in both orders.
+
+    Parameters
+    ----------
+    approach : (3,) float, optional
+        The caller's first direction (object centre to hand).
+    wide : bool
+        Alternate with the wide pre-shape; False: cupped starts only.
+
+    Returns
+    -------
+    list of ((3,) float, bool)
+        Direction of each attempt, and whether it starts from the wide pre-shape.
+
+    Examples
+    --------
+    >>> [w for _, w in power_schedule()[:4]]
+    [True, False, True, False]
+    """
+    orders = []
+    for directions in (POWER_WIDE_APPROACHES, POWER_APPROACHES) if wide else (POWER_APPROACHES,):
+        order = [tuple(float(x) for x in d) for d in directions]
+        if approach is not None:
+            a = tuple(float(x) for x in approach)
+            order = [a] + [d for d in order if not (np.allclose(np.cross(d, a), 0) and np.dot(d, a) > 0)]
+        orders.append(order)
+    flags = (True, False) if wide else (False,)
+    return [(d, flag) for pair in zip(*orders) for d, flag in zip(pair, flags)]
+
+
 def hand_opening(hand):
     """The hand's largest opening: the farthest a fingertip gets from the thumb tip (mm).
 
@@ -298,6 +354,20 @@ def hand_opening(hand):
         tips = hand.points(np.r_[np.zeros(6), z], "precision")
         widest = max(widest, float(np.linalg.norm(tips[1:] - tips[0], axis=1).max()))
     return widest
+
+
+def _preshape(value, name, hand):
+    """A power pre-shape option as synergy values within the limits (the mean pose, zeros, for None)."""
+    if value is None:
+        return np.zeros(hand.n_syn)
+    preshape = np.asarray(value, dtype=float)
+    if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
+        instead = "start from the mean pose" if name == "power_preshape" else "try power_preshape only"
+        raise ValueError(
+            f"{name} must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
+            f"got {value!r}; pass {name}=None to {instead}"
+        )
+    return np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
 def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0):
@@ -365,7 +435,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
                 reaching = True
         e = active * row_scale * (target - st.g)
         J = (active * row_scale)[:, None] * st.J * scale_u
-        if reaching:
+        if reaching and not opts.power_free_reach:
             J[:, 6:] = 0.0  # the synergies keep their pre-shape
         du = limited_step(J[active], e[active], u[6:], hand.synergy_limits, first[active])
         step = np.abs(du).max()
@@ -432,8 +502,9 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     approach : (3,) float, optional
         Direction from the object's centre to the start pose of the first
         attempt; later attempts (after a stall) use `APPROACHES` and
-        `STANDOFF_APPROACHES` for a precision grasp, `POWER_APPROACHES` for a
-        power grasp (see `attempt_schedule`).
+        `STANDOFF_APPROACHES` for a precision grasp (see `attempt_schedule`),
+        `POWER_WIDE_APPROACHES` and `POWER_APPROACHES` for a power grasp (see
+        `power_schedule`).
     hand : SynergyHand, optional
         Default: ``SynergyHand.default()``.
     progress : callable, optional
@@ -479,25 +550,22 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
-    if grasp == "power" and opts.power_preshape is not None:
-        preshape = np.asarray(opts.power_preshape, dtype=float)
-        if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
-            raise ValueError(
-                f"power_preshape must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
-                f"got {opts.power_preshape!r}; pass power_preshape=None to start from the mean pose"
-            )
-        preshape = np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
+    if grasp == "power":
+        cupped = _preshape(opts.power_preshape, "power_preshape", hand)
+        wide = None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand)
     if u0 is not None:
         starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
     else:
         first = as_vector(approach, "approach", 3) if approach is not None else None
-        schedule = (attempt_schedule(first, opts.standoff) if grasp == "precision"
-                    else attempt_schedule(first, 0.0, POWER_APPROACHES))
-        starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
-                  for d, standoff in schedule[: opts.restarts]]
-        if grasp == "power" and opts.power_preshape is not None:
-            for u_start, _ in starts:
-                u_start[6:] = preshape
+        if grasp == "precision":
+            starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
+                      for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]]
+        else:
+            starts = []
+            for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
+                u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance)
+                u_start[6:] = wide if is_wide else cupped
+                starts.append((u_start, 0.0))
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
     for u_start, standoff in starts:
