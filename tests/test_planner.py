@@ -252,6 +252,15 @@ def test_first_power_iterations_agree_on_every_backend(hand):
         np.testing.assert_allclose(r.trajectory[:k], reference[:k], atol=1e-6, err_msg=name)
 
 
+def test_a_palm_centred_start_faces_the_object_with_the_palm(hand, ellipsoid):
+    a = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
+    for centred in (True, False):
+        u = start_configuration(hand, ellipsoid, a, 150.0, palm_centred=centred)
+        off_axis = np.linalg.norm(np.cross(u[:3] - ellipsoid.center, a))  # palm centre off the approach line
+        assert (off_axis < 1e-9) == centred
+        np.testing.assert_allclose(sg.hand.rotation_xyz(u[3:6])[:, 2], -a, atol=1e-12)  # the palm faces the centre
+
+
 def test_the_caller_chooses_the_approach(hand, ellipsoid):
     a = plan(ellipsoid, "precision", approach=(0.0, 0.0, 1.0), max_iter=1)
     u = a.trajectory[0]

@@ -66,8 +66,8 @@ POWER_APPROACHES = (
 #: Approach directions of power grasps from the wide pre-shape (``power_wide_preshape``), ordered
 #: the same way.
 POWER_WIDE_APPROACHES = (
-    (1.0, 1.0, 1.0), (1.0, -1.0, 1.0), (0.0, 0.0, 1.0), (-1.0, -1.0, 1.0), (-1.0, 1.0, 1.0), (0.0, -1.0, 0.0),
-    (0.0, 1.0, 0.0), (1.0, 0.0, 0.5), (-1.0, 1.0, -1.0), (1.0, 1.0, -1.0), (-1.0, 0.0, 0.5), (0.0, 0.0, -1.0),
+    (1.0, 1.0, -1.0), (1.0, 1.0, 1.0), (0.0, 0.0, 1.0), (-1.0, 1.0, 1.0), (1.0, 0.0, 0.5), (0.0, 1.0, 0.0),
+    (-1.0, 0.0, 0.5), (-1.0, -1.0, 1.0), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0), (1.0, -1.0, 1.0), (0.0, -1.0, 0.0),
 )
 #: Attempts without a stand-off before the schedule alternates.
 PLAIN_FIRST = 2
@@ -155,7 +155,8 @@ class PlannerOptions:
     power_wide_preshape : tuple of float or None
         Pre-shape of every other default power start, the first included:
         (-1, 1) opens the paper's hand widest, its fingers nearly flat. Its
-        attempts come from `POWER_WIDE_APPROACHES`, the cupped ones' from
+        attempts come from `POWER_WIDE_APPROACHES` with the palm centred on
+        the object (`start_configuration`), the cupped ones' from
         `POWER_APPROACHES` (see `power_schedule`). None: cupped starts only.
     power_free_reach : bool
         While reaching, the synergies are free for the rows of the first
@@ -191,7 +192,7 @@ class PlannerOptions:
     power_free_reach: bool = True
 
 
-def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None):
+def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
     """The default start: mean pose, palm facing the object's centre.
 
     The palm is ``distance`` mm from the centre along ``approach`` (farther if
@@ -215,6 +216,10 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
         If given, the palm is moved back until the fingertips' mean depth in
         front of the palm is at least this (mm) beyond the object's farthest
         point along ``approach``.
+    palm_centred : bool
+        Face the object's centre with the palm's centre instead of the
+        fingertips' centroid (the wide power pre-shape's starts: the palm
+        lands near the middle of a face, the fingers reach past its edge).
 
     Returns
     -------
@@ -246,7 +251,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     phi = Rotation.from_matrix(R).as_euler("XYZ")
     u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
     tips = hand.points(u, "precision")
-    aim = np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
+    aim = np.zeros(3) if palm_centred else np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
     if clearance is not None:  # the fingertips start outside the object, however long it is along the approach
         reach = max(float(np.max((p.vertices - obj.center) @ a)) for p in obj.convex)
         distance = max(distance, reach + float(tips[:, 2].mean()) + clearance)
@@ -302,8 +307,9 @@ def power_schedule(approach=None, wide=True):
     """The starts of a power plan: approach directions and the pre-shape of each attempt.
 
     Attempts alternate between the wide pre-shape (from `POWER_WIDE_APPROACHES`,
-    first) and the cupped one (from `POWER_APPROACHES`): which one closes on an
-    object varies from object to object. The caller's approach, if any, comes
+    first, the palm's centre facing the object's centre) and the cupped one
+    (from `POWER_APPROACHES`, the fingertips facing it): which one closes on
+    an object varies from object to object. The caller's approach, if any, comes
     first in both orders.
 
     Parameters
@@ -563,7 +569,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         else:
             starts = []
             for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
-                u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance)
+                u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=is_wide)
                 u_start[6:] = wide if is_wide else cupped
                 starts.append((u_start, 0.0))
     t0 = time.perf_counter()
