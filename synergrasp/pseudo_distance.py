@@ -423,7 +423,7 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     if psol.status == "infeasible" or (not strict and not psol.optimal):
         return None
     _require_optimal(psol, "penetration (Eq. 3)")
-    values = -psol.x[::nk]
+    values = -np.maximum(psol.x[::nk], 0.0)  # rho >= 0: a solver's round-off below 0 is not a positive depth
     k = int(np.argmax(values))
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
     ties = int((values >= values[k] - zero).sum()) > 1

@@ -9,7 +9,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.hand import SynergyHand
-from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, start_configuration
+from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, power_schedule, start_configuration
 from synergrasp.planner.core import sq_request
 from synergrasp.planner.status import Status, segment_distance
 
@@ -186,17 +186,33 @@ def test_attempt_schedule():
     assert [d for d, _ in power] == [tuple(d) for d in sg.planner.POWER_APPROACHES]
 
 
-def test_power_plans_follow_the_power_order():
-    r = plan(so.ellipsoid(), "power", max_iter=2, restarts=2)
-    starts = [np.array(a["start"][:3]) - so.ellipsoid().center for a in r.attempts]
-    for start, d in zip(starts, sg.planner.POWER_APPROACHES):
+def test_power_schedule_alternates_the_pre_shapes():
+    schedule = power_schedule()
+    assert [d for d, wide in schedule if wide] == [tuple(d) for d in sg.planner.POWER_WIDE_APPROACHES]
+    assert [d for d, wide in schedule if not wide] == [tuple(d) for d in sg.planner.POWER_APPROACHES]
+    assert [wide for _, wide in schedule[:4]] == [True, False, True, False]
+    mine = (0.0, 0.0, 1.0)  # in both orders: first in each, and not repeated
+    schedule = power_schedule(mine)
+    assert schedule[:2] == [(mine, True), (mine, False)]
+    assert sum(1 for d, _ in schedule if np.allclose(d, mine)) == 2 and len(schedule) == 24
+    assert all(not wide for _, wide in power_schedule(wide=False))
+
+
+def test_power_plans_follow_the_power_schedule():
+    obj = so.ellipsoid()
+    r = plan(obj, "power", restarts=4, iterations_per_attempt=1)
+    assert len(r.attempts) == 4
+    for attempt, (d, wide) in zip(r.attempts, power_schedule()):
+        start = np.array(attempt["start"])
         d = np.array(d) / np.linalg.norm(d)
-        assert start @ d / np.linalg.norm(start) > 0.9  # the palm starts on the side of that direction
+        offset = start[:3] - obj.center
+        assert offset @ d / np.linalg.norm(offset) > 0.9  # the palm starts on the side of that direction
+        np.testing.assert_array_equal(start[6:], [-1.0, 1.0] if wide else [0.0, 1.0])
 
 
 def test_power_plan_reaches_with_the_palm_then_wraps():
     obj = so.goblet()
-    r = plan(obj, "power", approach=(0.0, 0.0, 1.0), restarts=1)
+    r = plan(obj, "power", approach=(0.0, 0.0, 1.0), restarts=1, power_wide_preshape=None, power_free_reach=False)
     verify(r, obj)
     assert "P" in r.contact_labels and len(r.attempts) == 1
     touch = int(np.argmax(r.status[:, -2] < 5.0))  # first palm contact
@@ -204,8 +220,17 @@ def test_power_plan_reaches_with_the_palm_then_wraps():
     assert np.any(r.trajectory[touch + 1 :, 6:] != [0.0, 1.0])  # then the synergies close the fingers
 
 
+def test_power_reach_with_free_synergies():
+    obj = so.goblet()
+    r = plan(obj, "power", restarts=1, max_iter=40)
+    touch = int(np.argmax(r.status[:, -2] < 5.0))  # first palm contact
+    assert touch > 0
+    assert np.all(r.trajectory[0, 6:] == [-1.0, 1.0])  # the wide pre-shape first
+    assert np.any(r.trajectory[touch, 6:] != [-1.0, 1.0])  # the sQ row shaped the hand on the way
+
+
 def test_power_plans_without_phases_keep_the_mean_pose_start(hand, ellipsoid):
-    r = plan(ellipsoid, "power", max_iter=1, power_phases=False, power_preshape=None)
+    r = plan(ellipsoid, "power", max_iter=1, power_phases=False, power_preshape=None, power_wide_preshape=None)
     np.testing.assert_array_equal(r.trajectory[0, 6:], np.zeros(2))
 
 
@@ -244,6 +269,15 @@ def test_first_power_iterations_agree_on_every_backend(hand):
         np.testing.assert_allclose(r.trajectory[:k], reference[:k], atol=1e-6, err_msg=name)
 
 
+def test_a_palm_centred_start_faces_the_object_with_the_palm(hand, ellipsoid):
+    a = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
+    for centred in (True, False):
+        u = start_configuration(hand, ellipsoid, a, 150.0, palm_centred=centred)
+        off_axis = np.linalg.norm(np.cross(u[:3] - ellipsoid.center, a))  # palm centre off the approach line
+        assert (off_axis < 1e-9) == centred
+        np.testing.assert_allclose(sg.hand.rotation_xyz(u[3:6])[:, 2], -a, atol=1e-12)  # the palm faces the centre
+
+
 def test_the_caller_chooses_the_approach(hand, ellipsoid):
     a = plan(ellipsoid, "precision", approach=(0.0, 0.0, 1.0), max_iter=1)
     u = a.trajectory[0]
@@ -264,6 +298,7 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"backend": "simplex"}, "unknown LP backend"),
         ({"stepsize": 3}, "unknown planner options"),
         ({"grasp": "power", "power_preshape": (0.0, 1.0, 0.5)}, "power_preshape must hold one finite value per synergy"),
+        ({"grasp": "power", "power_wide_preshape": (np.nan, 1.0)}, "power_wide_preshape must hold one finite value per synergy"),
     ],
 )
 def test_bad_input(ellipsoid, kwargs, match):

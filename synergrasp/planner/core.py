@@ -16,7 +16,7 @@ One attempt iterates from a start pose:
 If an attempt stalls (the status stops improving) the next start of a
 schedule is tried: approach directions in the order of `APPROACHES`, and after
 the first two attempts every other one with a stand-off (`STANDOFF_APPROACHES`)
-(power grasps: `POWER_APPROACHES`, no stand-off),
+(power grasps: `power_schedule`, two pre-shapes in turn, no stand-off),
 up to ``restarts`` attempts or ``max_iter`` iterations in all. A grasp that
 meets the criterion with a phalanx too deep in the object is not dropped at
 once: that finger's hand points are asked to back off by the depth and the
@@ -56,12 +56,18 @@ STANDOFF_APPROACHES = (
     (-1.0, 1.0, 1.0), (1.0, 1.0, 1.0), (-1.0, -1.0, 1.0), (0.0, 1.0, 0.0), (1.0, 1.0, -1.0), (1.0, -1.0, 1.0),
     (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (1.0, 0.0, 0.5), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0),
 )
-#: Approach directions of power grasps, in order: sorted by how often a single power attempt from
-#: them ended in a verified grasp over the paper's four objects and four household meshes (mug,
-#: can, bottle, duck); the diagonals from above first.
+#: Approach directions of power grasps from the cupped pre-shape (``power_preshape``), in order:
+#: sorted by how often a single power attempt from them ended in a verified grasp over the 44
+#: household objects and the paper's four (benchmarks/household.py); the diagonals from above first.
 POWER_APPROACHES = (
-    (1.0, 1.0, 1.0), (-1.0, -1.0, 1.0), (0.0, 1.0, 0.0), (-1.0, 1.0, 1.0), (1.0, 0.0, 0.5), (1.0, -1.0, 1.0),
-    (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0), (0.0, -1.0, 0.0), (1.0, 1.0, -1.0),
+    (-1.0, 1.0, 1.0), (1.0, -1.0, 1.0), (-1.0, -1.0, 1.0), (1.0, 1.0, 1.0), (-1.0, 1.0, -1.0), (1.0, 1.0, -1.0),
+    (0.0, 0.0, 1.0), (-1.0, 0.0, 0.5), (1.0, 0.0, 0.5), (0.0, -1.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0),
+)
+#: Approach directions of power grasps from the wide pre-shape (``power_wide_preshape``), ordered
+#: the same way.
+POWER_WIDE_APPROACHES = (
+    (1.0, 1.0, -1.0), (1.0, 1.0, 1.0), (0.0, 0.0, 1.0), (-1.0, 1.0, 1.0), (1.0, 0.0, 0.5), (0.0, 1.0, 0.0),
+    (-1.0, 0.0, 0.5), (-1.0, -1.0, 1.0), (0.0, 0.0, -1.0), (-1.0, 1.0, -1.0), (1.0, -1.0, 1.0), (0.0, -1.0, 0.0),
 )
 #: Attempts without a stand-off before the schedule alternates.
 PLAIN_FIRST = 2
@@ -143,8 +149,8 @@ class PlannerOptions:
         Power grasps only: reach with the palm, then wrap. While the palm point
         is not in contact the finger rows are left out of the step (except
         those of penetrating segments, kept in the first priority level) and
-        the synergies hold their pre-shape, so the open hand is carried palm
-        first to the surface; once the palm touches, its row joins the first
+        the synergies hold their pre-shape (see ``power_free_reach``), so the
+        open hand is carried palm first to the surface; once the palm touches, its row joins the first
         priority level and keeps it on the surface while the synergies close
         the fingers. A grasp meeting the criterion with a phalanx deeper than
         ``max_penetration`` does not stop the attempt: the iteration goes on
@@ -154,6 +160,19 @@ class PlannerOptions:
         synergy): (0, 1) cups the paper's hand open (the second synergy opens
         the fingers). None keeps the mean pose (z = 0). Ignored when ``u0``
         is given.
+    power_wide_preshape : tuple of float or None
+        Pre-shape of every other default power start, the first included:
+        (-1, 1) opens the paper's hand widest, its fingers nearly flat. Its
+        attempts come from `POWER_WIDE_APPROACHES` with the palm centred on
+        the object (`start_configuration`), the cupped ones' from
+        `POWER_APPROACHES` (see `power_schedule`). None: cupped starts only.
+    power_free_reach : bool
+        While reaching, the synergies are free for the rows of the first
+        priority level (sQ and any penetrating phalanx): the hand is shaped
+        by the predicted grasp on the way, and a phalanx that dips into the
+        object is pushed out by the synergies as well as by the hand's pose.
+        The finger contact rows still wait for the palm. False: the
+        synergies hold the pre-shape until the palm touches.
     """
 
     eps_c: float = 5.0
@@ -178,9 +197,11 @@ class PlannerOptions:
     start_clearance: float = 5.0
     power_phases: bool = True
     power_preshape: tuple | None = (0.0, 1.0)
+    power_wide_preshape: tuple | None = (-1.0, 1.0)
+    power_free_reach: bool = True
 
 
-def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None):
+def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
     """The default start: mean pose, palm facing the object's centre.
 
     The palm is ``distance`` mm from the centre along ``approach`` (farther if
@@ -204,6 +225,10 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
         If given, the palm is moved back until the fingertips' mean depth in
         front of the palm is at least this (mm) beyond the object's farthest
         point along ``approach``.
+    palm_centred : bool
+        Face the object's centre with the palm's centre instead of the
+        fingertips' centroid (the wide power pre-shape's starts: the palm
+        lands near the middle of a face, the fingers reach past its edge).
 
     Returns
     -------
@@ -235,7 +260,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     phi = Rotation.from_matrix(R).as_euler("XYZ")
     u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
     tips = hand.points(u, "precision")
-    aim = np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
+    aim = np.zeros(3) if palm_centred else np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
     if clearance is not None:  # the fingertips start outside the object, however long it is along the approach
         reach = max(float(np.max((p.vertices - obj.center) @ a)) for p in obj.convex)
         distance = max(distance, reach + float(tips[:, 2].mean()) + clearance)
@@ -260,8 +285,8 @@ def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     standoff : float
         Largest stand-off (mm) of the alternate attempts (0: none).
     directions : sequence of (3,) float
-        The plain attempts' directions in order: `APPROACHES` for precision
-        grasps, `POWER_APPROACHES` for power grasps.
+        The plain attempts' directions in order (`plan` passes `APPROACHES`;
+        power grasps have their own `power_schedule`).
 
     Returns
     -------
@@ -285,6 +310,43 @@ def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     for k in range(max(len(rest), len(aside))):
         schedule += rest[k : k + 1] + aside[k : k + 1]
     return schedule
+
+
+def power_schedule(approach=None, wide=True):
+    """The starts of a power plan: approach directions and the pre-shape of each attempt.
+
+    Attempts alternate between the wide pre-shape (from `POWER_WIDE_APPROACHES`,
+    first, the palm's centre facing the object's centre) and the cupped one
+    (from `POWER_APPROACHES`, the fingertips facing it): which one closes on
+    an object varies from object to object. The caller's approach, if any, comes
+    first in both orders.
+
+    Parameters
+    ----------
+    approach : (3,) float, optional
+        The caller's first direction (object centre to hand).
+    wide : bool
+        Alternate with the wide pre-shape; False: cupped starts only.
+
+    Returns
+    -------
+    list of ((3,) float, bool)
+        Direction of each attempt, and whether it starts from the wide pre-shape.
+
+    Examples
+    --------
+    >>> [w for _, w in power_schedule()[:4]]
+    [True, False, True, False]
+    """
+    orders = []
+    for directions in (POWER_WIDE_APPROACHES, POWER_APPROACHES) if wide else (POWER_APPROACHES,):
+        order = [tuple(float(x) for x in d) for d in directions]
+        if approach is not None:
+            a = tuple(float(x) for x in approach)
+            order = [a] + [d for d in order if not (np.allclose(np.cross(d, a), 0) and np.dot(d, a) > 0)]
+        orders.append(order)
+    flags = (True, False) if wide else (False,)
+    return [(d, flag) for pair in zip(*orders) for d, flag in zip(pair, flags)]
 
 
 def hand_opening(hand):
@@ -336,6 +398,20 @@ def sq_request(sq_step, radius, gradient):
     0.05
     """
     return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
+
+
+def _preshape(value, name, hand):
+    """A power pre-shape option as synergy values within the limits (the mean pose, zeros, for None)."""
+    if value is None:
+        return np.zeros(hand.n_syn)
+    preshape = np.asarray(value, dtype=float)
+    if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
+        instead = "start from the mean pose" if name == "power_preshape" else "try power_preshape only"
+        raise ValueError(
+            f"{name} must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
+            f"got {value!r}; pass {name}=None to {instead}"
+        )
+    return np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
 def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0):
@@ -404,7 +480,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
                 reaching = True
         e = active * row_scale * (target - st.g)
         J = (active * row_scale)[:, None] * st.J * scale_u
-        if reaching:
+        if reaching and not opts.power_free_reach:
             J[:, 6:] = 0.0  # the synergies keep their pre-shape
         du = limited_step(J[active], e[active], u[6:], hand.synergy_limits, first[active])
         step = np.abs(du).max()
@@ -475,8 +551,9 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     approach : (3,) float, optional
         Direction from the object's centre to the start pose of the first
         attempt; later attempts (after a stall) use `APPROACHES` and
-        `STANDOFF_APPROACHES` for a precision grasp, `POWER_APPROACHES` for a
-        power grasp (see `attempt_schedule`).
+        `STANDOFF_APPROACHES` for a precision grasp (see `attempt_schedule`),
+        `POWER_WIDE_APPROACHES` and `POWER_APPROACHES` for a power grasp (see
+        `power_schedule`).
     hand : SynergyHand, optional
         Default: ``SynergyHand.default()``.
     progress : callable, optional
@@ -522,25 +599,22 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
-    if grasp == "power" and opts.power_preshape is not None:
-        preshape = np.asarray(opts.power_preshape, dtype=float)
-        if preshape.shape != (hand.n_syn,) or not np.all(np.isfinite(preshape)):
-            raise ValueError(
-                f"power_preshape must hold one finite value per synergy ({hand.n_syn} for {hand.name}), "
-                f"got {opts.power_preshape!r}; pass power_preshape=None to start from the mean pose"
-            )
-        preshape = np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
+    if grasp == "power":
+        cupped = _preshape(opts.power_preshape, "power_preshape", hand)
+        wide = None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand)
     if u0 is not None:
         starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
     else:
         first = as_vector(approach, "approach", 3) if approach is not None else None
-        schedule = (attempt_schedule(first, opts.standoff) if grasp == "precision"
-                    else attempt_schedule(first, 0.0, POWER_APPROACHES))
-        starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
-                  for d, standoff in schedule[: opts.restarts]]
-        if grasp == "power" and opts.power_preshape is not None:
-            for u_start, _ in starts:
-                u_start[6:] = preshape
+        if grasp == "precision":
+            starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
+                      for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]]
+        else:
+            starts = []
+            for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
+                u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=is_wide)
+                u_start[6:] = wide if is_wide else cupped
+                starts.append((u_start, 0.0))
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
     for u_start, standoff in starts:
