@@ -188,6 +188,11 @@ class GraspObject:
         return np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex])
 
     @cached_property
+    def _plane_slices(self) -> list[slice]:
+        """Per piece, its planes' columns in the all-pieces plane arrays."""
+        return [slice(start, start + len(p.planes)) for start, p in zip(self._plane_starts, self.convex)]
+
+    @cached_property
     def _plane_piece(self) -> np.ndarray:
         """(F,): the piece of each facet plane."""
         return np.repeat(np.arange(len(self.convex)), [len(p.planes) for p in self.convex])

@@ -591,7 +591,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     blocks = _Blocks()
     batches = []  # (batch index, points, piece, separation?)
     for j, piece in enumerate(obj.convex):
-        planes = slice(obj._plane_starts[j], obj._plane_starts[j] + len(piece.planes))
+        planes = obj._plane_slices[j]
         rows = np.nonzero(keep[:, planes].any(axis=1))[0]
         if len(rows):
             verts, counts = _facet_vertices(piece, keep[rows, planes])
@@ -600,7 +600,7 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
         if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
-            D = values[rows, obj._plane_starts[j] : obj._plane_starts[j] + len(piece.planes)]
+            D = values[rows, obj._plane_slices[j]]
             for k in range(4):
                 # the optimum is where the ray p - rho q_k leaves the piece
                 verts, counts = _facet_vertices(piece, _exit_facets(D, -(piece.planes[:, :3] @ _Q[k])[None]))
@@ -721,8 +721,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
         rows = np.nonzero(cand[:, j])[0]
         if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
             # the optimum is the exit point: only the facets the ray leaves through (as in _exit_facets)
-            first = obj._plane_starts[j]
-            exits = R[rows, first : first + len(piece.planes)] <= T[rows, j, None] * (1 + 1e-9) + 1e-9
+            exits = R[rows, obj._plane_slices[j]] <= T[rows, j, None] * (1 + 1e-9) + 1e-9
             closed, t, y = _facet_exit(piece, c0, U[rows], exits)
             closed &= alone[rows]
             if closed.any():

@@ -269,6 +269,15 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     return u
 
 
+def _caller_first(directions, approach):
+    """The directions as float tuples, the caller's approach (if any) first and not repeated."""
+    order = [tuple(float(x) for x in d) for d in directions]
+    if approach is None:
+        return order
+    a = tuple(float(x) for x in approach)
+    return [a] + [d for d in order if not (np.allclose(np.cross(d, a), 0) and np.dot(d, a) > 0)]
+
+
 def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     """The starts tried in turn: approach directions and the stand-off of each attempt.
 
@@ -299,11 +308,7 @@ def attempt_schedule(approach=None, standoff=20.0, directions=APPROACHES):
     >>> [s for _, s in schedule[:5]]
     [0.0, 0.0, 0.0, 20.0, 0.0]
     """
-    plain = [tuple(float(x) for x in d) for d in directions]
-    if approach is not None:
-        a = tuple(float(x) for x in approach)
-        same = lambda d: np.allclose(np.cross(d, a), 0) and np.dot(d, a) > 0  # noqa: E731
-        plain = [a] + [d for d in plain if not same(d)]
+    plain = _caller_first(directions, approach)
     schedule = [(d, 0.0) for d in plain[:PLAIN_FIRST]]
     rest = [(d, 0.0) for d in plain[PLAIN_FIRST:]]
     aside = [(tuple(d), float(standoff) * (1.0 if k % 2 == 0 else 0.5)) for k, d in enumerate(STANDOFF_APPROACHES)] if standoff > 0 else []
@@ -338,13 +343,7 @@ def power_schedule(approach=None, wide=True):
     >>> [w for _, w in power_schedule()[:4]]
     [True, False, True, False]
     """
-    orders = []
-    for directions in (POWER_WIDE_APPROACHES, POWER_APPROACHES) if wide else (POWER_APPROACHES,):
-        order = [tuple(float(x) for x in d) for d in directions]
-        if approach is not None:
-            a = tuple(float(x) for x in approach)
-            order = [a] + [d for d in order if not (np.allclose(np.cross(d, a), 0) and np.dot(d, a) > 0)]
-        orders.append(order)
+    orders = [_caller_first(d, approach) for d in ((POWER_WIDE_APPROACHES, POWER_APPROACHES) if wide else (POWER_APPROACHES,))]
     flags = (True, False) if wide else (False,)
     return [(d, flag) for pair in zip(*orders) for d, flag in zip(pair, flags)]
 
