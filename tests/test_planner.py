@@ -148,6 +148,15 @@ def test_a_sphere_needs_the_stand_off():
     assert all(a["standoff"] == 0 for a in r.attempts[:2])
 
 
+def test_a_contact_band_lets_the_fingertips_settle_on_a_round_object():
+    t = np.linspace(0, np.pi, 25)
+    orange = so.revolve(np.c_[37 * np.sin(t), 37 * (1 - np.cos(t))], name="orange")
+    assert not plan(orange, "precision", restarts=1).success  # all five at 3.5 mm: the attempt stalls
+    r = plan(orange, "precision", restarts=1, contact_band=(1.0, 4.5))
+    verify(r, orange)
+    assert len(r.contact_points) >= 3 and "T0" in r.contact_labels
+
+
 def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():
     obj = so.revolve(np.array([[38.0, 0.0], [41.0, 95.0]]), name="mug body")
     rejected = plan(obj, "precision", restarts=1, backoffs=0)
@@ -299,6 +308,9 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"stepsize": 3}, "unknown planner options"),
         ({"grasp": "power", "power_preshape": (0.0, 1.0, 0.5)}, "power_preshape must hold one finite value per synergy"),
         ({"grasp": "power", "power_wide_preshape": (np.nan, 1.0)}, "power_wide_preshape must hold one finite value per synergy"),
+        ({"contact_band": (4.0, 2.0)}, "contact_band must be"),
+        ({"contact_band": (1.0, np.inf)}, "contact_band must be"),
+        ({"grasp": "power", "contact_band": (1.0, 4.5)}, "for precision grasps only"),
     ],
 )
 def test_bad_input(ellipsoid, kwargs, match):
