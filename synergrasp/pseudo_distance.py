@@ -424,9 +424,9 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
         return None
     _require_optimal(psol, "penetration (Eq. 3)")
     values = -np.maximum(psol.x[::nk], 0.0)  # rho >= 0: a solver's round-off below 0 is not a positive depth
-    k = int(np.argmax(values))
+    k = int(values.argmax())
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
-    ties = int((values >= values[k] - zero).sum()) > 1
+    ties = np.count_nonzero(values >= values[k] - zero) > 1
     reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
     return _Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
                     x[1 + na :], -y[:d], k)

@@ -193,24 +193,26 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     >>> W.shape
     (4, 6)
     """
-    points, nhat, _, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    arm, nhat, _, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     M, basis, _ = _cone(nhat, mu, edges)
-    return _wrenches(M, basis, points - c, L)
+    return _wrenches(M, basis, arm, L)
 
 
 def _prepare(points, normals, mu, edges, center, torque_scale):
+    """Validated inputs: lever arms ``p_i - c`` (n, 3), unit normals (n, 3) and their lengths (n,), mu, c, L."""
     points = as_points(points, "points", dim=3)
     nhat, length = _unit_normals(normals, len(points))
     mu = positive_scalar(mu, "mu")
     _angles(edges)  # validated here, before any work
     c = np.zeros(3) if center is None else as_vector(center, "center", 3)
+    arm = points - c
     if torque_scale is None:
-        L = float(np.linalg.norm(points - c, axis=1).max())
+        L = float(np.sqrt((arm * arm).sum(axis=1).max()))  # the largest |p_i - c|
         if L <= 0:
             raise ValueError("every contact lies at the centre, so the default torque_scale is 0; pass torque_scale")
     else:
         L = positive_scalar(torque_scale, "torque_scale")
-    return points, nhat, length, mu, c, L
+    return arm, nhat, length, mu, c, L
 
 
 def force_closure_by_hull(wrenches, tol=1e-9) -> bool:
@@ -332,15 +334,14 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     >>> r.force_closure
     False
     """
-    points, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    arm, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     M, basis, tangent = _cone(nhat, mu, edges)
-    arm = points - c
     W = _wrenches(M, basis, arm, L)
     res = _pseudo_distance(W, _ORIGIN, _SIMPLEX, _SIMPLEX_MIN_NORM, lp.get_backend(backend))
 
     # d value / d w_ij = -alpha_ij dual = alpha_ij g, so every sum over the edges j goes through
     # s = M alpha_i (the weights of n, e1, e2): d value / d (n, e1, e2)_i = s_i (g_f + g_t x arm_i / L)
-    s = M @ res.alpha.reshape(len(points), -1).T  # (3, n)
+    s = M @ res.alpha.reshape(len(arm), -1).T  # (3, n)
     g = -res.dual
     grad_points = cross(np.einsum("ki,kia->ia", s, basis), g[3:]) / L  # sum_j d_ij x g_t / L
     h = g[:3] + cross(g[3:], arm) / L

@@ -110,3 +110,19 @@ def test_custom_backend_object_is_accepted():
 
     with pytest.raises(sg.lp.LPError, match="'failed'"):
         sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend=Fixed(name="fixed"))
+
+
+def test_highs_runs_with_a_global_scheduler_of_another_thread_count():
+    highspy = pytest.importorskip("highspy")
+    from synergrasp.lp.highs import THREADS, HighsBackend
+
+    highspy.Highs.resetGlobalScheduler(True)
+    try:
+        other = highspy.Highs()  # sets HiGHS's process-wide scheduler up with another count
+        other.setOptionValue("output_flag", False)
+        other.setOptionValue("threads", THREADS + 1)
+        other.run()
+        sol = HighsBackend().solve([1.0, 1.0], [[1.0, -1.0]], [2.0])
+        assert sol.status == "optimal" and sol.objective == pytest.approx(2.0)
+    finally:
+        highspy.Highs.resetGlobalScheduler(True)

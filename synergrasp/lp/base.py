@@ -14,6 +14,7 @@ the reduced costs ``c - A.T @ y`` are >= 0, and for a unique optimum
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -146,7 +147,7 @@ class Backend:
                 "expected c (n,), A (m, n), b (m,)"
             )
         # any NaN or inf makes the sum non-finite (finite entries can only overflow it: then check each)
-        if not np.isfinite(c.sum() + values.sum() + b.sum()) and not (
+        if not math.isfinite(c.sum() + values.sum() + b.sum()) and not (
             np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()
         ):
             raise ValueError("LP data contains NaN or inf; check the geometry passed in")

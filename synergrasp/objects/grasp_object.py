@@ -193,9 +193,19 @@ class GraspObject:
         return [slice(start, start + len(p.planes)) for start, p in zip(self._plane_starts, self.convex)]
 
     @cached_property
-    def _plane_piece(self) -> np.ndarray:
-        """(F,): the piece of each facet plane."""
-        return np.repeat(np.arange(len(self.convex)), [len(p.planes) for p in self.convex])
+    def _centre_depths(self) -> np.ndarray:
+        """(F,): ``-(n_f . c + o_f)``, how far the centre c lies behind each facet plane (< 0: in front)."""
+        return -(self._planes[:, :3] @ self.center + self._planes[:, 3])
+
+    @cached_property
+    def _centre_in_every_piece(self) -> bool:
+        """The centre lies strictly inside every piece."""
+        return bool((self._centre_depths > 0).all())
+
+    @cached_property
+    def _plane_counts(self) -> np.ndarray:
+        """(J,): the number of facet planes of each piece."""
+        return np.array([len(p.planes) for p in self.convex])
 
     def contains(self, points) -> np.ndarray:
         """Whether each point is inside (or on) some piece.
