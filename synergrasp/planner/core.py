@@ -426,6 +426,22 @@ def _preshape(value, name, hand):
     return np.clip(preshape, hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
+def _starts(hand, obj, grasp, opts, first, preshapes):
+    """The start configurations and stand-offs of the attempts in turn, each computed when it is needed.
+
+    ``preshapes`` is (cupped, wide or None) for a power grasp, None for a precision grasp.
+    """
+    if grasp == "precision":
+        for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]:
+            yield start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff
+        return
+    cupped, wide = preshapes
+    for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
+        u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=is_wide)
+        u_start[6:] = wide if is_wide else cupped
+        yield u_start, 0.0
+
+
 def _contact_goal(cp, opts, offset, kind):
     """What the contact rows ask for (mm): ``contact_target + offset``, or cP clipped to the shifted ``contact_band``."""
     if opts.contact_band is None or kind != "precision":
@@ -625,22 +641,15 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
+    preshapes = None
     if grasp == "power":
-        cupped = _preshape(opts.power_preshape, "power_preshape", hand)
-        wide = None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand)
+        preshapes = (_preshape(opts.power_preshape, "power_preshape", hand),
+                     None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand))
     if u0 is not None:
         starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
     else:
         first = as_vector(approach, "approach", 3) if approach is not None else None
-        if grasp == "precision":
-            starts = [(start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance), standoff)
-                      for d, standoff in attempt_schedule(first, opts.standoff)[: opts.restarts]]
-        else:
-            starts = []
-            for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
-                u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=is_wide)
-                u_start[6:] = wide if is_wide else cupped
-                starts.append((u_start, 0.0))
+        starts = _starts(hand, obj, grasp, opts, first, preshapes)
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
     for u_start, standoff in starts:
