@@ -81,7 +81,8 @@ class GraspObject:
         self.mesh = mesh
         self.info = dict(info or {})
         self._planes = np.vstack([p.planes for p in self.convex])
-        self._plane_starts = np.cumsum([0] + [len(p.planes) for p in self.convex[:-1]])
+        self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
+        self._plane_starts = np.cumsum(np.r_[0, self._plane_counts[:-1]])
         if center is None:
             self.center = self._default_center()
         else:
@@ -190,7 +191,7 @@ class GraspObject:
     @cached_property
     def _plane_slices(self) -> list[slice]:
         """Per piece, its planes' columns in the all-pieces plane arrays."""
-        return [slice(start, start + len(p.planes)) for start, p in zip(self._plane_starts, self.convex)]
+        return [slice(start, start + count) for start, count in zip(self._plane_starts, self._plane_counts)]
 
     @cached_property
     def _centre_depths(self) -> np.ndarray:
@@ -201,11 +202,6 @@ class GraspObject:
     def _centre_in_every_piece(self) -> bool:
         """The centre lies strictly inside every piece."""
         return bool((self._centre_depths > 0).all())
-
-    @cached_property
-    def _plane_counts(self) -> np.ndarray:
-        """(J,): the number of facet planes of each piece."""
-        return np.array([len(p.planes) for p in self.convex])
 
     def contains(self, points) -> np.ndarray:
         """Whether each point is inside (or on) some piece.
