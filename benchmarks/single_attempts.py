@@ -11,7 +11,9 @@ script measures the attempt itself. From each of the 26 directions of a cube's
 faces, edges and corners (`start_configuration`), each object of the
 household set and the paper's four gets one attempt of at most
 ``iterations_per_attempt`` iterations per stand-off (precision) or pre-shape
-(power: wide and palm-centred, or cupped), with the planner options given; an
+(power: wide and palm-centred, or cupped), with the planner options given
+(precision attempts use ``contact_target``, or with ``band_after=0`` the
+``contact_band`` of a plan's second pass); an
 attempt counts when the paper's criterion is met, the final contact wrenches
 contain the origin strictly in their convex hull and no phalanx is deeper than
 3 mm. Prints the count per object and in all, and with ``--out`` pickles every
@@ -70,10 +72,12 @@ def run_object(name, grasp, options, standoffs):
     warnings.simplefilter("ignore")
     obj = objects()[name]
     hand, opts = sg.SynergyHand.default(), PlannerOptions(**options)
+    # the contact band of a plan's second pass is measured with band_after=0, as plan() takes it
+    band = opts.contact_band if grasp == "precision" and opts.band_after == 0 else None
     rows = []
     for d, variant, u, standoff in starts(hand, obj, grasp, opts, standoffs):
         reason, traj, statuses, checks, final, depth, _ = _attempt(
-            hand, obj, grasp, u, opts, "highs", opts.iterations_per_attempt, None, standoff
+            hand, obj, grasp, u, opts, "highs", opts.iterations_per_attempt, None, standoff, band
         )
         contact = checks[-1].contact
         result = SimpleNamespace(success=reason == "stop criterion met", penetration=depth,
@@ -94,7 +98,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE",
-                        help="planner options, e.g. contact_band=(1,4.5) (PlannerOptions fields)")
+                        help="planner options, e.g. band_after=0 (every attempt with the contact band; PlannerOptions fields)")
     parser.add_argument("--standoffs", nargs="+", type=float, default=[0.0, 20.0], help="precision stand-offs (mm)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="objects, e.g. shape/orange mesh/mug paper/bell")
     parser.add_argument("--out", help="pickle every attempt here")

@@ -100,7 +100,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
-    p.add_argument("--max-iter", type=int, default=600, help="cap on the iterations over all attempts (default 600)")
+    p.add_argument("--max-iter", type=int, default=1500, help="cap on the iterations over all attempts (default 1500)")
     p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

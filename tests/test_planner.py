@@ -151,15 +151,28 @@ def test_a_sphere_needs_the_stand_off():
 def test_a_contact_band_lets_the_fingertips_settle_on_a_round_object():
     t = np.linspace(0, np.pi, 25)
     orange = so.revolve(np.c_[37 * np.sin(t), 37 * (1 - np.cos(t))], name="orange")
-    assert not plan(orange, "precision", restarts=1).success  # all five at 3.5 mm: the attempt stalls
-    r = plan(orange, "precision", restarts=1, contact_band=(1.0, 4.5))
+    assert not plan(orange, "precision", restarts=1, contact_band=None).success  # all five at 3.5 mm: it stalls
+    r = plan(orange, "precision", restarts=1, band_after=0)  # the band from the first attempt
     verify(r, orange)
     assert len(r.contact_points) >= 3 and "T0" in r.contact_labels
+    assert [a["band"] for a in r.attempts] == [[1.0, 4.5]]
+
+
+def test_a_failed_precision_schedule_is_tried_again_with_the_contact_band():
+    t = np.linspace(0, np.pi, 25)
+    orange = so.revolve(np.c_[37 * np.sin(t), 37 * (1 - np.cos(t))], name="orange")
+    r = plan(orange, "precision", restarts=1)  # one attempt per pass: the target's fails, the band's succeeds
+    verify(r, orange)
+    assert [a["band"] for a in r.attempts] == [None, [1.0, 4.5]]
+    assert r.attempts[0]["start"] == r.attempts[1]["start"]  # the same schedule again
+    capped = plan(orange, "precision", restarts=1, band_after=10)
+    assert capped.attempts[0]["iterations"] == 10 and capped.attempts[1]["band"] == [1.0, 4.5]
+    assert capped.success
 
 
 def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():
     obj = so.revolve(np.array([[38.0, 0.0], [41.0, 95.0]]), name="mug body")
-    rejected = plan(obj, "precision", restarts=1, backoffs=0)
+    rejected = plan(obj, "precision", restarts=1, backoffs=0, contact_band=None)
     assert not rejected.success and "phalanx penetrates" in rejected.reason
     r = plan(obj, "precision", restarts=1)
     verify(r, obj)
@@ -311,6 +324,8 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"contact_band": (4.0, 2.0)}, "contact_band must be"),
         ({"contact_band": (1.0, np.inf)}, "contact_band must be"),
         ({"grasp": "power", "contact_band": (1.0, 4.5)}, "for precision grasps only"),
+        ({"band_after": -1}, "band_after must be an integer >= 0"),
+        ({"band_after": 2.5}, "band_after must be an integer >= 0"),
     ],
 )
 def test_bad_input(ellipsoid, kwargs, match):

@@ -17,7 +17,10 @@ If an attempt stalls (the status stops improving) the next start of a
 schedule is tried: approach directions in the order of `APPROACHES`, and after
 the first two attempts every other one with a stand-off (`STANDOFF_APPROACHES`)
 (power grasps: `power_schedule`, two pre-shapes in turn, no stand-off),
-up to ``restarts`` attempts or ``max_iter`` iterations in all. A grasp that
+up to ``restarts`` attempts or ``max_iter`` iterations in all; a precision
+plan that has found no grasp after ``band_after`` iterations goes through the
+schedule once more with a contact band instead of the target
+(``contact_band``). A grasp that
 meets the criterion with a phalanx too deep in the object is not dropped at
 once: that finger's hand points are asked to back off by the depth and the
 iteration goes on (``backoffs`` times).
@@ -120,8 +123,8 @@ class PlannerOptions:
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
-        Number of attempts tried (the caller's approach first); ``max_iter``
-        caps their iterations in all.
+        Number of attempts of one pass over the schedule (the caller's
+        approach first); ``max_iter`` caps their iterations in all.
     start_distance : float
         Distance (mm) of the start pose from the object's centre.
     start_clearance : float
@@ -174,7 +177,8 @@ class PlannerOptions:
         The finger contact rows still wait for the palm. False: the
         synergies hold the pre-shape until the palm touches.
     contact_band : (2,) float or None
-        Precision grasps only: instead of asking every fingertip for
+        Precision grasps only: the attempts of the second pass over the
+        schedule (see ``band_after``), instead of asking every fingertip for
         ``contact_target``, accept any cP in the band ``[low, high]`` mm
         (shifted like the target by a stand-off or back-off): a fingertip
         inside it is left out of the step, one outside it is pulled to the
@@ -183,8 +187,13 @@ class PlannerOptions:
         is then nearly singular and the attempt stalls with the thumb just
         outside ``eps_c``); the band lets them settle where they can. (1, 4.5)
         roughly doubles single-attempt success on spheres and round fruit but
-        lowers it on cylinders and boxes, so it is not the default (see the
-        planner docs). None: the target.
+        lowers it on cylinders and boxes, hence a second pass rather than the
+        first (see the planner docs). None: the target only, one pass.
+    band_after : int
+        Precision grasps: iterations (over all attempts) after which a plan
+        that has not found a grasp with ``contact_target`` starts the schedule
+        again with ``contact_band``, until ``max_iter``. 0: the band from the
+        first attempt.
     """
 
     eps_c: float = 5.0
@@ -211,7 +220,8 @@ class PlannerOptions:
     power_preshape: tuple | None = (0.0, 1.0)
     power_wide_preshape: tuple | None = (-1.0, 1.0)
     power_free_reach: bool = True
-    contact_band: tuple | None = None
+    contact_band: tuple | None = (1.0, 4.5)
+    band_after: int = 600
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
@@ -442,16 +452,18 @@ def _starts(hand, obj, grasp, opts, first, preshapes):
         yield u_start, 0.0
 
 
-def _contact_goal(cp, opts, offset, kind):
-    """What the contact rows ask for (mm): ``contact_target + offset``, or cP clipped to the shifted ``contact_band``."""
-    if opts.contact_band is None or kind != "precision":
-        return opts.contact_target + offset
-    low, high = opts.contact_band
+def _contact_goal(cp, target, band, offset):
+    """What the contact rows ask for (mm): ``target + offset``, or cP clipped to the shifted ``band`` if there is one."""
+    if band is None:
+        return target + offset
+    low, high = band
     return np.clip(cp, low + offset, high + offset)
 
 
-def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0):
+def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0, band=None):
     """One attempt of the iteration from u0, the contact rows asking ``standoff * clip(g_sQ, 0, 1)`` mm more.
+
+    ``band``: the contact band of the attempt (see ``PlannerOptions.contact_band``), None for the target.
 
     Returns (reason, trajectory, statuses, checks, final status, final penetration depth, lp_solves).
     """
@@ -502,7 +514,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
                     backoff[rows_of[seg]] = np.maximum(backoff[rows_of[seg]], d)
             best, stalled, bests = np.inf, 0, []
         depth = None
-        target = np.r_[_contact_goal(st.g[:-1], opts, standoff * np.clip(st.g[-1], 0.0, 1.0) + backoff, kind), 0.0]
+        target = np.r_[_contact_goal(st.g[:-1], opts.contact_target, band, standoff * np.clip(st.g[-1], 0.0, 1.0) + backoff), 0.0]
         sq_step = sq_request(opts.sq_step, radius, st.J[-1] * scale_u) if kind == "precision" else opts.sq_step
         target[-1] = max(-1.0, st.g[-1] - sq_step)
         first = np.r_[st.g[:-1] < 0.0, True]  # first priority: sQ and penetrating hand points
@@ -540,7 +552,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
         checks.append(chk)
         if progress is not None:
             progress(chk, st)
-        merit = np.sum((row_scale[:-1] * (st.g[:-1] - _contact_goal(st.g[:-1], opts, backoff, kind))) ** 2) + max(st.g[-1], -0.1)
+        merit = np.sum((row_scale[:-1] * (st.g[:-1] - _contact_goal(st.g[:-1], opts.contact_target, band, backoff))) ** 2) + max(st.g[-1], -0.1)
         if merit < best - 1e-4:
             best, stalled = merit, 0
         else:
@@ -566,7 +578,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0)
     return reason, traj, statuses, checks, st, depth, solves
 
 
-def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, approach=None, hand=None,
+def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, approach=None, hand=None,
          progress=None, **options) -> PlanResult:
     """Plan a reach-to-grasp motion (paper Sec. 3.2) for the synergy hand.
 
@@ -582,7 +594,8 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
         Start configuration; default `start_configuration` from ``approach``.
         With ``u0`` given only one attempt is made.
     max_iter : int
-        Cap on the total number of iterations over all attempts.
+        Cap on the total number of iterations over all attempts (of both
+        passes of a precision plan, see ``band_after``).
     approach : (3,) float, optional
         Direction from the object's centre to the start pose of the first
         attempt; later attempts (after a stall) use `APPROACHES` and
@@ -620,11 +633,15 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     opts = replace(PlannerOptions(), **options)
     if opts.contact_band is not None:
         band = np.asarray(opts.contact_band, dtype=float)
-        if grasp != "precision" or band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 <= band[0] < band[1]:
+        if band.shape != (2,) or not np.all(np.isfinite(band)) or not 0 <= band[0] < band[1]:
             raise ValueError(
-                f"contact_band must be (low, high) mm with 0 <= low < high, for precision grasps only; got "
-                f"{opts.contact_band!r} for a {grasp} grasp. Pass contact_band=None to use contact_target."
+                f"contact_band must be (low, high) mm with 0 <= low < high, got {opts.contact_band!r}. "
+                "Pass contact_band=None to use contact_target only."
             )
+    if grasp == "power" and "contact_band" in options and opts.contact_band is not None:
+        raise ValueError("contact_band is for precision grasps only; power grasps use contact_target")
+    if isinstance(opts.band_after, bool) or not isinstance(opts.band_after, (int, np.integer)) or opts.band_after < 0:
+        raise ValueError(f"band_after must be an integer >= 0 (iterations), got {opts.band_after!r}")
     get_backend(backend)
     hand = hand or SynergyHand.default()
     if int(max_iter) < 1:
@@ -645,23 +662,30 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=600, appr
     if grasp == "power":
         preshapes = (_preshape(opts.power_preshape, "power_preshape", hand),
                      None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand))
-    if u0 is not None:
-        starts = [(as_vector(u0, "u0", hand.n_u), 0.0)]
-    else:
-        first = as_vector(approach, "approach", 3) if approach is not None else None
-        starts = _starts(hand, obj, grasp, opts, first, preshapes)
+    first = as_vector(approach, "approach", 3) if approach is not None else None
+    u0 = None if u0 is None else as_vector(u0, "u0", hand.n_u)
+    # passes over the schedule: (contact band, iterations in all at which the pass ends)
+    passes = [(None, max_iter)]
+    if grasp == "precision" and opts.contact_band is not None:
+        passes = [(None, min(opts.band_after, max_iter)), (tuple(opts.contact_band), max_iter)]
+    passes = [p for p in passes if p[1] > 0][: 1 if u0 is not None else None]  # u0: one attempt
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
-    for u_start, standoff in starts:
-        budget = min(opts.iterations_per_attempt, max_iter - total)
-        if budget <= 0:
-            break
-        reason, traj, statuses, checks, final, depth, n_solves = _attempt(
-            hand, obj, grasp, u_start, opts, backend, budget, progress, standoff
-        )
-        total += len(traj) - 1
-        solves += n_solves
-        attempts.append({"start": u_start.tolist(), "standoff": standoff, "iterations": len(traj) - 1, "reason": reason})
+    for band, end in passes:
+        starts = [(u0, 0.0)] if u0 is not None else _starts(hand, obj, grasp, opts, first, preshapes)
+        for u_start, standoff in starts:
+            budget = min(opts.iterations_per_attempt, end - total)
+            if budget <= 0:
+                break
+            reason, traj, statuses, checks, final, depth, n_solves = _attempt(
+                hand, obj, grasp, u_start, opts, backend, budget, progress, standoff, band
+            )
+            total += len(traj) - 1
+            solves += n_solves
+            attempts.append({"start": u_start.tolist(), "standoff": standoff, "band": band and list(band),
+                             "iterations": len(traj) - 1, "reason": reason})
+            if reason == "stop criterion met":
+                break
         if reason == "stop criterion met":
             break
     chk = checks[-1]

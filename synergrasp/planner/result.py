@@ -56,9 +56,11 @@ class PlanResult:
     options : dict
         Planner settings used.
     attempts : list of dict
-        Every attempt made, in order: its start configuration, its number of
-        iterations and why it ended. An attempt that stalls is followed by one
-        from another approach direction; the trajectory is the last one's.
+        Every attempt made, in order: ``start`` (its start configuration),
+        ``standoff`` (mm), ``band`` (the contact band of a precision plan's
+        second pass, else None), ``iterations`` and ``reason`` (why it ended).
+        An attempt that stalls is followed by one from another approach
+        direction; the trajectory is the last one's.
 
     Examples
     --------
