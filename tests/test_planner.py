@@ -163,11 +163,22 @@ def test_a_failed_precision_schedule_is_tried_again_with_the_contact_band():
     orange = so.revolve(np.c_[37 * np.sin(t), 37 * (1 - np.cos(t))], name="orange")
     r = plan(orange, "precision", restarts=1)  # one attempt per pass: the target's fails, the band's succeeds
     verify(r, orange)
-    assert [a["band"] for a in r.attempts] == [None, [1.0, 4.5]]
+    assert [(a["pass"], a["band"]) for a in r.attempts] == [(1, None), (2, [1.0, 4.5])]
     assert r.attempts[0]["start"] == r.attempts[1]["start"]  # the same schedule again
     capped = plan(orange, "precision", restarts=1, band_after=10)
     assert capped.attempts[0]["iterations"] == 10 and capped.attempts[1]["band"] == [1.0, 4.5]
     assert capped.success
+
+
+def test_a_failed_power_schedule_is_tried_again_with_the_synergies_held_while_reaching():
+    shaker = so.revolve(np.array([[22.0, 0.0], [18.0, 40.0], [22.0, 75.0], [16.0, 85.0]]), name="salt shaker")
+    free_only = plan(shaker, "power", restarts=4, power_held_pass=False)
+    assert not free_only.success and len(free_only.attempts) == 4
+    r = plan(shaker, "power", restarts=4)
+    verify(r, shaker)
+    assert [a["pass"] for a in r.attempts] == [1] * 4 + [2] * 4  # the fourth start succeeds with the held reach
+    assert r.attempts[0]["start"] == r.attempts[4]["start"]  # the same schedule again
+    assert r.options["power_free_reach"]  # the caller's options; only the second pass holds the synergies
 
 
 def test_a_penetrating_finger_backs_off_instead_of_rejecting_the_grasp():

@@ -17,10 +17,11 @@ If an attempt stalls (the status stops improving) the next start of a
 schedule is tried: approach directions in the order of `APPROACHES`, and after
 the first two attempts every other one with a stand-off (`STANDOFF_APPROACHES`)
 (power grasps: `power_schedule`, two pre-shapes in turn, no stand-off),
-up to ``restarts`` attempts or ``max_iter`` iterations in all; a precision
-plan that has found no grasp after ``band_after`` iterations goes through the
-schedule once more with a contact band instead of the target
-(``contact_band``). A grasp that
+up to ``restarts`` attempts or ``max_iter`` iterations in all. A plan that
+finds no grasp goes through the schedule a second time: a precision plan after
+``band_after`` iterations, with a contact band instead of the target
+(``contact_band``); a power plan once its attempts are spent, with the
+synergies held while reaching (``power_held_pass``). A grasp that
 meets the criterion with a phalanx too deep in the object is not dropped at
 once: that finger's hand points are asked to back off by the depth and the
 iteration goes on (``backoffs`` times).
@@ -175,7 +176,8 @@ class PlannerOptions:
         by the predicted grasp on the way, and a phalanx that dips into the
         object is pushed out by the synergies as well as by the hand's pose.
         The finger contact rows still wait for the palm. False: the
-        synergies hold the pre-shape until the palm touches.
+        synergies hold the pre-shape until the palm touches (True: the first
+        pass; see ``power_held_pass`` for the second).
     contact_band : (2,) float or None
         Precision grasps only: the attempts of the second pass over the
         schedule (see ``band_after``), instead of asking every fingertip for
@@ -194,6 +196,13 @@ class PlannerOptions:
         that has not found a grasp with ``contact_target`` starts the schedule
         again with ``contact_band``, until ``max_iter``. 0: the band from the
         first attempt.
+    power_held_pass : bool
+        Power grasps with ``power_free_reach``: when the schedule's attempts
+        (``restarts``) are spent without a grasp and iterations are left, go
+        through the schedule again with the synergies held at the pre-shape
+        while reaching (``power_free_reach=False``). Some objects are grasped
+        only one way: the held reach gets a wine bottle and a salt shaker that
+        the free reach misses.
     """
 
     eps_c: float = 5.0
@@ -222,6 +231,7 @@ class PlannerOptions:
     power_free_reach: bool = True
     contact_band: tuple | None = (1.0, 4.5)
     band_after: int = 600
+    power_held_pass: bool = True
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
@@ -595,7 +605,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
         With ``u0`` given only one attempt is made.
     max_iter : int
         Cap on the total number of iterations over all attempts (of both
-        passes of a precision plan, see ``band_after``).
+        passes, see ``band_after`` and ``power_held_pass``).
     approach : (3,) float, optional
         Direction from the object's centre to the start pose of the first
         attempt; later attempts (after a stall) use `APPROACHES` and
@@ -664,26 +674,28 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
                      None if opts.power_wide_preshape is None else _preshape(opts.power_wide_preshape, "power_wide_preshape", hand))
     first = as_vector(approach, "approach", 3) if approach is not None else None
     u0 = None if u0 is None else as_vector(u0, "u0", hand.n_u)
-    # passes over the schedule: (contact band, iterations in all at which the pass ends)
-    passes = [(None, max_iter)]
+    # passes over the schedule: (options, contact band, iterations in all at which the pass ends)
+    passes = [(opts, None, max_iter)]
     if grasp == "precision" and opts.contact_band is not None:
-        passes = [(None, min(opts.band_after, max_iter)), (tuple(opts.contact_band), max_iter)]
-    passes = [p for p in passes if p[1] > 0][: 1 if u0 is not None else None]  # u0: one attempt
+        passes = [(opts, None, min(opts.band_after, max_iter)), (opts, tuple(opts.contact_band), max_iter)]
+    if grasp == "power" and opts.power_free_reach and opts.power_held_pass:
+        passes.append((replace(opts, power_free_reach=False), None, max_iter))
+    passes = [p for p in passes if p[2] > 0][: 1 if u0 is not None else None]  # u0: one attempt
     t0 = time.perf_counter()
     total, solves, attempts = 0, 0, []
-    for band, end in passes:
+    for number, (pass_opts, band, end) in enumerate(passes, 1):
         starts = [(u0, 0.0)] if u0 is not None else _starts(hand, obj, grasp, opts, first, preshapes)
         for u_start, standoff in starts:
             budget = min(opts.iterations_per_attempt, end - total)
             if budget <= 0:
                 break
             reason, traj, statuses, checks, final, depth, n_solves = _attempt(
-                hand, obj, grasp, u_start, opts, backend, budget, progress, standoff, band
+                hand, obj, grasp, u_start, pass_opts, backend, budget, progress, standoff, band
             )
             total += len(traj) - 1
             solves += n_solves
-            attempts.append({"start": u_start.tolist(), "standoff": standoff, "band": band and list(band),
-                             "iterations": len(traj) - 1, "reason": reason})
+            attempts.append({"start": u_start.tolist(), "standoff": standoff, "pass": number,
+                             "band": band and list(band), "iterations": len(traj) - 1, "reason": reason})
             if reason == "stop criterion met":
                 break
         if reason == "stop criterion met":

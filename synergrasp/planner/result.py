@@ -57,8 +57,9 @@ class PlanResult:
         Planner settings used.
     attempts : list of dict
         Every attempt made, in order: ``start`` (its start configuration),
-        ``standoff`` (mm), ``band`` (the contact band of a precision plan's
-        second pass, else None), ``iterations`` and ``reason`` (why it ended).
+        ``standoff`` (mm), ``pass`` (1, or 2 for the second pass over the
+        schedule), ``band`` (the contact band of a precision plan's second
+        pass, else None), ``iterations`` and ``reason`` (why it ended).
         An attempt that stalls is followed by one from another approach
         direction; the trajectory is the last one's.
 
