@@ -233,7 +233,7 @@ def test_power_schedule_alternates_the_pre_shapes():
 
 def test_power_plans_follow_the_power_schedule():
     obj = so.ellipsoid()
-    r = plan(obj, "power", restarts=4, iterations_per_attempt=1)
+    r = plan(obj, "power", restarts=4, iterations_per_attempt=1, power_held_pass=False)
     assert len(r.attempts) == 4
     for attempt, (d, wide) in zip(r.attempts, power_schedule()):
         start = np.array(attempt["start"])
