@@ -463,14 +463,12 @@ def _candidates(obj, P, S):
     """
     n, J = S.shape
     PQ = P @ _Q.T  # (n, 4)
-    upper = obj._vertex_gauge(PQ)
-    bound = upper.min(axis=1)
+    bound = obj._vertex_gauge(PQ)
     if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
         return np.ones(S.shape, dtype=bool), bound
     inside = S <= 0.0
     lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
-    tol = 1e-9 * (1.0 + np.abs(upper).min(axis=1, keepdims=True))
-    cand = lower <= upper.min(axis=1, keepdims=True) + tol
+    cand = lower <= (bound + 1e-9 * (1.0 + np.abs(bound)))[:, None]
     out = inside.any(axis=1)
     cand[out] = inside[out]
     todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]
@@ -482,7 +480,7 @@ def _candidates(obj, P, S):
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
         np.maximum(exact, 0.0, out=exact)  # fcl reports -1 for a point it finds on or in a piece
         low = np.maximum(exact, lower[i, js])
-        high = min(GAUGE_RATIO * exact.min(), upper[i].min()) * (1 + 1e-6) + 1e-6
+        high = min(GAUGE_RATIO * exact.min(), bound[i]) * (1 + 1e-6) + 1e-6
         cand[i, js] = low <= high
         bound[i] = min(bound[i], high)
     return cand, bound
@@ -517,7 +515,7 @@ def cp_bounds(obj, points):
     S = obj._plane_bounds(P)
     PQ = P @ _Q.T
     lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2)).min(axis=1)
-    upper = obj._vertex_gauge(PQ).min(axis=1)
+    upper = obj._vertex_gauge(PQ)
     inside = (S <= 0.0).any(axis=1)
     return np.where(inside, -np.inf, lower), np.where(inside, 0.0, upper)
 
