@@ -214,8 +214,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     ((6,), (6, 8))
     """
     if kind == "power":
-        skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(u)
-        points, jac = hand.points_and_jacobian(u, kind)
+        points, jac, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
         cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)
     else:
         points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
