@@ -135,12 +135,36 @@ class GraspObject:
 
     def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
         """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
-        return self._plane_bounds_and_values(points)[0]
+        return self._plane_values(points)[0]
 
-    def _plane_bounds_and_values(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """`_plane_bounds` and the (n, F) values ``n_f . p + o_f`` it takes the maximum of (F: all facets)."""
-        s = points @ self._planes[:, :3].T + self._planes[:, 3]
-        return np.maximum.reduceat(s, self._plane_starts, axis=1), s
+    def _plane_values(self, points: np.ndarray, pairs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The facet-plane values ``n_f . p + o_f`` and `_plane_bounds`, for the pairs of points and pieces asked.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+        pairs : (n, J) bool, optional
+            The pieces wanted for each point (default: all).
+
+        Returns
+        -------
+        bounds : (n, J) float
+            `_plane_bounds`, inf where not asked.
+        values : (n, F) float
+            The values (F: the facets of all pieces), 0 where not asked.
+        """
+        n = len(points)
+        bounds = np.full((n, len(self.convex)), np.inf)
+        values = np.zeros((n, len(self._planes)))
+        for j, planes in enumerate(self._plane_slices):
+            rows = np.arange(n) if pairs is None else np.flatnonzero(pairs[:, j])
+            if len(rows) == 1 < n:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product
+                rows = np.repeat(rows, 2)
+            if len(rows):
+                v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
+                values[rows, planes] = v
+                bounds[rows, j] = v.max(axis=1)
+        return bounds, values
 
     @cached_property
     def _support(self) -> np.ndarray:
@@ -182,10 +206,10 @@ class GraspObject:
             ``q_k . p`` for the points.
         """
         members, support = self._vertex_clusters
-        low = _largest_gap(pq, support)  # (n, C)
-        high = _largest_gap(pq, members[:, :, 0]).min(axis=1)
+        low = proximity._largest_gap(pq, support)  # (n, C)
+        high = proximity._largest_gap(pq, members[:, :, 0]).min(axis=1)
         rows, cluster = np.divmod(np.flatnonzero(low <= high[:, None]), low.shape[1])
-        gap = _largest_gap(pq[rows], members[:, cluster]).min(axis=1)
+        gap = proximity._largest_gap(pq[rows], members[:, cluster]).min(axis=1)
         starts = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])  # every point keeps a cluster
         return proximity.GAUGE_RATIO * np.minimum.reduceat(gap, starts)
 
@@ -442,27 +466,6 @@ class GraspObject:
             If ``segments`` is not a finite (k, 2, 3) array or a radius is not > 0.
         """
         return proximity.penetration(self, segments, radius)
-
-
-def _largest_gap(pq: np.ndarray, wq: np.ndarray) -> np.ndarray:
-    """``max_k pq[:, k] - wq[k]``: gauge distances (over 3) between points and vertices.
-
-    Parameters
-    ----------
-    pq : (n, 4) float
-        ``q_k . p`` of n points.
-    wq : (4, C) or (4, n, m) float
-        ``q_k . v`` of C vertices (the same for every point), or of m
-        vertices per point.
-
-    Returns
-    -------
-    (n, C) or (n, m) float
-    """
-    gap = pq[:, 0, None] - wq[0]
-    for k in range(1, 4):
-        np.maximum(gap, pq[:, k, None] - wq[k], out=gap)
-    return gap
 
 
 def _median_split(points: np.ndarray, size: int) -> list[np.ndarray]:

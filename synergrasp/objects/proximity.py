@@ -416,6 +416,27 @@ def _facet_vertices(piece, facet_mask):
     return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
 
 
+def _largest_gap(pq: np.ndarray, wq: np.ndarray) -> np.ndarray:
+    """``max_k pq[:, k] - wq[k]``: gauge distances (over 3) between points and vertices.
+
+    Parameters
+    ----------
+    pq : (n, 4) float
+        ``q_k . p`` of n points.
+    wq : (4, C) or (4, n, m) float
+        ``q_k . v`` of C vertices (the same for every point), or of m
+        vertices per point.
+
+    Returns
+    -------
+    (n, C) or (n, m) float
+    """
+    gap = pq[:, 0, None] - wq[0]
+    for k in range(1, 4):
+        np.maximum(gap, pq[:, k, None] - wq[k], out=gap)
+    return gap
+
+
 def _nonzero(mask):
     """``np.nonzero`` of a 2-D mask (row and column of each True entry, row by row), in a third of its time."""
     return np.divmod(np.flatnonzero(mask), mask.shape[1])
@@ -446,6 +467,11 @@ def _first_per_group(group, key):
 class _Probe:
     """What the broad phase knows of hand points before any LP (computed once per point).
 
+    Only the pieces whose gauge support bound (see `_candidates`) is within
+    the tolerance of `_candidates` of ``upper`` can be a point's cP
+    minimiser or contain it (the bound is then <= 0); the facet planes of
+    the other pieces are not evaluated for that point.
+
     Attributes
     ----------
     P : (n, 3) float
@@ -453,12 +479,14 @@ class _Probe:
     PQ : (n, 4) float
         ``q_k . p``.
     values : (n, F) float
-        ``n_f . p + o_f`` for every facet plane of every piece.
+        ``n_f . p + o_f`` for every facet plane of the pieces evaluated, 0
+        for the others.
     S : (n, J) float
-        Their maximum over each piece: <= 0 inside piece j, else a lower
-        bound of the distance.
+        Their maximum over each piece evaluated: <= 0 inside piece j, else a
+        lower bound of the distance; inf for the pieces not evaluated.
     lower : (n, J) float
-        Lower bound of piece j's value for a point outside it (see `_candidates`).
+        Lower bound of piece j's value for a point outside it (see
+        `_candidates`); inf for the pieces not evaluated.
     upper : (n,) float
         Gauge distance to the nearest vertex, an upper bound of cP.
     """
@@ -474,9 +502,11 @@ class _Probe:
     def of(cls, obj, P) -> "_Probe":
         """The probe of points ``P`` (n, 3) against ``obj``."""
         PQ = P @ _Q.T
-        S, values = obj._plane_bounds_and_values(P)
-        lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
-        return cls(P, PQ, values, S, lower, obj._vertex_gauge(PQ))
+        upper = obj._vertex_gauge(PQ)
+        support = GAUGE_RATIO * _largest_gap(PQ, obj._support.T)  # (n, J) gauge support bound
+        near = np.maximum(support, 0.0) <= (upper + 1e-9 * (1.0 + np.abs(upper)))[:, None]
+        S, values = obj._plane_values(P, near)
+        return cls(P, PQ, values, S, np.maximum(np.maximum(S, 0.0), support), upper)
 
     def take(self, rows) -> "_Probe":
         """The probe of the points ``rows`` only."""
