@@ -156,14 +156,17 @@ class GraspObject:
         n = len(points)
         bounds = np.full((n, len(self.convex)), np.inf)
         values = np.zeros((n, len(self._planes)))
+        counts = np.full(len(self.convex), n) if pairs is None else pairs.sum(axis=0)
         for j, planes in enumerate(self._plane_slices):
-            rows = np.arange(n) if pairs is None else np.flatnonzero(pairs[:, j])
-            if len(rows) == 1 < n:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product
-                rows = np.repeat(rows, 2)
-            if len(rows):
-                v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
-                values[rows, planes] = v
-                bounds[rows, j] = v.max(axis=1)
+            if counts[j] == n:
+                rows = slice(None)
+            elif counts[j] == 0:
+                continue
+            else:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product: never leave one
+                rows = np.repeat(np.flatnonzero(pairs[:, j]), 2 if counts[j] == 1 else 1)
+            v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
+            values[rows, planes] = v
+            bounds[rows, j] = v.max(axis=1)
         return bounds, values
 
     @cached_property
@@ -206,6 +209,8 @@ class GraspObject:
             ``q_k . p`` for the points.
         """
         members, support = self._vertex_clusters
+        if len(pq) <= VERTEX_CLUSTER:  # too few points for the bounds to pay: all vertices
+            return proximity.GAUGE_RATIO * proximity._largest_gap(pq, members.reshape(4, -1)).min(axis=1)
         low = proximity._largest_gap(pq, support)  # (n, C)
         high = proximity._largest_gap(pq, members[:, :, 0]).min(axis=1)
         rows, cluster = np.divmod(np.flatnonzero(low <= high[:, None]), low.shape[1])

@@ -504,7 +504,9 @@ class _Probe:
         PQ = P @ _Q.T
         upper = obj._vertex_gauge(PQ)
         support = GAUGE_RATIO * _largest_gap(PQ, obj._support.T)  # (n, J) gauge support bound
-        near = np.maximum(support, 0.0) <= (upper + 1e-9 * (1.0 + np.abs(upper)))[:, None]
+        near = None  # a single piece is every point's candidate
+        if len(obj.convex) > 1:
+            near = np.maximum(support, 0.0) <= (upper + 1e-9 * (1.0 + np.abs(upper)))[:, None]
         S, values = obj._plane_values(P, near)
         return cls(P, PQ, values, S, np.maximum(np.maximum(S, 0.0), support), upper)
 
