@@ -364,6 +364,11 @@ class SynergyHand:
                         side = np.cos(link[2]) * palmar[c, j] + np.sin(link[2]) * self._axes[c, j]
                     offset[i] = self.contact_offset * side / np.linalg.norm(side)
             self._kinds[kind] = (select, q_z_masked, [r[0] for r in rows], frame, offset)
+        # a power grasp's status needs both: one pass of the kinematics for the two
+        self._kinds["_power_skin"] = tuple(
+            a + b if isinstance(a, list) else np.concatenate([a, b])
+            for a, b in zip(self._kinds["power"], self._kinds["_skin"])
+        )
 
     # ------------------------------------------------------------------ construction
 
@@ -471,7 +476,7 @@ class SynergyHand:
         return u
 
     def _check_kind(self, kind):
-        if kind not in self._kinds or (kind.startswith("_") and kind not in ("_capsules", "_skin")):
+        if kind not in self._kinds or (kind.startswith("_") and kind not in ("_capsules", "_skin", "_power_skin")):
             raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
         return self._kinds[kind]
 
@@ -703,8 +708,39 @@ class SynergyHand:
         >>> bool(np.allclose(skin[:, 4], hand.points(u, "power")[:-1]))
         True
         """
-        points, jac = self.points_and_jacobian(u, "_skin")
-        k, m = (len(points) - 1) // (len(SKIN_ALONG) * len(SKIN_AROUND)), len(SKIN_ALONG) * len(SKIN_AROUND)
+        return self._split_skin(*self.points_and_jacobian(u, "_skin"))
+
+    def power_and_skin(self, u):
+        """The power points and the skin points with their Jacobians, from one pass of the kinematics.
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+
+        Returns
+        -------
+        points, jacobian : (n, 3), (n, 3, 6 + n_syn) float
+            As ``points_and_jacobian(u, "power")``.
+        skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (3,), (k, m, 3, 6 + n_syn), (3, 6 + n_syn) float
+            As `skin_and_jacobian`.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.3, 0.5, -0.4])
+        >>> points, jac, skin, palm, skin_jac, palm_jac = hand.power_and_skin(u)
+        >>> bool(np.array_equal(points, hand.points_and_jacobian(u, "power")[0])), skin.shape
+        (True, (15, 9, 3))
+        """
+        points, jac = self.points_and_jacobian(u, "_power_skin")
+        n = len(self._kinds["power"][2])
+        return (points[:n], jac[:n], *self._split_skin(points[n:], jac[n:]))
+
+    def _split_skin(self, points, jac):
+        """`skin_and_jacobian`'s arrays from the rows of the ``"_skin"`` points and their Jacobian."""
+        m = len(SKIN_ALONG) * len(SKIN_AROUND)
+        k = (len(points) - 1) // m
         return points[:-1].reshape(k, m, 3), points[-1], jac[:-1].reshape(k, m, 3, self.n_u), jac[-1]
 
     def segments(self, u):

@@ -12,6 +12,9 @@ from .._checks import as_vector, positive_scalar
 from . import proximity
 from .convex import ConvexPiece
 
+#: Vertices per cluster in the nearest-vertex search of `GraspObject._vertex_gauge`.
+VERTEX_CLUSTER = 16
+
 
 class GraspObject:
     """An object to grasp: a union of convex pieces, its centre c and torque scale L (mm).
@@ -132,18 +135,39 @@ class GraspObject:
 
     def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
         """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
-        return self._plane_bounds_and_values(points)[0]
+        return self._plane_values(points)[0]
 
-    def _plane_bounds_and_values(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """`_plane_bounds` and the (n, F) values ``n_f . p + o_f`` it takes the maximum of (F: all facets)."""
-        s = points @ self._planes[:, :3].T + self._planes[:, 3]
-        return np.maximum.reduceat(s, self._plane_starts, axis=1), s
+    def _plane_values(self, points: np.ndarray, pairs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The facet-plane values ``n_f . p + o_f`` and `_plane_bounds`, for the pairs of points and pieces asked.
 
-    @cached_property
-    def _vertices_all(self):
-        verts = np.vstack([p.vertices for p in self.convex])
-        starts = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
-        return verts, starts
+        Parameters
+        ----------
+        points : (n, 3) float
+        pairs : (n, J) bool, optional
+            The pieces wanted for each point (default: all).
+
+        Returns
+        -------
+        bounds : (n, J) float
+            `_plane_bounds`, inf where not asked.
+        values : (n, F) float
+            The values (F: the facets of all pieces), 0 where not asked.
+        """
+        n = len(points)
+        bounds = np.full((n, len(self.convex)), np.inf)
+        values = np.zeros((n, len(self._planes)))
+        counts = np.full(len(self.convex), n) if pairs is None else pairs.sum(axis=0)
+        for j, planes in enumerate(self._plane_slices):
+            if counts[j] == n:
+                rows = slice(None)
+            elif counts[j] == 0:
+                continue
+            else:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product: never leave one
+                rows = np.repeat(np.flatnonzero(pairs[:, j]), 2 if counts[j] == 1 else 1)
+            v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
+            values[rows, planes] = v
+            bounds[rows, j] = v.max(axis=1)
+        return bounds, values
 
     @cached_property
     def _support(self) -> np.ndarray:
@@ -151,23 +175,48 @@ class GraspObject:
         return np.array([(p.vertices @ proximity._Q.T).max(axis=0) for p in self.convex])
 
     @cached_property
-    def _vertices_q(self) -> np.ndarray:
-        """(K, 4): ``q_k . v`` for all vertices of all pieces."""
-        return np.ascontiguousarray(self._vertices_all[0] @ proximity._Q.T)
+    def _vertex_clusters(self) -> tuple[np.ndarray, np.ndarray]:
+        """The distinct vertices of all pieces in clusters of nearby ones, for `_vertex_gauge`.
+
+        Returns
+        -------
+        members : (4, C, VERTEX_CLUSTER) float
+            ``q_k . v`` of each cluster's vertices (a cluster with fewer
+            vertices repeats some of its own).
+        support : (4, C) float
+            ``max_v q_k . v`` over each cluster's vertices.
+        """
+        verts = np.vstack([p.vertices for p in self.convex])
+        vq, first = np.unique(verts @ proximity._Q.T, axis=0, return_index=True)
+        clusters = _median_split(verts[first], VERTEX_CLUSTER)
+        members = vq[np.stack([np.resize(c, VERTEX_CLUSTER) for c in clusters])]  # (C, VERTEX_CLUSTER, 4)
+        members = np.ascontiguousarray(members.transpose(2, 0, 1))
+        return members, members.max(axis=2)
 
     def _vertex_gauge(self, pq: np.ndarray) -> np.ndarray:
-        """(n, J): smallest gauge distance ``3 max_k q_k . (p - v)`` from each point to a vertex of each piece.
+        """(n,): smallest gauge distance ``3 max_k q_k . (p - v)`` from each point to a vertex of the object.
+
+        The minimum is exact, but only the clusters of `_vertex_clusters`
+        that can hold it are searched: a cluster's gauge distances are at
+        least ``3 max_k (q_k . p - max_v q_k . v)``, and the first vertex of
+        every cluster gives an upper bound of the minimum. Both bounds are
+        taken on the same rounded differences ``q_k . p - q_k . v`` as the
+        minimum (rounding is monotone), so no tolerance is needed.
 
         Parameters
         ----------
         pq : (n, 4) float
             ``q_k . p`` for the points.
         """
-        vq = self._vertices_q
-        g = pq[:, 0, None] - vq[:, 0]
-        for k in range(1, 4):
-            np.maximum(g, pq[:, k, None] - vq[:, k], out=g)
-        return proximity.GAUGE_RATIO * np.minimum.reduceat(g, self._vertices_all[1], axis=1)
+        members, support = self._vertex_clusters
+        if len(pq) <= VERTEX_CLUSTER:  # too few points for the bounds to pay: all vertices
+            return proximity.GAUGE_RATIO * proximity._largest_gap(pq, members.reshape(4, -1)).min(axis=1)
+        low = proximity._largest_gap(pq, support)  # (n, C)
+        high = proximity._largest_gap(pq, members[:, :, 0]).min(axis=1)
+        rows, cluster = np.divmod(np.flatnonzero(low <= high[:, None]), low.shape[1])
+        gap = proximity._largest_gap(pq[rows], members[:, cluster]).min(axis=1)
+        starts = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])  # every point keeps a cluster
+        return proximity.GAUGE_RATIO * np.minimum.reduceat(gap, starts)
 
     @cached_property
     def _normal_moments(self) -> list[np.ndarray]:
@@ -422,3 +471,28 @@ class GraspObject:
             If ``segments`` is not a finite (k, 2, 3) array or a radius is not > 0.
         """
         return proximity.penetration(self, segments, radius)
+
+
+def _median_split(points: np.ndarray, size: int) -> list[np.ndarray]:
+    """Indices of ``points`` in clusters of at most ``size``, halving along the longest side.
+
+    Parameters
+    ----------
+    points : (n, 3) float
+    size : int
+
+    Returns
+    -------
+    list of (m,) int
+        The clusters (``size // 2 <= m <= size`` when ``n > size``).
+    """
+    todo, done = [np.arange(len(points))], []
+    while todo:
+        idx = todo.pop()
+        if len(idx) <= size:
+            done.append(idx)
+            continue
+        coords = points[idx]
+        order = idx[np.argsort(coords[:, np.argmax(np.ptp(coords, axis=0))], kind="stable")]
+        todo += [order[: len(order) // 2], order[len(order) // 2 :]]
+    return done

@@ -53,7 +53,7 @@ behind an internal cut between two pieces reads as shallow.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import fcl
 import numpy as np
@@ -416,6 +416,27 @@ def _facet_vertices(piece, facet_mask):
     return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
 
 
+def _largest_gap(pq: np.ndarray, wq: np.ndarray) -> np.ndarray:
+    """``max_k pq[:, k] - wq[k]``: gauge distances (over 3) between points and vertices.
+
+    Parameters
+    ----------
+    pq : (n, 4) float
+        ``q_k . p`` of n points.
+    wq : (4, C) or (4, n, m) float
+        ``q_k . v`` of C vertices (the same for every point), or of m
+        vertices per point.
+
+    Returns
+    -------
+    (n, C) or (n, m) float
+    """
+    gap = pq[:, 0, None] - wq[0]
+    for k in range(1, 4):
+        np.maximum(gap, pq[:, k, None] - wq[k], out=gap)
+    return gap
+
+
 def _nonzero(mask):
     """``np.nonzero`` of a 2-D mask (row and column of each True entry, row by row), in a third of its time."""
     return np.divmod(np.flatnonzero(mask), mask.shape[1])
@@ -442,7 +463,59 @@ def _first_per_group(group, key):
 # --------------------------------------------------------------------------- cP
 
 
-def _candidates(obj, P, S):
+@dataclass(frozen=True)
+class _Probe:
+    """What the broad phase knows of hand points before any LP (computed once per point).
+
+    Only the pieces whose gauge support bound (see `_candidates`) is within
+    the tolerance of `_candidates` of ``upper`` can be a point's cP
+    minimiser or contain it (the bound is then <= 0); the facet planes of
+    the other pieces are not evaluated for that point.
+
+    Attributes
+    ----------
+    P : (n, 3) float
+        The points.
+    PQ : (n, 4) float
+        ``q_k . p``.
+    values : (n, F) float
+        ``n_f . p + o_f`` for every facet plane of the pieces evaluated, 0
+        for the others.
+    S : (n, J) float
+        Their maximum over each piece evaluated: <= 0 inside piece j, else a
+        lower bound of the distance; inf for the pieces not evaluated.
+    lower : (n, J) float
+        Lower bound of piece j's value for a point outside it (see
+        `_candidates`); inf for the pieces not evaluated.
+    upper : (n,) float
+        Gauge distance to the nearest vertex, an upper bound of cP.
+    """
+
+    P: np.ndarray
+    PQ: np.ndarray
+    values: np.ndarray
+    S: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+    @classmethod
+    def of(cls, obj, P) -> "_Probe":
+        """The probe of points ``P`` (n, 3) against ``obj``."""
+        PQ = P @ _Q.T
+        upper = obj._vertex_gauge(PQ)
+        support = GAUGE_RATIO * _largest_gap(PQ, obj._support.T)  # (n, J) gauge support bound
+        near = None  # a single piece is every point's candidate
+        if len(obj.convex) > 1:
+            near = np.maximum(support, 0.0) <= (upper + 1e-9 * (1.0 + np.abs(upper)))[:, None]
+        S, values = obj._plane_values(P, near)
+        return cls(P, PQ, values, S, np.maximum(np.maximum(S, 0.0), support), upper)
+
+    def take(self, rows) -> "_Probe":
+        """The probe of the points ``rows`` only."""
+        return _Probe(*(getattr(self, f.name)[rows] for f in fields(self)))
+
+
+def _candidates(obj, probe):
     """(n, J) bool: the pieces that can be each point's cP minimiser.
 
     Inside some piece: the pieces containing the point (the others have
@@ -460,17 +533,19 @@ def _candidates(obj, P, S):
 
     Every bound is valid, so the pruning never changes a value; fcl is only
     called for the points the cheap bounds leave with several candidates.
+
+    Returns
+    -------
+    cand : (n, J) bool
+    bound : (n,) float
+        Upper bound of each point's cP (``probe.upper``, tightened by fcl).
     """
-    n, J = S.shape
-    PQ = P @ _Q.T  # (n, 4)
-    upper = obj._vertex_gauge(PQ)
-    bound = upper.min(axis=1)
+    S, lower = probe.S, probe.lower
+    bound = probe.upper.copy()
     if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
         return np.ones(S.shape, dtype=bool), bound
     inside = S <= 0.0
-    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2))
-    tol = 1e-9 * (1.0 + np.abs(upper).min(axis=1, keepdims=True))
-    cand = lower <= upper.min(axis=1, keepdims=True) + tol
+    cand = lower <= (bound + 1e-9 * (1.0 + np.abs(bound)))[:, None]
     out = inside.any(axis=1)
     cand[out] = inside[out]
     todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]
@@ -478,11 +553,11 @@ def _candidates(obj, P, S):
         query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
     for i in todo:
         js = np.nonzero(cand[i])[0]
-        query.setTranslation(P[i])
+        query.setTranslation(probe.P[i])
         exact = np.array([fcl.distance(query, obj.convex[j].fcl, request, fcl.DistanceResult()) for j in js])
         np.maximum(exact, 0.0, out=exact)  # fcl reports -1 for a point it finds on or in a piece
         low = np.maximum(exact, lower[i, js])
-        high = min(GAUGE_RATIO * exact.min(), upper[i].min()) * (1 + 1e-6) + 1e-6
+        high = min(GAUGE_RATIO * exact.min(), bound[i]) * (1 + 1e-6) + 1e-6
         cand[i, js] = low <= high
         bound[i] = min(bound[i], high)
     return cand, bound
@@ -513,13 +588,13 @@ def cp_bounds(obj, points):
     >>> bool(lower[0] <= value <= upper[0]), bool(lower[1] == -np.inf), bool(upper[1] == 0.0)
     (True, True, True)
     """
-    P = _check_points(points)
-    S = obj._plane_bounds(P)
-    PQ = P @ _Q.T
-    lower = np.maximum(np.maximum(S, 0.0), GAUGE_RATIO * (PQ[:, None, :] - obj._support[None]).max(axis=2)).min(axis=1)
-    upper = obj._vertex_gauge(PQ).min(axis=1)
-    inside = (S <= 0.0).any(axis=1)
-    return np.where(inside, -np.inf, lower), np.where(inside, 0.0, upper)
+    return _bounds(_Probe.of(obj, _check_points(points)))
+
+
+def _bounds(probe):
+    """`cp_bounds` of the points of a `_Probe`."""
+    inside = (probe.S <= 0.0).any(axis=1)
+    return np.where(inside, -np.inf, probe.lower.min(axis=1)), np.where(inside, 0.0, probe.upper)
 
 
 def _exit_facets(D, a, tol=1e-9):
@@ -581,10 +656,65 @@ def contact_distance(obj, points, backend="highs") -> ContactDistance:
     """cP of hand points against an object; see `GraspObject.contact_distance`."""
     P = _check_points(points)
     solver = lp.get_backend(backend)
+    return _contact_distance(obj, _Probe.of(obj, P), solver)
+
+
+def group_contact_distance(obj, points, groups, backend="highs") -> tuple[ContactDistance, np.ndarray]:
+    """The smallest cP in each group of points, and the point attaining it.
+
+    A point whose lower bound of cP (`cp_bounds`) exceeds the upper bound of
+    another point of its group cannot attain the group's minimum and gets no
+    LP (valid bounds, so the minima are unchanged); the bounds of the others
+    are reused by one call of `contact_distance`.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    points : (n, 3) float
+    groups : (n,) int
+        Group of each point, ``0 ... G-1``, each with at least one point.
+    backend : str or synergrasp.lp.Backend
+
+    Returns
+    -------
+    ContactDistance
+        One row per group: that of its point with the smallest cP (the first
+        of them on a tie).
+    best : (G,) int
+        That point's row in ``points``.
+
+    Examples
+    --------
+    Points 20 and 10 mm above the pole of the paper's ellipsoid (group 0),
+    and one 2 mm above it (group 1):
+
+    >>> from synergrasp import objects
+    >>> points = [[0.0, 0.0, 70.0], [0.0, 0.0, 60.0], [0.0, 0.0, 52.0]]
+    >>> r, best = group_contact_distance(objects.ellipsoid(), points, [0, 0, 1])
+    >>> r.value.round(2).tolist(), best.tolist()
+    ([10.0, 2.0], [1, 2])
+    """
+    P = _check_points(points)
+    solver = lp.get_backend(backend)
+    groups = np.asarray(groups)
+    probe = _Probe.of(obj, P)
+    lower, upper = _bounds(probe)
+    smallest = np.full(groups.max() + 1, np.inf)
+    np.minimum.at(smallest, groups, upper)
+    # the point with a group's smallest upper bound is kept whatever the round-off
+    index = np.flatnonzero((lower <= smallest[groups] * (1 + 1e-9) + 1e-9) | (upper == smallest[groups]))
+    cp = _contact_distance(obj, probe.take(index), solver)
+    order, first = _first_per_group(groups[index], cp.value)
+    rows = order[first]
+    picked = {f.name: getattr(cp, f.name)[rows] for f in fields(cp) if f.name != "lp_solves"}
+    return ContactDistance(**picked, lp_solves=cp.lp_solves), index[rows]
+
+
+def _contact_distance(obj, probe, solver) -> ContactDistance:
+    """`contact_distance` of the points of a `_Probe`, with a `synergrasp.lp` backend."""
+    P, PQ, S, values = probe.P, probe.PQ, probe.S, probe.values
     n = len(P)
-    S, values = obj._plane_bounds_and_values(P)  # (n, J): <= 0 inside piece j, else a lower bound of the distance
-    cand, bound = _candidates(obj, P, S)
-    PQ = P @ _Q.T
+    cand, bound = _candidates(obj, probe)
 
     # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
     outside = cand & (S > 0.0)  # (n, J) candidate pieces the point is outside of

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..objects.proximity import cp_bounds
+from ..objects.proximity import group_contact_distance
 from ..quality import q_distance
 
 
@@ -132,9 +132,9 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
     object reads as penetrating. Its derivative is that of the skin point
     attaining the minimum. Skin points whose lower bound of cP exceeds an
     upper bound of another point of the same segment cannot attain it and
-    are left out (`synergrasp.objects.proximity.cp_bounds`, valid bounds, so
-    the rows are unchanged); the rest are one call of
-    `GraspObject.contact_distance` (one LP).
+    are left out (`synergrasp.objects.proximity.group_contact_distance`,
+    valid bounds, so the rows are unchanged); the rest and the palm point
+    are one LP.
 
     Parameters
     ----------
@@ -164,22 +164,14 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
     (16, 8)
     """
     k, m = skin.shape[:2]
-    points = skin.reshape(-1, 3)
-    lower, upper = (b.reshape(k, m) for b in cp_bounds(obj, points))
-    candidate = lower <= upper.min(axis=1, keepdims=True) * (1 + 1e-9) + 1e-9
-    index = np.flatnonzero(candidate)  # skin points that can be their segment's minimum
-    cp = obj.contact_distance(np.vstack([points[index], palm]), backend=backend)
-    values = np.full(k * m, np.inf)
-    values[index] = cp.value[:-1]
-    best = m * np.arange(k) + values.reshape(k, m).argmin(axis=1)
-    rows = np.searchsorted(index, best)  # rows of cp
-    jac = np.einsum("ka,kab->kb", cp.grad[rows], jac_skin.reshape(k * m, 3, -1)[best])
-    rows = np.r_[rows, len(index)]
+    groups = np.r_[np.repeat(np.arange(k), m), k]  # the segments, then the palm point alone
+    cp, best = group_contact_distance(obj, np.vstack([skin.reshape(-1, 3), palm]), groups, backend)
+    jac = np.einsum("ka,kab->kb", cp.grad[:-1], jac_skin.reshape(k * m, 3, -1)[best[:-1]])
     return PadDistance(
-        value=cp.value[rows],
+        value=cp.value,
         jac=np.vstack([jac, cp.grad[-1] @ jac_palm]),
-        nearest=cp.nearest[rows],
-        normal=cp.normal[rows],
+        nearest=cp.nearest,
+        normal=cp.normal,
         lp_solves=cp.lp_solves,
     )
 
@@ -214,8 +206,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     ((6,), (6, 8))
     """
     if kind == "power":
-        skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(u)
-        points, jac = hand.points_and_jacobian(u, kind)
+        points, jac, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
         cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)
     else:
         points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
