@@ -36,7 +36,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import synergrasp as sg
-from synergrasp.planner.core import PlannerOptions, _attempt, _preshape, start_configuration
+from synergrasp.planner.core import PlannerOptions, _attempt, _power_start, _preshape, start_configuration
 
 from household import MESHES, _files, household_objects, verified
 
@@ -61,10 +61,8 @@ def starts(hand, obj, grasp, opts, standoffs):
             for standoff in standoffs:
                 yield d, f"standoff {standoff:g}", u, standoff
         else:
-            for name, preshape, centred in (("wide", opts.power_wide_preshape, True), ("cupped", opts.power_preshape, False)):
-                u = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=centred)
-                u[6:] = _preshape(preshape, name, hand)
-                yield d, name, u, 0.0
+            for name, preshape, wide in (("wide", opts.power_wide_preshape, True), ("cupped", opts.power_preshape, False)):
+                yield d, name, _power_start(hand, obj, d, opts, _preshape(preshape, name, hand), wide), 0.0
 
 
 def run_object(name, grasp, options, standoffs):

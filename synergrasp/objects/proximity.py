@@ -506,13 +506,18 @@ class _Probe:
         support = GAUGE_RATIO * _largest_gap(PQ, obj._support.T)  # (n, J) gauge support bound
         near = None  # a single piece is every point's candidate
         if len(obj.convex) > 1:
-            near = np.maximum(support, 0.0) <= (upper + 1e-9 * (1.0 + np.abs(upper)))[:, None]
+            near = np.maximum(support, 0.0) <= _loosened(upper)[:, None]
         S, values = obj._plane_values(P, near)
         return cls(P, PQ, values, S, np.maximum(np.maximum(S, 0.0), support), upper)
 
     def take(self, rows) -> "_Probe":
         """The probe of the points ``rows`` only."""
         return _Probe(*(getattr(self, f.name)[rows] for f in fields(self)))
+
+
+def _loosened(upper):
+    """An upper bound of cP plus the round-off tolerance of the pruning (the broad phase's one tolerance)."""
+    return upper + 1e-9 * (1.0 + np.abs(upper))
 
 
 def _candidates(obj, probe):
@@ -545,7 +550,7 @@ def _candidates(obj, probe):
     if S.shape[1] == 1:  # a single piece is every point's candidate: only the bound is needed
         return np.ones(S.shape, dtype=bool), bound
     inside = S <= 0.0
-    cand = lower <= (bound + 1e-9 * (1.0 + np.abs(bound)))[:, None]
+    cand = lower <= _loosened(bound)[:, None]
     out = inside.any(axis=1)
     cand[out] = inside[out]
     todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]

@@ -457,9 +457,14 @@ def _starts(hand, obj, grasp, opts, first, preshapes):
         return
     cupped, wide = preshapes
     for d, is_wide in power_schedule(first, wide is not None)[: opts.restarts]:
-        u_start = start_configuration(hand, obj, d, opts.start_distance, opts.start_clearance, palm_centred=is_wide)
-        u_start[6:] = wide if is_wide else cupped
-        yield u_start, 0.0
+        yield _power_start(hand, obj, d, opts, wide if is_wide else cupped, is_wide), 0.0
+
+
+def _power_start(hand, obj, direction, opts, preshape, wide):
+    """A power start: `start_configuration` from ``direction`` (palm-centred for the wide pre-shape), synergies at ``preshape``."""
+    u = start_configuration(hand, obj, direction, opts.start_distance, opts.start_clearance, palm_centred=wide)
+    u[6:] = preshape
+    return u
 
 
 def _contact_goal(cp, target, band, offset):
