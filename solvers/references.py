@@ -112,6 +112,7 @@ class TimedBackend(Backend):
         self.inner = get_backend(inner)
         super().__init__(name=self.inner.name)
         self.vertex_solutions = self.inner.vertex_solutions
+        self.basis_hints = self.inner.basis_hints
         self.lp_time = 0.0
         self.lp_calls = 0
 
@@ -119,8 +120,8 @@ class TimedBackend(Backend):
         """Zero the accumulated time and calls."""
         self.lp_time, self.lp_calls = 0.0, 0
 
-    def solve(self, c, A, b):
-        sol = self.inner.solve(c, A, b)
+    def solve(self, c, A, b, basic=None):
+        sol = self.inner.solve(c, A, b, basic=basic)
         self.lp_time += sol.solve_time
         self.lp_calls += 1
         self.calls += 1

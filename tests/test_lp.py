@@ -103,6 +103,23 @@ def test_bad_lp_data(backend, c, A, b, match):
         sg.lp.get_backend(backend).solve(c, A, b)
 
 
+def test_basis_hint_changes_the_path_not_the_optimum(backend, rng):
+    c, A, b = random_lp(rng, 6, 20)
+    be = sg.lp.get_backend(backend)
+    cold = be.solve(c, A, b)
+    ours = sg.lp.get_backend("highs").solve(c, A, b).x > 0  # a simplex optimum's basic columns
+    for basic in (ours, ~ours, np.zeros(20, bool)):
+        warm = be.solve(c, A, b, basic=basic)
+        assert warm.objective == pytest.approx(cold.objective, abs=1e-7)
+        assert np.allclose(warm.y, cold.y, atol=1e-6)
+    if be.basis_hints:  # started at the optimal basis: no simplex iteration left
+        assert be.solve(c, A, b, basic=ours).iterations == 0
+    with pytest.raises(ValueError, match=r"basic must be an \(20,\) bool array"):
+        be.solve(c, A, b, basic=np.ones(19, bool))
+    with pytest.raises(ValueError, match="basic must be"):
+        be.solve(c, A, b, basic=np.arange(20))
+
+
 def test_custom_backend_object_is_accepted():
     class Fixed(Backend):
         def _solve(self, c, A, b):

@@ -212,6 +212,27 @@ def test_cp_gradients_match_finite_differences(goblet, ellipsoid, backend):
             assert_gradient(r.grad[i], central_difference(f, pts[i], h=1e-5), rtol=1e-5, atol=1e-7)
 
 
+def test_group_cp_is_the_group_minimum_and_warm_starts_change_nothing(backend):
+    """`group_contact_distance`: the smallest cP of each group; warm starts from the last bases keep every value."""
+    from synergrasp.objects.proximity import group_contact_distance
+
+    rng = np.random.default_rng(21)
+    obj = so.goblet()
+    pts = np.vstack([around(obj, 30, rng, gap=(-3, 25)), obj.center + rng.normal(size=(6, 3)) * 4])
+    groups = np.repeat(np.arange(12), 3)
+    for step in range(3):  # the same points moving a little: later calls start from remembered bases
+        moved = pts + step * 0.3
+        r, best = group_contact_distance(obj, moved, groups, backend)
+        alone = obj.contact_distance(moved, backend=backend)  # no memory
+        for g in range(12):
+            rows = np.flatnonzero(groups == g)
+            assert r.value[g] == pytest.approx(alone.value[rows].min(), abs=1e-7)
+            assert best[g] in rows and alone.value[best[g]] == pytest.approx(r.value[g], abs=1e-7)
+            if not r.degenerate[g]:
+                assert r.grad[g] == pytest.approx(alone.grad[best[g]], abs=1e-6)
+    assert (len(obj._lp_bases) > 0) == sg.lp.get_backend(backend).basis_hints  # only simplex backends use them
+
+
 def test_cp_rejects_bad_points(goblet):
     with pytest.raises(ValueError, match=r"\(n, 3\)"):
         goblet.contact_distance([1.0, 2.0, 3.0])
@@ -373,6 +394,32 @@ def test_sq_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
     assert closed.normal == pytest.approx(lp_only.normal, abs=1e-6)
     assert closed.jac_contact == pytest.approx(lp_only.jac_contact, rel=1e-6, abs=1e-6)
     assert (closed.degenerate <= lp_only.degenerate).all()  # closed form only where the LP's basis is unique
+
+
+@pytest.mark.parametrize("name", ["cup", "goblet", "cube"])
+def test_cp_penetration_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
+    """Inside a piece, the exit point of each ray p - rho q_k in closed form gives the LP's values, gradients and witnesses."""
+    obj = {"cup": so.cup(), "goblet": goblet, "cube": cube}[name]
+    rng = np.random.default_rng(12)
+    inside = obj.center + rng.normal(size=(40, 3)) * 0.2 * obj.extents
+    pts = inside[obj.contains(inside)][:12]
+    closed = obj.contact_distance(pts, backend=backend)
+    assert closed.inside.all() and len(pts) >= 8
+    from synergrasp.objects import proximity
+
+    monkeypatch.setattr(proximity, "_facet_exit", lambda piece, c0, U, exits: (
+        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    lp_only = obj.contact_distance(pts, backend=backend)
+    assert lp_only.lp_solves >= 1
+    assert closed.value == pytest.approx(lp_only.value, abs=1e-7)
+    sure = ~lp_only.degenerate  # ties between directions k: either witness is right
+    assert (closed.degenerate == lp_only.degenerate).all() and sure.sum() >= 6
+    assert closed.nearest[sure] == pytest.approx(lp_only.nearest[sure], abs=1e-6)
+    assert closed.grad[sure] == pytest.approx(lp_only.grad[sure], abs=1e-6)
+    assert closed.normal[sure] == pytest.approx(lp_only.normal[sure], abs=1e-6)
+    # the witness is where the active ray leaves the object: on its surface, |value| mm from p
+    assert np.abs(obj.contact_distance(closed.nearest, backend=backend).value).max() < 1e-6
+    assert np.linalg.norm(pts - closed.nearest, axis=1) == pytest.approx(-closed.value, rel=1e-9)
 
 
 def test_sq_q_distance_chain(goblet):

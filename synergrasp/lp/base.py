@@ -92,6 +92,10 @@ class Backend:
         solution may lie inside an optimal face and is only accurate to the
         solver's tolerance. Callers that move a solution onto its optimal
         basis can skip that step when this is True.
+    basis_hints : bool
+        Class attribute: :meth:`solve` can start from the columns named by
+        its ``basic`` argument (a simplex warm start); other backends ignore
+        the argument.
     calls : int
         Number of solves done by this instance.
 
@@ -109,8 +113,9 @@ class Backend:
     name: str = "base"
     calls: int = field(default=0, init=False)
     vertex_solutions: ClassVar[bool] = False
+    basis_hints: ClassVar[bool] = False
 
-    def solve(self, c, A, b) -> LPSolution:
+    def solve(self, c, A, b, basic=None) -> LPSolution:
         """Solve ``min c @ x  s.t.  A @ x == b, x >= 0``.
 
         Parameters
@@ -122,6 +127,12 @@ class Backend:
             skips the sparsity scan for large structured LPs).
         b : (m,) float
             Right-hand side.
+        basic : (n,) bool, optional
+            Columns believed to be basic at the optimum (e.g. from a similar
+            LP solved before). Backends with ``basis_hints`` start from them,
+            completing the basis with row logicals; the others ignore it. It
+            changes only the solver's path: the value is the LP's (where the
+            optimum is not unique, which optimal vertex comes back may differ).
 
         Returns
         -------
@@ -132,7 +143,8 @@ class Backend:
         Raises
         ------
         ValueError
-            If the shapes do not match or an entry is not finite.
+            If the shapes do not match, an entry is not finite, or ``basic``
+            is not an (n,) bool array.
         """
         c = np.ascontiguousarray(c, dtype=float)
         b = np.ascontiguousarray(b, dtype=float)
@@ -151,11 +163,15 @@ class Backend:
             np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()
         ):
             raise ValueError("LP data contains NaN or inf; check the geometry passed in")
+        hint = None if basic is None else _hint(basic, A.shape[1])
         self.calls += 1
         m, n = A.shape
         start = time.perf_counter()
         try:
-            status, x, y, iterations, message = self._solve(c, A, b)
+            if hint is not None and self.basis_hints:
+                status, x, y, iterations, message = self._solve(c, A, b, basic=hint)
+            else:
+                status, x, y, iterations, message = self._solve(c, A, b)
         except Exception as exc:  # a solver's own failure becomes a status
             status, x, y, iterations, message = "failed", None, None, -1, f"{type(exc).__name__}: {exc}"
         elapsed = time.perf_counter() - start
@@ -169,6 +185,14 @@ class Backend:
 
     def _solve(self, c, A, b):  # pragma: no cover - abstract
         raise NotImplementedError
+
+
+def _hint(basic, n):
+    """The ``basic`` argument of `Backend.solve` as an (n,) bool array."""
+    hint = np.asarray(basic)
+    if hint.shape != (n,) or hint.dtype != bool:
+        raise ValueError(f"basic must be an ({n},) bool array naming the columns to start basic, got {hint.dtype} {hint.shape}")
+    return hint
 
 
 class CSC(NamedTuple):

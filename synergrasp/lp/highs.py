@@ -9,7 +9,10 @@ Inside the planner several kinds of LP can share a shape while their columns
 mean different things (a cP block lists the vertices of the facets facing its
 hand point, which change as the point moves); keyed by structure, each kind
 finds its own previous basis, and the shape fallback still helps when the
-pattern changes a little from one iteration to the next.
+pattern changes a little from one iteration to the next. A caller that knows
+better names the columns to start basic (``solve(..., basic=...)``; the cP
+LP blocks of `synergrasp.objects` pass those of their last optimum), and
+HiGHS completes them to a basis.
 """
 
 from __future__ import annotations
@@ -33,6 +36,8 @@ _STATUS = {
 #: unscaled, unpresolved solve runs into numerical trouble (e.g. nearly coplanar point sets).
 _RESCUE = {"simplex_scale_strategy": 2, "presolve": "choose"}
 
+_STATUSES = np.array([highspy.HighsBasisStatus.kLower, highspy.HighsBasisStatus.kBasic], dtype=object)
+
 #: Number of LP structures and shapes whose last optimal basis is remembered.
 BASIS_CACHE_SIZE = 64
 
@@ -49,13 +54,15 @@ class HighsBackend(Backend):
     Parameters
     ----------
     warm_start : bool
-        Start from the last optimal basis of an LP with the same shape and
-        column counts, else of the last LP with the same shape.
+        Start from the columns the caller names as basic (``basic``), else
+        from the last optimal basis of an LP with the same shape and column
+        counts, else of the last LP with the same shape.
     options : dict
         Extra HiGHS options (``setOptionValue(key, value)``).
     """
 
     vertex_solutions = True  # simplex: basic solutions with exact duals
+    basis_hints = True
 
     def __init__(self, warm_start: bool = True, **options):
         super().__init__(name="highs")
@@ -93,12 +100,25 @@ class HighsBackend(Backend):
                 h.setOptionValue(key, value)
         return h.getModelStatus()
 
+    def _hint(self, basic, m):
+        """Start from the columns ``basic`` (n,) bool; HiGHS completes the basis with row logicals.
+
+        The basis is passed as an "alien" one (``HighsBasis.alien``, the
+        default): HiGHS adds the logicals of the rows the columns leave
+        uncovered, and drops columns that would make it singular.
+        """
+        basis = highspy.HighsBasis()
+        basis.col_status = _STATUSES[basic.view(np.int8)].tolist()
+        basis.row_status = [highspy.HighsBasisStatus.kLower] * m
+        basis.valid = True
+        self._h.setBasis(basis)
+
     def _bounds(self, n):
         if n not in self._bounds_cache:
             self._bounds_cache[n] = (np.zeros(n), np.full(n, highspy.kHighsInf), np.zeros(n, dtype=np.int32))
         return self._bounds_cache[n]
 
-    def _solve(self, c, A, b):
+    def _solve(self, c, A, b, basic=None):
         m, n = A.shape
         lower, upper, continuous = self._bounds(n)
         indptr, index, value = csc_arrays(A)
@@ -106,7 +126,9 @@ class HighsBackend(Backend):
         # column-wise matrix (format 1), minimise (sense 1), no offset, all columns continuous
         h.passModel(n, m, len(value), 1, 1, 0.0, c, lower, upper, b, b, indptr[:-1], index, value, continuous)
         key = shape = None
-        if self.warm_start:
+        if self.warm_start and basic is not None and basic.any():  # the caller's guess
+            self._hint(basic, m)
+        elif self.warm_start:  # the last optimal basis of an LP of this structure, else of this shape
             key, shape = (m, n, hash(indptr.tobytes())), (m, n)  # pattern: the column counts
             basis = self._basis.get(key)
             if basis is None:

@@ -86,6 +86,7 @@ class GraspObject:
         self._planes = np.vstack([p.planes for p in self.convex])
         self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
         self._plane_starts = np.cumsum(np.r_[0, self._plane_counts[:-1]])
+        self._lp_bases = {}  # warm starts of the cP LP blocks: block key -> basic columns (proximity._Blocks)
         if center is None:
             self.center = self._default_center()
         else:

@@ -73,6 +73,8 @@ DEGENERACY_TOL = 1e-7
 #: LPs above it. cvxpy canonicalises its parametrised dense matrix in time and memory that
 #: grow much faster than the LP (0.6 s for 60 x 1373, gigabytes for 244 x 10000).
 MAX_LP_COLUMNS = {"cvxpy": 400}
+#: LP blocks whose last optimal basis an object remembers (the memory is emptied above it).
+MEMORY_SIZE = 20000
 
 
 @dataclass(frozen=True)
@@ -239,11 +241,13 @@ class _Blocks:
     exact ones of the basis.
     """
 
-    def __init__(self):
+    def __init__(self, memory=None):
         self.batches = []
         self.lp_solves = 0
+        self.memory = memory
+        self.keys, self.ids = [], []
 
-    def add(self, lead, cost, vertices, counts, sign, rhs, origin) -> int:
+    def add(self, lead, cost, vertices, counts, sign, rhs, origin, keys=None, ids=None) -> int:
         """Add a batch of B blocks; returns the batch index.
 
         Parameters
@@ -269,6 +273,8 @@ class _Blocks:
         shifted = np.asarray(rhs) - sign * origin
         lead, cost = np.asarray(lead, dtype=float), np.asarray(cost, dtype=float)
         self.batches.append((lead, cost, vertices, counts, relative, shifted))
+        self.keys.append(keys)
+        self.ids.append(ids)
         return len(self.batches) - 1
 
     def solve(self, solver, what: str):
@@ -297,6 +303,12 @@ class _Blocks:
         c[is_lead] = np.concatenate([np.tile(b[1], len(b[3])) for b in batches])
         rhs = np.ones((n_blocks, _ROWS))
         rhs[:, :3] = np.concatenate([b[5] for b in batches])
+        hint = colid = None
+        if self.memory is not None:
+            colid = np.empty(n_cols, dtype=np.int64)  # lead columns -1, -2, ...; vertex columns their index
+            colid[is_lead] = start[block_of[is_lead]] - np.flatnonzero(is_lead) - 1
+            colid[~is_lead] = np.concatenate(self.ids)
+            hint = self._remembered(np.concatenate(self.keys), block_of, colid)
         # one LP for all blocks (or a few, for backends that scale badly with the LP size)
         limit = MAX_LP_COLUMNS.get(getattr(solver, "name", ""), n_cols)
         x, y = np.empty(n_cols), np.empty((n_blocks, _ROWS))
@@ -311,7 +323,10 @@ class _Blocks:
             indptr = np.zeros(sub.shape[0] + 1, dtype=np.int32)
             np.cumsum(nonzero.sum(axis=1), out=indptr[1:])
             A = lp.CSC(indptr, rows[nonzero].astype(np.int32), sub[nonzero], (_ROWS * (last - first), sub.shape[0]))
-            sol = solver.solve(c[cols], A, rhs[first:last].ravel())
+            if hint is None:
+                sol = solver.solve(c[cols], A, rhs[first:last].ravel())
+            else:  # a backend with basis_hints
+                sol = solver.solve(c[cols], A, rhs[first:last].ravel(), basic=hint[cols])
             self.lp_solves += 1
             if not sol.optimal:
                 raise lp.LPError(
@@ -322,6 +337,8 @@ class _Blocks:
             first = last
         if not getattr(solver, "vertex_solutions", False):  # a simplex's solution is already basic and exact
             x, y = _polish(entries, c, rhs, x, y, start, block_of)
+        if self.memory is not None:
+            self._remember(np.concatenate(self.keys), x, block_of, colid)
         # The derivatives with respect to the hand point need only the duals y. They are unique
         # when the optimum has 4 positive variables in the block (a non-degenerate basis: B^T y = c_B);
         # several primal optima (a face of B parallel to one of Q's) leave y unique and are not flagged.
@@ -339,6 +356,27 @@ class _Blocks:
             out.append((leads, witness[part], y[part, :3], degenerate[part]))
             first, lead_first = first + B, lead_first + B * L
         return out
+
+    def _remembered(self, keys, block_of, colid):
+        """(n,) bool: the columns that were basic at the last optimum of a block with the same key."""
+        blocks, ids = [], []
+        for b, key in enumerate(keys.tolist()):
+            basic = self.memory.get(key)
+            if basic is not None:
+                blocks.append(np.full(len(basic), b))
+                ids.append(basic)
+        if not blocks:
+            return np.zeros(len(colid), dtype=bool)
+        span = int(np.abs(colid).max()) + 2  # (block, column id) pairs as one integer each
+        return np.isin(block_of * span + colid, np.concatenate(blocks) * span + np.concatenate(ids))
+
+    def _remember(self, keys, x, block_of, colid):
+        """Keep each block's basic columns (its positive variables) under its key."""
+        if len(self.memory) > MEMORY_SIZE:
+            self.memory.clear()
+        positive = np.flatnonzero(x > 0.0)
+        cut = np.searchsorted(block_of[positive], np.arange(1, len(keys)))
+        self.memory.update(zip(keys.tolist(), np.split(colid[positive], cut)))
 
 
 def _polish(entries, c, rhs, x, y, start, block_of):
@@ -413,7 +451,7 @@ def _facet_vertices(piece, facet_mask):
     used = np.zeros((len(facet_mask), len(piece.vertices)), dtype=bool)
     used[rows[:, None], piece.facets[facet]] = True
     r, v = _nonzero(used)
-    return piece.vertices[v], np.bincount(r, minlength=len(facet_mask))
+    return piece.vertices[v], np.bincount(r, minlength=len(facet_mask)), v
 
 
 def _largest_gap(pq: np.ndarray, wq: np.ndarray) -> np.ndarray:
@@ -708,17 +746,24 @@ def group_contact_distance(obj, points, groups, backend="highs") -> tuple[Contac
     np.minimum.at(smallest, groups, upper)
     # the point with a group's smallest upper bound is kept whatever the round-off
     index = np.flatnonzero((lower <= smallest[groups] * (1 + 1e-9) + 1e-9) | (upper == smallest[groups]))
-    cp = _contact_distance(obj, probe.take(index), solver)
+    cp = _contact_distance(obj, probe.take(index), solver, index)
     order, first = _first_per_group(groups[index], cp.value)
     rows = order[first]
     picked = {f.name: getattr(cp, f.name)[rows] for f in fields(cp) if f.name != "lp_solves"}
     return ContactDistance(**picked, lp_solves=cp.lp_solves), index[rows]
 
 
-def _contact_distance(obj, probe, solver) -> ContactDistance:
-    """`contact_distance` of the points of a `_Probe`, with a `synergrasp.lp` backend."""
+def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
+    """`contact_distance` of the points of a `_Probe`, with a `synergrasp.lp` backend.
+
+    ``ids`` (n,) int, optional: an identity of each point across calls (its row
+    in the caller's point set); with it, each LP block starts from the basis
+    its (point, piece, k) had at its last optimum on this object (a warm start
+    for simplex backends: the values are those of the LP, only the solver's
+    path to them changes).
+    """
     P, PQ, S, values = probe.P, probe.PQ, probe.S, probe.values
-    n = len(P)
+    n, n_pieces = len(P), len(obj.convex)
     cand, bound = _candidates(obj, probe)
 
     # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
@@ -730,25 +775,35 @@ def _contact_distance(obj, probe, solver) -> ContactDistance:
     lost = outside.any(axis=1) & ~keep.any(axis=1)
     if lost.any():
         keep[lost] = reach[lost] & (values[lost] > 0.0)
-    blocks = _Blocks()
+    blocks = _Blocks(obj._lp_bases if ids is not None and getattr(solver, "basis_hints", False) else None)
     batches = []  # (batch index, points, piece, separation?)
+    done = []  # penetration rays in closed form: (points, piece, value, y, witness)
     for j, piece in enumerate(obj.convex):
         planes = obj._plane_slices[j]
         rows = np.nonzero(keep[:, planes].any(axis=1))[0]
         if len(rows):
-            verts, counts = _facet_vertices(piece, keep[rows, planes])
+            verts, counts, vid = _facet_vertices(piece, keep[rows, planes])
             lead = np.broadcast_to(_Q, (len(rows), 4, 3))
-            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows]), rows, j, True))
+            keys = None if ids is None else (ids[rows] * n_pieces + j) * 5
+            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows], keys, vid), rows, j, True))
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
         if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
-            D = values[rows, obj._plane_slices[j]]
-            for k in range(4):
-                # the optimum is where the ray p - rho q_k leaves the piece
-                verts, counts = _facet_vertices(piece, _exit_facets(D, -(piece.planes[:, :3] @ _Q[k])[None]))
-                lead = np.broadcast_to(_Q[k], (len(rows), 1, 3))
-                batches.append((blocks.add(lead, [-1.0], verts, counts, 1.0, P[rows], P[rows]), rows, j, False))
-    solved = blocks.solve(solver, "cP")
+            # the optimum is where the ray p - rho q_k leaves the piece, for each k (rows k-major)
+            D = np.tile(values[rows, obj._plane_slices[j]], (4, 1))
+            k = np.repeat(np.arange(4), len(rows))
+            rows = np.tile(rows, 4)
+            exits = _exit_facets(D, np.repeat(-_Q @ piece.planes[:, :3].T, len(rows) // 4, axis=0))
+            closed, t, y = _facet_exit(piece, P[rows], -_Q[k], exits)
+            if closed.any():
+                r, tc = rows[closed], t[closed]
+                done.append((r, j, -tc, -y[closed], P[r] - tc[:, None] * _Q[k[closed]]))
+            if not closed.all():
+                r, kr = rows[~closed], k[~closed]
+                verts, counts, vid = _facet_vertices(piece, exits[~closed])
+                keys = None if ids is None else (ids[r] * n_pieces + j) * 5 + 1 + kr
+                batches.append((blocks.add(_Q[kr, None], [-1.0], verts, counts, 1.0, P[r], P[r], keys, vid), r, j, False))
+    solved = blocks.solve(solver, "cP") if blocks.batches else []
 
     # one row per (point, piece[, k]) LP, then penetration = max over k, cP = min over pieces
     pts, pcs, vals, grads, wits, nrms, degs, ks = [], [], [], [], [], [], [], []
@@ -762,6 +817,15 @@ def _contact_distance(obj, probe, solver) -> ContactDistance:
         wits.append(witness)
         degs.append(deg)
         ks.append(np.full(len(rows), separation))
+    for rows, j, value, y, witness in done:
+        pts.append(rows)
+        pcs.append(np.full(len(rows), j))
+        vals.append(value)
+        grads.append(y)
+        nrms.append(-y)
+        wits.append(witness)
+        degs.append(np.zeros(len(rows), dtype=bool))
+        ks.append(np.zeros(len(rows), dtype=bool))
     pts, pcs, vals = np.concatenate(pts), np.concatenate(pcs), np.concatenate(vals)
     grads, wits, nrms = np.concatenate(grads), np.concatenate(wits), np.concatenate(nrms)
     degs, sep_rows = np.concatenate(degs), np.concatenate(ks)
@@ -870,7 +934,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
                 batches.append((rows[closed], j, t[closed], y[closed], np.zeros(int(closed.sum()), dtype=bool)))
             if not closed.all():
                 rows, exits = rows[~closed], exits[~closed]
-                verts, counts = _facet_vertices(piece, exits)
+                verts, counts, _ = _facet_vertices(piece, exits)
                 rhs = np.broadcast_to(-c0, (len(rows), 3))
                 batches.append((rows, j, blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0)))
     if blocks.batches:
@@ -950,7 +1014,7 @@ def _facet_exit(piece, c0, U, exits):
     first = facet[start]  # each ray's first exit facet: its plane
     normal, offset = piece.planes[first, :3], piece.planes[first, 3]
     a = np.einsum("ij,ij->i", normal, U)
-    t = -(normal @ c0 + offset) / a
+    t = -((normal @ c0 if c0.ndim == 1 else np.einsum("ij,ij->i", normal, c0)) + offset) / a
     plane = piece.planes[facet]
     coplanar = np.abs(plane - piece.planes[first][rows]).max(axis=1) <= 1e-9 * (1.0 + np.abs(plane[:, 3]))
     # barycentric weights of the exit point in every exit facet
