@@ -86,7 +86,7 @@ class GraspObject:
         self._planes = np.vstack([p.planes for p in self.convex])
         self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
         self._plane_starts = np.cumsum(np.r_[0, self._plane_counts[:-1]])
-        self._lp_bases = {}  # warm starts of the cP LP blocks: block key -> basic columns (proximity._Blocks)
+        self._lp_bases = proximity.BasisMemory()  # warm starts of the cP LP blocks
         if center is None:
             self.center = self._default_center()
         else:
@@ -237,6 +237,17 @@ class GraspObject:
     def _facet_mq(self) -> np.ndarray:
         """(F, 4): ``min over the facet's vertices t of -q_k . t`` (all pieces, in plane order)."""
         return np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex])
+
+    @cached_property
+    def _vertices(self) -> np.ndarray:
+        """(V, 3): the vertices of all pieces, piece by piece."""
+        return np.vstack([p.vertices for p in self.convex])
+
+    @cached_property
+    def _facet_vertex_rows(self) -> np.ndarray:
+        """(F, 3) int: each facet's vertices as rows of `_vertices` (all pieces, in plane order)."""
+        offsets = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
+        return np.vstack([p.facets + o for p, o in zip(self.convex, offsets)])
 
     @cached_property
     def _plane_slices(self) -> list[slice]:

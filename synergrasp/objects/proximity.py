@@ -73,7 +73,7 @@ DEGENERACY_TOL = 1e-7
 #: LPs above it. cvxpy canonicalises its parametrised dense matrix in time and memory that
 #: grow much faster than the LP (0.6 s for 60 x 1373, gigabytes for 244 x 10000).
 MAX_LP_COLUMNS = {"cvxpy": 400}
-#: LP blocks whose last optimal basis an object remembers (the memory is emptied above it).
+#: About how many LP blocks' last optimal bases an object keeps (`BasisMemory` starts afresh above it).
 MEMORY_SIZE = 20000
 
 
@@ -239,6 +239,11 @@ class _Blocks:
     that exact vertex solution replaces the solver's. Interior-point backends
     then agree with the simplex to round-off, and the derivatives are the
     exact ones of the basis.
+
+    With a `BasisMemory` (``memory``), every block carries a key (``add``'s
+    ``keys``, its vertices their indices ``ids``): the LP starts from the
+    columns that were basic at the last optimum of a block with the same key
+    (for a backend with ``basis_hints``), and the memory is then updated.
     """
 
     def __init__(self, memory=None):
@@ -266,6 +271,10 @@ class _Blocks:
             Right-hand sides h of the coordinate rows.
         origin : (B, 3) float
             Origin o of each block.
+        keys : (B,) int, optional
+            Block keys for the memory (needed when there is one).
+        ids : (sum(counts),) int, optional
+            Index of each vertex in its piece (needed when there is a memory).
         """
         counts = np.asarray(counts)
         origin = np.broadcast_to(origin, (len(counts), 3))
@@ -303,12 +312,13 @@ class _Blocks:
         c[is_lead] = np.concatenate([np.tile(b[1], len(b[3])) for b in batches])
         rhs = np.ones((n_blocks, _ROWS))
         rhs[:, :3] = np.concatenate([b[5] for b in batches])
-        hint = colid = None
+        hint = None
         if self.memory is not None:
             colid = np.empty(n_cols, dtype=np.int64)  # lead columns -1, -2, ...; vertex columns their index
             colid[is_lead] = start[block_of[is_lead]] - np.flatnonzero(is_lead) - 1
             colid[~is_lead] = np.concatenate(self.ids)
-            hint = self._remembered(np.concatenate(self.keys), block_of, colid)
+            keys = np.concatenate(self.keys)[block_of]
+            hint = self.memory.basic(keys, colid)
         # one LP for all blocks (or a few, for backends that scale badly with the LP size)
         limit = MAX_LP_COLUMNS.get(getattr(solver, "name", ""), n_cols)
         x, y = np.empty(n_cols), np.empty((n_blocks, _ROWS))
@@ -338,7 +348,7 @@ class _Blocks:
         if not getattr(solver, "vertex_solutions", False):  # a simplex's solution is already basic and exact
             x, y = _polish(entries, c, rhs, x, y, start, block_of)
         if self.memory is not None:
-            self._remember(np.concatenate(self.keys), x, block_of, colid)
+            self.memory.remember(keys, colid, x > 0.0)
         # The derivatives with respect to the hand point need only the duals y. They are unique
         # when the optimum has 4 positive variables in the block (a non-degenerate basis: B^T y = c_B);
         # several primal optima (a face of B parallel to one of Q's) leave y unique and are not flagged.
@@ -357,26 +367,38 @@ class _Blocks:
             first, lead_first = first + B, lead_first + B * L
         return out
 
-    def _remembered(self, keys, block_of, colid):
-        """(n,) bool: the columns that were basic at the last optimum of a block with the same key."""
-        blocks, ids = [], []
-        for b, key in enumerate(keys.tolist()):
-            basic = self.memory.get(key)
-            if basic is not None:
-                blocks.append(np.full(len(basic), b))
-                ids.append(basic)
-        if not blocks:
-            return np.zeros(len(colid), dtype=bool)
-        span = int(np.abs(colid).max()) + 2  # (block, column id) pairs as one integer each
-        return np.isin(block_of * span + colid, np.concatenate(blocks) * span + np.concatenate(ids))
 
-    def _remember(self, keys, x, block_of, colid):
-        """Keep each block's basic columns (its positive variables) under its key."""
-        if len(self.memory) > MEMORY_SIZE:
-            self.memory.clear()
-        positive = np.flatnonzero(x > 0.0)
-        cut = np.searchsorted(block_of[positive], np.arange(1, len(keys)))
-        self.memory.update(zip(keys.tolist(), np.split(colid[positive], cut)))
+class BasisMemory:
+    """The basic columns of LP blocks at their last optimum, by block key (warm starts of the cP LP).
+
+    Each (block key, column id) pair that was basic is kept as one integer
+    ``key * SPAN + column id + 8`` (lead columns have ids -1, -2, ...,
+    vertex columns their vertex index) in a sorted array, so that looking up
+    and updating the blocks of a whole LP is a few vectorised set operations.
+    """
+
+    SPAN = 1 << 24  # column ids + 8 stay below it (vertex indices of a piece < 16.7 million)
+
+    def __init__(self):
+        self.codes = np.empty(0, dtype=np.int64)
+
+    def basic(self, keys, colid):
+        """(n,) bool: the columns (block key ``keys`` (n,), id ``colid`` (n,)) basic at their block's last optimum."""
+        return _members(keys * self.SPAN + colid + 8, self.codes)
+
+    def remember(self, keys, colid, basic):
+        """Replace what is kept of the blocks in ``keys`` (n,) by their columns ``basic`` (n,) bool."""
+        old = self.codes if len(self.codes) <= 4 * MEMORY_SIZE else self.codes[:0]
+        stale = _members(old // self.SPAN, np.unique(keys))
+        self.codes = np.sort(np.concatenate([old[~stale], keys[basic] * self.SPAN + colid[basic] + 8]))
+
+
+def _members(values, sorted_set):
+    """(n,) bool: which of ``values`` (n,) int are in ``sorted_set`` (sorted int array)."""
+    if not len(sorted_set):
+        return np.zeros(len(values), dtype=bool)
+    at = np.minimum(np.searchsorted(sorted_set, values), len(sorted_set) - 1)
+    return sorted_set[at] == values
 
 
 def _polish(entries, c, rhs, x, y, start, block_of):
@@ -662,37 +684,81 @@ def _exit_facets(D, a, tol=1e-9):
     return r <= r_exit * (1 + tol) + tol
 
 
-def _separation_facets(obj, D, PQ, bound, reach):
-    """Facets that can carry the separation optimum of each point, over all pieces.
+def _separation_facets(obj, D, PQ, bound, outside):
+    """Facets that can carry the separation optimum of each point, on the pieces it is outside of.
 
     The optimum b* lies on a facet facing p (``n . p + o > 0``), and inside the
     gauge ball ``p + v Q`` with v <= ``bound``. A facet is dropped when that
     ball cannot reach it: it lies beyond the facet's plane, or a facet plane
     of the ball (normal ``-q_k``, offset ``bound / 3``) separates them.
+    Should round-off leave a point with no facet at all, every facet facing
+    it is kept.
 
     Parameters
     ----------
     obj : GraspObject
     D : (n, F) float
-        ``n_f . p + o_f`` of every facet plane of every piece.
+        ``n_f . p + o_f`` of the facet planes (at least of the pieces in ``outside``).
     PQ : (n, 4) float
         ``q_k . p``.
     bound : (n,) float
         Upper bound of each point's cP.
-    reach : (n, F) bool
-        The facets of the pieces still in question for each point.
+    outside : (n, J) bool
+        The candidate pieces each point is outside of.
 
     Returns
     -------
-    (n, F) bool
+    rows, facets, pieces : (m,) int
+        The kept (point, facet) pairs and the facet's piece, sorted by
+        piece, then point, then facet.
     """
-    tol = 1e-9 * (1.0 + bound[:, None])
-    keep = reach & (D > 0.0) & (D + bound[:, None] * obj._facet_nq <= tol)  # facing p, within reach
+    pieces, points = _nonzero(outside.T)  # pairs by piece, then point
+    counts = obj._plane_counts[pieces]
+    pair = np.repeat(np.arange(len(pieces)), counts)
+    facets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts - obj._plane_starts[pieces], counts)
+    rows = points[pair]
+    values, b = D[rows, facets], bound[rows]
+    tol = 1e-9 * (1.0 + b)
+    keep = (values > 0.0) & (values + b * obj._facet_nq[facets] <= tol)  # facing p, within reach
     # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
-    rows, facet = _nonzero(keep)
-    apart = (obj._facet_mq[facet] + PQ[rows] > (bound[rows] / 3.0 + tol[rows, 0])[:, None]).any(axis=1)
-    keep[rows[apart], facet[apart]] = False
-    return keep
+    kept = np.flatnonzero(keep)
+    apart = (obj._facet_mq[facets[kept]] + PQ[rows[kept]] > (b[kept] / 3.0 + tol[kept])[:, None]).any(axis=1)
+    keep[kept[apart]] = False
+    lost = np.bincount(rows[keep], minlength=len(D)) == 0
+    if lost[points].any():  # a piece the ball cannot reach is not the minimiser: round-off
+        keep |= lost[rows] & (values > 0.0)
+    return rows[keep], facets[keep], pieces[pair[keep]]
+
+
+def _blocks_of(obj, rows, facets, pieces):
+    """The vertex lists of (point, piece) blocks: the vertices of their facets.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    rows, facets, pieces : (m,) int
+        (point, facet) pairs and the facet's piece, sorted by piece, then point.
+
+    Returns
+    -------
+    block_rows, block_pieces : (B,) int
+        Point and piece of each block, in the order of the pairs.
+    vertices : (sum(counts), 3) float
+        Each block's vertices, in index order, blocks concatenated.
+    counts : (B,) int
+    ids : (sum(counts),) int
+        The vertices' rows in ``obj._vertices``.
+    """
+    new = np.empty(len(rows), dtype=bool)
+    new[:1] = True
+    np.not_equal(rows[1:], rows[:-1], out=new[1:])
+    new[1:] |= pieces[1:] != pieces[:-1]
+    block = np.cumsum(new) - 1
+    n_vertices = len(obj._vertices)
+    codes = np.unique((block[:, None] * n_vertices + obj._facet_vertex_rows[facets]).ravel())
+    ids = codes % n_vertices
+    counts = np.bincount(codes // n_vertices, minlength=int(block[-1]) + 1)
+    return rows[new], pieces[new], obj._vertices[ids], counts, ids
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
@@ -768,24 +834,14 @@ def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
 
     # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
     outside = cand & (S > 0.0)  # (n, J) candidate pieces the point is outside of
-    reach = np.repeat(outside, obj._plane_counts, axis=1)  # their facets
-    keep = _separation_facets(obj, values, PQ, bound, reach)
-    # a piece the gauge ball cannot reach is not the minimiser; should round-off leave a
-    # point with no piece at all, fall back to every facet facing it
-    lost = outside.any(axis=1) & ~keep.any(axis=1)
-    if lost.any():
-        keep[lost] = reach[lost] & (values[lost] > 0.0)
     blocks = _Blocks(obj._lp_bases if ids is not None and getattr(solver, "basis_hints", False) else None)
-    batches = []  # (batch index, points, piece, separation?)
+    batches = []  # (batch index, points, pieces, separation?)
     done = []  # penetration rays in closed form: (points, piece, value, y, witness)
-    for j, piece in enumerate(obj.convex):
-        planes = obj._plane_slices[j]
-        rows = np.nonzero(keep[:, planes].any(axis=1))[0]
-        if len(rows):
-            verts, counts, vid = _facet_vertices(piece, keep[rows, planes])
-            lead = np.broadcast_to(_Q, (len(rows), 4, 3))
-            keys = None if ids is None else (ids[rows] * n_pieces + j) * 5
-            batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows], keys, vid), rows, j, True))
+    if outside.any():
+        rows, pieces, verts, counts, vid = _blocks_of(obj, *_separation_facets(obj, values, PQ, bound, outside))
+        lead = np.broadcast_to(_Q, (len(rows), 4, 3))
+        keys = None if ids is None else (ids[rows] * n_pieces + pieces) * 5
+        batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows], keys, vid), rows, pieces, True))
     for j, piece in enumerate(obj.convex):
         rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
         if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
@@ -810,7 +866,7 @@ def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
     for b, rows, j, separation in batches:
         lead_x, witness, y, deg = solved[b]
         pts.append(rows)
-        pcs.append(np.full(len(rows), j))
+        pcs.append(np.broadcast_to(j, rows.shape))
         vals.append(lead_x.sum(axis=1) if separation else -lead_x[:, 0])
         grads.append(-y if separation else y)
         nrms.append(y if separation else -y)
