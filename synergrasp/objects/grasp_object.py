@@ -235,8 +235,8 @@ class GraspObject:
 
     @cached_property
     def _facet_mq(self) -> np.ndarray:
-        """(F, 4): ``min over the facet's vertices t of -q_k . t`` (all pieces, in plane order)."""
-        return np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex])
+        """(4, F): ``min over the facet's vertices t of -q_k . t`` (all pieces, in plane order)."""
+        return np.ascontiguousarray(np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex]).T)
 
     @cached_property
     def _vertices(self) -> np.ndarray:

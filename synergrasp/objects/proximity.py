@@ -717,12 +717,16 @@ def _separation_facets(obj, D, PQ, bound, outside):
     pair = np.repeat(np.arange(len(pieces)), counts)
     facets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts - obj._plane_starts[pieces], counts)
     rows = points[pair]
-    values, b = D[rows, facets], bound[rows]
+    values, b = np.take(D, rows * D.shape[1] + facets), bound[rows]
     tol = 1e-9 * (1.0 + b)
     keep = (values > 0.0) & (values + b * obj._facet_nq[facets] <= tol)  # facing p, within reach
     # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
     kept = np.flatnonzero(keep)
-    apart = (obj._facet_mq[facets[kept]] + PQ[rows[kept]] > (b[kept] / 3.0 + tol[kept])[:, None]).any(axis=1)
+    f, r = facets[kept], rows[kept]
+    reach = b[kept] / 3.0 + tol[kept]
+    apart = obj._facet_mq[0][f] + PQ[r, 0] > reach
+    for k in range(1, 4):
+        apart |= obj._facet_mq[k][f] + PQ[r, k] > reach
     keep[kept[apart]] = False
     lost = np.bincount(rows[keep], minlength=len(D)) == 0
     if lost[points].any():  # a piece the ball cannot reach is not the minimiser: round-off
