@@ -138,8 +138,8 @@ class GraspObject:
         """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
         return self._plane_values(points)[0]
 
-    def _plane_values(self, points: np.ndarray, pairs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """The facet-plane values ``n_f . p + o_f`` and `_plane_bounds`, for the pairs of points and pieces asked.
+    def _plane_values(self, points: np.ndarray, pairs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The facet-plane values ``n_f . p + o_f`` and two bounds from them, for the pairs of points and pieces asked.
 
         Parameters
         ----------
@@ -153,9 +153,15 @@ class GraspObject:
             `_plane_bounds`, inf where not asked.
         values : (n, F) float
             The values (F: the facets of all pieces), 0 where not asked.
+        gauge : (n, J) float
+            ``max_f (n_f . p + o_f) / -min_k n_f . q_k``: for a point outside
+            piece j a lower bound of its gauge distance to the piece (the
+            gauge ball ``p + t Q`` reaches the half-space behind facet f
+            only for t at least that); inf where not asked.
         """
         n = len(points)
         bounds = np.full((n, len(self.convex)), np.inf)
+        gauge = np.full((n, len(self.convex)), np.inf)
         values = np.zeros((n, len(self._planes)))
         counts = np.full(len(self.convex), n) if pairs is None else pairs.sum(axis=0)
         for j, planes in enumerate(self._plane_slices):
@@ -168,7 +174,13 @@ class GraspObject:
             v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
             values[rows, planes] = v
             bounds[rows, j] = v.max(axis=1)
-        return bounds, values
+            gauge[rows, j] = (v * self._facet_reach[planes]).max(axis=1)
+        return bounds, values, gauge
+
+    @cached_property
+    def _facet_reach(self) -> np.ndarray:
+        """(F,): ``1 / -min_k n_f . q_k`` (> 0: the simplex's vertices span every direction)."""
+        return 1.0 / -self._facet_nq
 
     @cached_property
     def _support(self) -> np.ndarray:

@@ -24,10 +24,12 @@ Candidate pieces (the broad phase)
     ``[e_j, 3 e_j]``: a piece with ``e_j > 3 min_i e_i`` cannot be the
     minimiser and is skipped (python-fcl's GJK gives e_j).
     Cheaper bounds come first and settle most points without fcl: the facet
-    planes (a lower bound of e_j, and an exact inside test), the nearest
-    vertex (an upper bound), and the gauge itself: the value of piece j is at
-    least ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function) and at
-    most the gauge distance to any of its vertices. A point inside some piece
+    planes (an exact inside test, and a lower bound: the gauge ball
+    ``p + t Q`` reaches the half-space behind plane f only for
+    ``t >= (n_f . p + o_f) / -min_k n_f . q_k``), the nearest vertex (an
+    upper bound), and the gauge itself: the value of piece j is at least
+    ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function) and at most
+    the gauge distance to any of its vertices. A point inside some piece
     only needs the pieces containing it (the others have values >= 0).
 
 Vertices passed to each LP (the narrow phase)
@@ -567,8 +569,8 @@ class _Probe:
         near = None  # a single piece is every point's candidate
         if len(obj.convex) > 1:
             near = np.maximum(support, 0.0) <= _loosened(upper)[:, None]
-        S, values = obj._plane_values(P, near)
-        return cls(P, PQ, values, S, np.maximum(np.maximum(S, 0.0), support), upper)
+        S, values, gauge = obj._plane_values(P, near)
+        return cls(P, PQ, values, S, np.maximum(np.maximum(gauge, 0.0), support), upper)
 
     def take(self, rows) -> "_Probe":
         """The probe of the points ``rows`` only."""
@@ -588,11 +590,13 @@ def _candidates(obj, probe):
     exceeds an upper bound of another piece's value. The bounds:
 
     * the gauge's Lipschitz bounds, ``e_j <= value_j <= 3 e_j`` with e_j the
-      Euclidean distance: python-fcl's exact (GJK) distance, the facet planes
-      giving a cheaper lower bound ``max_f n_f . p + o_f``;
+      Euclidean distance (python-fcl's exact, GJK, distance);
     * the simplex gauge itself, ``gauge(x) = 3 max_k (-q_k . x)``: the value
       is at least ``3 max_k (q_k . p - h_j(q_k))`` (h_j the support function
-      of the piece) and at most the gauge distance to any vertex (never more
+      of the piece) and at least ``(n_f . p + o_f) / -min_k n_f . q_k`` for
+      every facet plane f (the gauge ball ``p + t Q`` reaches the half-space
+      behind the plane only from that t on; at least the plane's Euclidean
+      distance), and at most the gauge distance to any vertex (never more
       than 3 times the distance to the nearest vertex, so that Euclidean
       bound would add nothing).
 
@@ -632,8 +636,8 @@ def cp_bounds(obj, points):
     """Cheap lower and upper bounds of the cP of points, without an LP.
 
     The bounds of the broad phase (see `_candidates`), taken over all pieces:
-    outside the object ``max(plane bound, gauge support bound) <= cP <=
-    gauge to the nearest vertex``; inside a piece ``-inf < cP <= 0``.
+    outside the object ``max(plane gauge bound, gauge support bound) <= cP
+    <= gauge to the nearest vertex``; inside a piece ``-inf < cP <= 0``.
 
     Parameters
     ----------
