@@ -386,7 +386,7 @@ def test_sq_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
         assert closed.lp_solves == 0
     from synergrasp.objects import proximity
 
-    monkeypatch.setattr(proximity, "_facet_exit", lambda piece, c0, U, exits: (
+    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
         np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
     lp_only = obj.scaled_contacts(pts, backend=backend)
     assert lp_only.lp_solves >= 1
@@ -407,7 +407,7 @@ def test_cp_penetration_closed_form_equals_the_lp(name, cube, goblet, backend, m
     assert closed.inside.all() and len(pts) >= 8
     from synergrasp.objects import proximity
 
-    monkeypatch.setattr(proximity, "_facet_exit", lambda piece, c0, U, exits: (
+    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
         np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
     lp_only = obj.contact_distance(pts, backend=backend)
     assert lp_only.lp_solves >= 1

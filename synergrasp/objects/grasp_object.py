@@ -241,9 +241,14 @@ class GraspObject:
         return out
 
     @cached_property
+    def _facet_q(self) -> np.ndarray:
+        """(F, 4): ``n_f . q_k`` for each facet's outward normal (all pieces, in plane order)."""
+        return self._planes[:, :3] @ proximity._Q.T
+
+    @cached_property
     def _facet_nq(self) -> np.ndarray:
         """(F,): ``min_k n_f . q_k`` for each facet's outward normal (all pieces, in plane order)."""
-        return (self._planes[:, :3] @ proximity._Q.T).min(axis=1)
+        return self._facet_q.min(axis=1)
 
     @cached_property
     def _facet_mq(self) -> np.ndarray:

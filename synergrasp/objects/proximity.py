@@ -456,28 +456,6 @@ def _check_points(points):
         raise ValueError(f"{exc}; hand points must be an (n, 3) array in mm") from None
 
 
-def _facet_vertices(piece, facet_mask):
-    """Vertex lists of the facets selected per row.
-
-    Parameters
-    ----------
-    piece : ConvexPiece
-    facet_mask : (m, f) bool
-        Selected facets, one row per block.
-
-    Returns
-    -------
-    vertices : (sum(counts), 3) float
-        The selected vertices of each row, concatenated.
-    counts : (m,) int
-    """
-    rows, facet = _nonzero(facet_mask)
-    used = np.zeros((len(facet_mask), len(piece.vertices)), dtype=bool)
-    used[rows[:, None], piece.facets[facet]] = True
-    r, v = _nonzero(used)
-    return piece.vertices[v], np.bincount(r, minlength=len(facet_mask)), v
-
-
 def _largest_gap(pq: np.ndarray, wq: np.ndarray) -> np.ndarray:
     """``max_k pq[:, k] - wq[k]``: gauge distances (over 3) between points and vertices.
 
@@ -668,25 +646,28 @@ def _bounds(probe):
     return np.where(inside, -np.inf, probe.lower.min(axis=1)), np.where(inside, 0.0, probe.upper)
 
 
-def _exit_facets(D, a, tol=1e-9):
+def _exit_facets(D, a, ray, tol=1e-9):
     """Facets through which rays leave a piece.
 
     Parameters
     ----------
-    D : (m, f) float
-        ``n_f . x0 + o_f`` at the rays' origins (<= 0: origins inside).
-    a : (m, f) float
-        ``n_f . d``, d the rays' directions.
+    D : (e,) float
+        ``n_f . x0 + o_f`` at each ray's origin (<= 0: origins inside), for
+        the facets listed.
+    a : (e,) float
+        ``n_f . d``, d the ray's direction.
+    ray : (e,) int
+        The ray of each entry, sorted, every ray ``0 ... R-1`` with at least one entry.
 
     Returns
     -------
-    (m, f) bool
+    (e,) bool
         The facets whose plane the ray ``x0 + r d`` (r >= 0) crosses last
         (within ``tol``): the exit point lies on one of them.
     """
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(a > 0, -D / a, np.inf)
-    r_exit = r.min(axis=1, keepdims=True)
+    r_exit = np.minimum.reduceat(r, np.flatnonzero(np.r_[True, ray[1:] != ray[:-1]]))[ray]
     return r <= r_exit * (1 + tol) + tol
 
 
@@ -714,61 +695,75 @@ def _separation_facets(obj, D, PQ, bound, outside):
 
     Returns
     -------
-    rows, facets, pieces : (m,) int
-        The kept (point, facet) pairs and the facet's piece, sorted by
-        piece, then point, then facet.
+    rows, pieces : (P,) int
+        The (point, piece) pairs, by piece, then point.
+    pair, facets : (m,) int
+        The kept facets: the pair of each and its index in the plane arrays,
+        sorted by pair, then facet.
     """
-    pieces, points = _nonzero(outside.T)  # pairs by piece, then point
-    counts = obj._plane_counts[pieces]
-    pair = np.repeat(np.arange(len(pieces)), counts)
-    facets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts - obj._plane_starts[pieces], counts)
-    rows = points[pair]
-    values, b = np.take(D, rows * D.shape[1] + facets), bound[rows]
+    pieces, rows = _nonzero(outside.T)  # pairs by piece, then point
+    pair, facets = _pair_facets(obj, pieces)
+    at = rows[pair]
+    values, b = np.take(D, at * D.shape[1] + facets), bound[at]
     tol = 1e-9 * (1.0 + b)
     keep = (values > 0.0) & (values + b * obj._facet_nq[facets] <= tol)  # facing p, within reach
     # the ball's facet k separates a triangle when all its vertices lie beyond it (tested on the few kept)
     kept = np.flatnonzero(keep)
-    f, r = facets[kept], rows[kept]
+    f, r = facets[kept], at[kept]
     reach = b[kept] / 3.0 + tol[kept]
     apart = obj._facet_mq[0][f] + PQ[r, 0] > reach
     for k in range(1, 4):
         apart |= obj._facet_mq[k][f] + PQ[r, k] > reach
     keep[kept[apart]] = False
-    lost = np.bincount(rows[keep], minlength=len(D)) == 0
-    if lost[points].any():  # a piece the ball cannot reach is not the minimiser: round-off
-        keep |= lost[rows] & (values > 0.0)
-    return rows[keep], facets[keep], pieces[pair[keep]]
+    lost = np.bincount(at[keep], minlength=len(D)) == 0
+    if lost[rows].any():  # a piece the ball cannot reach is not the minimiser: round-off
+        keep |= lost[at] & (values > 0.0)
+    return rows, pieces, pair[keep], facets[keep]
 
 
-def _blocks_of(obj, rows, facets, pieces):
-    """The vertex lists of (point, piece) blocks: the vertices of their facets.
+def _pair_facets(obj, pieces):
+    """Every facet of each of a list of pieces, concatenated.
 
     Parameters
     ----------
     obj : GraspObject
-    rows, facets, pieces : (m,) int
-        (point, facet) pairs and the facet's piece, sorted by piece, then point.
+    pieces : (P,) int
 
     Returns
     -------
-    block_rows, block_pieces : (B,) int
-        Point and piece of each block, in the order of the pairs.
+    pair, facets : (m,) int
+        For each entry, its position in ``pieces`` and the facet's index in
+        the plane arrays (``obj._planes``), sorted by position, then facet.
+    """
+    counts = obj._plane_counts[pieces]
+    pair = np.repeat(np.arange(len(pieces)), counts)
+    facets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts - obj._plane_starts[pieces], counts)
+    return pair, facets
+
+
+def _block_vertices(obj, block, facets, n_blocks):
+    """The vertex lists of LP blocks: the vertices of the facets listed for each.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    block, facets : (m,) int
+        Block and facet (index in the plane arrays) of each entry, blocks
+        ``0 ... n_blocks-1`` each with at least one facet.
+    n_blocks : int
+
+    Returns
+    -------
     vertices : (sum(counts), 3) float
         Each block's vertices, in index order, blocks concatenated.
-    counts : (B,) int
+    counts : (n_blocks,) int
     ids : (sum(counts),) int
         The vertices' rows in ``obj._vertices``.
     """
-    new = np.empty(len(rows), dtype=bool)
-    new[:1] = True
-    np.not_equal(rows[1:], rows[:-1], out=new[1:])
-    new[1:] |= pieces[1:] != pieces[:-1]
-    block = np.cumsum(new) - 1
     n_vertices = len(obj._vertices)
     codes = np.unique((block[:, None] * n_vertices + obj._facet_vertex_rows[facets]).ravel())
     ids = codes % n_vertices
-    counts = np.bincount(codes // n_vertices, minlength=int(block[-1]) + 1)
-    return rows[new], pieces[new], obj._vertices[ids], counts, ids
+    return obj._vertices[ids], np.bincount(codes // n_vertices, minlength=n_blocks), ids
 
 
 def contact_distance(obj, points, backend="highs") -> ContactDistance:
@@ -848,27 +843,32 @@ def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
     batches = []  # (batch index, points, pieces, separation?)
     done = []  # penetration rays in closed form: (points, piece, value, y, witness)
     if outside.any():
-        rows, pieces, verts, counts, vid = _blocks_of(obj, *_separation_facets(obj, values, PQ, bound, outside))
+        rows, pieces, pair, facets = _separation_facets(obj, values, PQ, bound, outside)
+        used = np.bincount(pair, minlength=len(rows)) > 0  # a pair the ball cannot reach is no minimiser
+        rows, pieces = rows[used], pieces[used]
+        verts, counts, vid = _block_vertices(obj, (np.cumsum(used) - 1)[pair], facets, len(rows))
         lead = np.broadcast_to(_Q, (len(rows), 4, 3))
         keys = None if ids is None else (ids[rows] * n_pieces + pieces) * 5
         batches.append((blocks.add(lead, np.ones(4), verts, counts, -1.0, -P[rows], P[rows], keys, vid), rows, pieces, True))
-    for j, piece in enumerate(obj.convex):
-        rows = np.nonzero(cand[:, j] & (S[:, j] <= 0.0))[0]
-        if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
-            # the optimum is where the ray p - rho q_k leaves the piece, for each k (rows k-major)
-            D = np.tile(values[rows, obj._plane_slices[j]], (4, 1))
-            k = np.repeat(np.arange(4), len(rows))
-            rows = np.tile(rows, 4)
-            exits = _exit_facets(D, np.repeat(-_Q @ piece.planes[:, :3].T, len(rows) // 4, axis=0))
-            closed, t, y = _facet_exit(piece, P[rows], -_Q[k], exits)
-            if closed.any():
-                r, tc = rows[closed], t[closed]
-                done.append((r, j, -tc, -y[closed], P[r] - tc[:, None] * _Q[k[closed]]))
-            if not closed.all():
-                r, kr = rows[~closed], k[~closed]
-                verts, counts, vid = _facet_vertices(piece, exits[~closed])
-                keys = None if ids is None else (ids[r] * n_pieces + j) * 5 + 1 + kr
-                batches.append((blocks.add(_Q[kr, None], [-1.0], verts, counts, 1.0, P[r], P[r], keys, vid), r, j, False))
+    pieces, rows = _nonzero((cand & (S <= 0.0)).T)  # (point, piece) pairs, by piece, then point
+    if len(rows):  # Eq. 3 for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
+        # the optimum is where the ray p - rho q_k leaves the piece: one ray per pair and k, by piece, k, point
+        k = np.repeat(np.arange(4), len(rows))
+        order = np.lexsort((np.tile(rows, 4), k, np.tile(pieces, 4)))
+        rows, pieces, k = np.tile(rows, 4)[order], np.tile(pieces, 4)[order], k[order]
+        ray, facets = _pair_facets(obj, pieces)
+        exits = _exit_facets(np.take(values, rows[ray] * values.shape[1] + facets), -obj._facet_q[facets, k[ray]], ray)
+        ray, facets = ray[exits], facets[exits]
+        closed, t, y = _facet_exit(obj, P[rows], -_Q[k], ray, facets)
+        if closed.any():
+            r, tc = rows[closed], t[closed]
+            done.append((r, pieces[closed], -tc, -y[closed], P[r] - tc[:, None] * _Q[k[closed]]))
+        if not closed.all():
+            entry = ~closed[ray]
+            r, kr, pr = rows[~closed], k[~closed], pieces[~closed]
+            verts, counts, vid = _block_vertices(obj, (np.cumsum(~closed) - 1)[ray[entry]], facets[entry], len(r))
+            keys = None if ids is None else (ids[r] * n_pieces + pr) * 5 + 1 + kr
+            batches.append((blocks.add(_Q[kr, None], [-1.0], verts, counts, 1.0, P[r], P[r], keys, vid), r, pr, False))
     solved = blocks.solve(solver, "cP") if blocks.batches else []
 
     # one row per (point, piece[, k]) LP, then penetration = max over k, cP = min over pieces
@@ -885,7 +885,7 @@ def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
         ks.append(np.full(len(rows), separation))
     for rows, j, value, y, witness in done:
         pts.append(rows)
-        pcs.append(np.full(len(rows), j))
+        pcs.append(j)
         vals.append(value)
         grads.append(y)
         nrms.append(-y)
@@ -987,32 +987,29 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     # the pieces the ray leaves last (closed form, within a tolerance)
     cand = T >= (best * (1 - 1e-7) - 1e-9)[:, None]
     alone = cand.sum(axis=1) == 1
+    # one entry per (point, piece) pair, by piece, then point:
+    # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
+    pcs, pts = _nonzero(cand.T)
+    pair, facets = _pair_facets(obj, pcs)
+    # the optimum is the exit point: only the facets the ray leaves through (as in _exit_facets)
+    exits = np.take(R, pts[pair] * R.shape[1] + facets) <= (T[pts, pcs] * (1 + 1e-9) + 1e-9)[pair]
+    pair, facets = pair[exits], facets[exits]
+    closed, ts, ys = _facet_exit(obj, c0, U[pts], pair, facets)
+    closed &= alone[pts]
+    degs = np.zeros(len(pts), dtype=bool)
     blocks = _Blocks()
-    batches = []  # (points, piece, t, y, degenerate) found in closed form, or (points, piece, LP batch index)
-    for j, piece in enumerate(obj.convex):
-        rows = np.nonzero(cand[:, j])[0]
-        if len(rows):  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
-            # the optimum is the exit point: only the facets the ray leaves through (as in _exit_facets)
-            exits = R[rows, obj._plane_slices[j]] <= T[rows, j, None] * (1 + 1e-9) + 1e-9
-            closed, t, y = _facet_exit(piece, c0, U[rows], exits)
-            closed &= alone[rows]
-            if closed.any():
-                batches.append((rows[closed], j, t[closed], y[closed], np.zeros(int(closed.sum()), dtype=bool)))
-            if not closed.all():
-                rows, exits = rows[~closed], exits[~closed]
-                verts, counts, _ = _facet_vertices(piece, exits)
-                rhs = np.broadcast_to(-c0, (len(rows), 3))
-                batches.append((rows, j, blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, rhs, c0)))
-    if blocks.batches:
-        solved = blocks.solve(solver, "sQ ray")
-        batches = [b if len(b) == 5 else b[:2] + (solved[b[2]][0][:, 0], solved[b[2]][2], solved[b[2]][3])
-                   for b in batches]
-
-    pts = np.concatenate([b[0] for b in batches])
-    pcs = np.concatenate([np.full(len(b[0]), b[1]) for b in batches])
-    ts = np.concatenate([b[2] for b in batches])
-    ys = np.concatenate([b[3] for b in batches])
-    degs = np.concatenate([b[4] for b in batches])
+    if not closed.all():
+        lp_pairs = np.flatnonzero(~closed)
+        entry = ~closed[pair]
+        block = (np.cumsum(~closed) - 1)[pair[entry]]
+        verts, counts, _ = _block_vertices(obj, block, facets[entry], len(lp_pairs))
+        rows = pts[lp_pairs]
+        blocks.add(U[rows, None, :], [-1.0], verts, counts, -1.0, np.broadcast_to(-c0, (len(rows), 3)), c0)
+        lead_x, _, y, deg = blocks.solve(solver, "sQ ray")[0]
+        ts[lp_pairs], ys[lp_pairs], degs[lp_pairs] = lead_x[:, 0], y, deg
+    # each piece's rays in closed form, then its LP rays
+    order = np.lexsort((pts, ~closed, pcs))
+    pts, pcs, ts, ys, degs = pts[order], pcs[order], ts[order], ys[order], degs[order]
     order, first = _first_per_group(pts, -ts)
     chosen = order[first]
     degenerate = degs[chosen].copy()
@@ -1043,27 +1040,30 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     )
 
 
-def _facet_exit(piece, c0, U, exits):
-    """The sQ LP's optimum in closed form, where the ray leaves through the inside of one facet.
+def _facet_exit(obj, c0, U, ray, facet):
+    """The exit of rays from a piece in closed form, where a ray leaves through the inside of one facet.
 
-    With a single exit plane (outward normal n_f, offset o_f) the optimum is the
-    ray's exit point, ``t = -(n_f . c + o_f) / (n_f . u)``, and the duals of the
-    coordinate rows are ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``). Faces
-    of a mesh are often split into coplanar triangles (a quad into two, a cap
-    into a fan), all of them exit facets of the ray: when the exit point lies
-    clearly inside one of them (its barycentric weights all above ``10 *
-    DEGENERACY_TOL``) the LP's optimal basis is that triangle, unique, and this
-    is the solution the LP would give.
+    With a single exit plane (outward normal n_f, offset o_f) the optimum of
+    the sQ LP (and of a penetration LP) is the ray's exit point,
+    ``t = -(n_f . c + o_f) / (n_f . u)``, and the duals of the coordinate
+    rows of the sQ LP are ``y = -n_f / (n_f . u)`` (so that ``y . u = -1``).
+    Faces of a mesh are often split into coplanar triangles (a quad into
+    two, a cap into a fan), all of them exit facets of the ray: when the exit
+    point lies clearly inside one of them (its barycentric weights all above
+    ``10 * DEGENERACY_TOL``) the LP's optimal basis is that triangle, unique,
+    and this is the solution the LP would give.
 
     Parameters
     ----------
-    piece : ConvexPiece
-    c0 : (3,) float
-        The rays' origin (the object's centre).
+    obj : GraspObject
+    c0 : (3,) or (m, 3) float
+        The rays' origin(s).
     U : (m, 3) float
-        The rays' directions ``p - c``.
-    exits : (m, f) bool
-        The facets each ray may leave through (`_exit_facets`; at least one per ray).
+        The rays' directions.
+    ray, facet : (e,) int
+        The facets each ray may leave through (`_exit_facets`; at least one
+        per ray, all of one piece), as indices in the plane arrays
+        (``obj._planes``), sorted by ray.
 
     Returns
     -------
@@ -1075,16 +1075,16 @@ def _facet_exit(piece, c0, U, exits):
     y : (m, 3) float
         Duals of the coordinate rows (meaningful where ``closed``).
     """
-    rows, facet = _nonzero(exits)  # sorted by row
-    start = np.searchsorted(rows, np.arange(len(U)))
+    planes = obj._planes
+    start = np.searchsorted(ray, np.arange(len(U)))
     first = facet[start]  # each ray's first exit facet: its plane
-    normal, offset = piece.planes[first, :3], piece.planes[first, 3]
+    normal, offset = planes[first, :3], planes[first, 3]
     a = np.einsum("ij,ij->i", normal, U)
     t = -((normal @ c0 if c0.ndim == 1 else np.einsum("ij,ij->i", normal, c0)) + offset) / a
-    plane = piece.planes[facet]
-    coplanar = np.abs(plane - piece.planes[first][rows]).max(axis=1) <= 1e-9 * (1.0 + np.abs(plane[:, 3]))
+    plane = planes[facet]
+    coplanar = np.abs(plane - planes[first][ray]).max(axis=1) <= 1e-9 * (1.0 + np.abs(plane[:, 3]))
     # barycentric weights of the exit point in every exit facet
-    tri = piece.vertices[piece.facets[facet]] - (c0 + t[:, None] * U)[rows, None, :]
+    tri = obj._vertices[obj._facet_vertex_rows[facet]] - (c0 + t[:, None] * U)[ray, None, :]
     area = np.einsum("ikj,ij->ik", cross(tri[:, [1, 2, 0]], tri[:, [2, 0, 1]]), plane[:, :3])
     inner = (area / area.sum(axis=1, keepdims=True)).min(axis=1)
     closed = np.logical_and.reduceat(coplanar, start) & (
