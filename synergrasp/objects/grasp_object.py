@@ -16,6 +16,11 @@ from .convex import ConvexPiece
 VERTEX_CLUSTER = 16
 
 
+def _scaled_max(v, scale, rows=16):
+    """``(v * scale).max(axis=1)`` for (n, f) ``v``, a few rows at a time (no large temporary)."""
+    return np.concatenate([(v[i : i + rows] * scale).max(axis=1) for i in range(0, len(v), rows)])
+
+
 class GraspObject:
     """An object to grasp: a union of convex pieces, its centre c and torque scale L (mm).
 
@@ -171,10 +176,14 @@ class GraspObject:
                 continue
             else:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product: never leave one
                 rows = np.repeat(np.flatnonzero(pairs[:, j]), 2 if counts[j] == 1 else 1)
-            v = points[rows] @ self._planes[planes, :3].T + self._planes[planes, 3]
-            values[rows, planes] = v
+            v = points[rows] @ self._planes[planes, :3].T
+            v += self._planes[planes, 3]  # in place: large temporaries cost page faults
+            if len(self.convex) == 1 and counts[0] == n:
+                values = v
+            else:
+                values[rows, planes] = v
             bounds[rows, j] = v.max(axis=1)
-            gauge[rows, j] = (v * self._facet_reach[planes]).max(axis=1)
+            gauge[rows, j] = _scaled_max(v, self._facet_reach[planes])
         return bounds, values, gauge
 
     @cached_property
