@@ -16,8 +16,11 @@ from .convex import ConvexPiece
 VERTEX_CLUSTER = 16
 
 
-def _scaled_max(v, scale, rows=16):
-    """``(v * scale).max(axis=1)`` for (n, f) ``v``, a few rows at a time (no large temporary)."""
+def _scaled_max(v, scale, block=16384):
+    """``(v * scale).max(axis=1)`` for (n, f) ``v``, about ``block`` entries at a time (no large temporary)."""
+    rows = max(1, block // v.shape[1])
+    if rows >= len(v):
+        return (v * scale).max(axis=1)
     return np.concatenate([(v[i : i + rows] * scale).max(axis=1) for i in range(0, len(v), rows)])
 
 
