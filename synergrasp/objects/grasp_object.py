@@ -94,7 +94,7 @@ class GraspObject:
         self._planes = np.vstack([p.planes for p in self.convex])
         self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
         self._plane_starts = np.cumsum(np.r_[0, self._plane_counts[:-1]])
-        self._lp_bases = proximity.BasisMemory()  # warm starts of the cP LP blocks
+        self._lp_bases = proximity._BasisMemory()  # warm starts of the cP LP blocks
         if center is None:
             self.center = self._default_center()
         else:

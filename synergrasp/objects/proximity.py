@@ -75,7 +75,7 @@ DEGENERACY_TOL = 1e-7
 #: LPs above it. cvxpy canonicalises its parametrised dense matrix in time and memory that
 #: grow much faster than the LP (0.6 s for 60 x 1373, gigabytes for 244 x 10000).
 MAX_LP_COLUMNS = {"cvxpy": 400}
-#: About how many LP blocks' last optimal bases an object keeps (`BasisMemory` starts afresh above it).
+#: About how many LP blocks' last optimal bases an object keeps (`_BasisMemory` starts afresh above it).
 MEMORY_SIZE = 20000
 
 
@@ -242,7 +242,7 @@ class _Blocks:
     then agree with the simplex to round-off, and the derivatives are the
     exact ones of the basis.
 
-    With a `BasisMemory` (``memory``), every block carries a key (``add``'s
+    With a `_BasisMemory` (``memory``), every block carries a key (``add``'s
     ``keys``, its vertices their indices ``ids``): the LP starts from the
     columns that were basic at the last optimum of a block with the same key
     (for a backend with ``basis_hints``), and the memory is then updated.
@@ -370,7 +370,7 @@ class _Blocks:
         return out
 
 
-class BasisMemory:
+class _BasisMemory:
     """The basic columns of LP blocks at their last optimum, by block key (warm starts of the cP LP).
 
     Each (block key, column id) pair that was basic is kept as one integer
