@@ -42,3 +42,9 @@ def cross(a, b):
     for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
         np.subtract(a[..., j] * b[..., k], a[..., k] * b[..., j], out=out[..., i])
     return out
+
+
+def unit_rows(v):
+    """Rows of ``v`` (..., 3) scaled to unit length; zero rows stay zero."""
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)

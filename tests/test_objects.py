@@ -467,6 +467,10 @@ def test_penetration_closed_form(cube):
     assert r.depths == pytest.approx([12.0, 7.0, 1.0, 0.0], abs=1e-5)
     assert r.depth == pytest.approx(12.0, abs=1e-5) and r.index == 0 and r.collision
     assert r.distances[3] == pytest.approx(3.0, abs=1e-5)
+    # the witnesses: the capsule's point deepest in the cube, then the cube's face; their difference frees it
+    np.testing.assert_allclose(r.witnesses[1:3, 1] - r.witnesses[1:3, 0], [[7.0, 0, 0], [1.0, 0, 0]], atol=1e-5)
+    np.testing.assert_allclose(r.witnesses[1:3, 1, 0], 10.0, atol=1e-5)
+    assert np.isnan(r.witnesses[3]).all()
 
 
 def test_penetration_through_and_beside_the_goblet(goblet):

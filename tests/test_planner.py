@@ -11,7 +11,8 @@ import synergrasp.objects as so
 from synergrasp.hand import SynergyHand
 from synergrasp.planner import PlanResult, attempt_schedule, check_grasp, grasp_status, plan, power_schedule, start_configuration
 from synergrasp.planner.core import sq_request
-from synergrasp.planner.status import Status, segment_distance
+from synergrasp.planner import core
+from synergrasp.planner.status import Status, capsule_rows, segment_distance
 
 from .conftest import BACKENDS
 from .test_quality import hull_contains_origin
@@ -69,6 +70,53 @@ def test_power_rows_see_a_phalanx_end_in_the_object(hand, ellipsoid):
     st = grasp_status(hand, ellipsoid, u, "power")
     depth = ellipsoid.penetration(hand.segments(u).capsules, hand.finger_radius).depths
     assert (depth > 5.0).any() and np.all(st.g[:-2][depth > 5.0] < 0.0)  # a phalanx 5 mm deep reads as penetrating
+
+
+def test_capsule_rows_see_a_phalanx_through_a_plate_and_match_finite_differences(hand):
+    """Phalanges through an 8 mm plate read shallow at their skin points; their capsules' rows read the full depth."""
+    plate = so.from_mesh(trimesh.creation.box((200.0, 200.0, 8.0)), cache=False)
+    u = np.r_[np.zeros(3), 0.15, -0.1, 0.05, 0.3, -0.2]
+    u[:3] = -hand.segments(u).capsules[4].mean(axis=0) + [0.0, 0.0, 1.5]  # the index's middle phalanx in the plate
+    skin = grasp_status(hand, plate, u, "power")
+    pen = plate.penetration(hand.segments(u).capsules, hand.finger_radius)
+    st = capsule_rows(hand, plate, u, skin, pen)
+    deeper = (pen.distances < 0) & (pen.distances < skin.g[:-2])
+    assert deeper.sum() >= 3 and pen.distances[4] < -8.0 and deeper[4]
+    np.testing.assert_array_equal(st.g[:-2][deeper], pen.distances[deeper])
+    np.testing.assert_array_equal(st.g[:-2][~deeper], skin.g[:-2][~deeper])  # the others keep their skin rows
+    np.testing.assert_array_equal(st.g[-2:], skin.g[-2:])
+    rows = np.flatnonzero(deeper)
+    h = np.r_[np.full(3, 1e-4), np.full(5, 1e-6)]
+    for k in range(len(u)):
+        up, um = u.copy(), u.copy()
+        up[k] += h[k]
+        um[k] -= h[k]
+        at = lambda v: plate.penetration(hand.segments(v).capsules, hand.finger_radius).distances[rows]  # noqa: E731
+        fd = (at(up) - at(um)) / (2 * h[k])
+        np.testing.assert_allclose(st.J[rows, k], fd, rtol=1e-5, atol=1e-5 * np.abs(st.J).max())
+    assert capsule_rows(hand, so.ellipsoid(), start_configuration(hand, so.ellipsoid()), skin) is skin  # nothing deeper
+
+
+def test_an_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch):
+    """The ellipsoid's power attempt meets the criterion with a phalanx too deep, then watches the capsules."""
+    obj = so.ellipsoid()
+    calls = []
+    rows = core.capsule_rows
+    monkeypatch.setattr(core, "capsule_rows", lambda hand, o, u, st, pen=None: calls.append(pen) or rows(hand, o, u, st, pen))
+    r = plan(obj, "power")
+    verify(r, obj)
+    assert len(calls) >= 2 and calls[0].depth > 3.0  # first when the criterion met a deep phalanx, then while wrapping
+    calls.clear()
+    plan(obj, "power", power_capsule_rows=False, max_iter=60)
+    assert not calls
+
+
+def test_power_starts_keep_every_phalanx_clear_of_the_object(hand):
+    box = so.from_mesh(trimesh.creation.box((120.0, 120.0, 130.0)), cache=False)
+    for direction, wide in power_schedule()[:6]:
+        u = core._power_start(hand, box, direction, core.PlannerOptions(), np.array([-1.0, 1.0] if wide else [0.0, 1.0]), wide)
+        geo = hand.segments(u)
+        assert box.penetration(geo.capsules, geo.radius).distances.min() >= 5.0 - 1e-6
 
 
 def fake_status(cp, sq=0.0):
@@ -171,13 +219,13 @@ def test_a_failed_precision_schedule_is_tried_again_with_the_contact_band():
 
 
 def test_a_failed_power_schedule_is_tried_again_with_the_synergies_held_while_reaching():
-    shaker = so.revolve(np.array([[22.0, 0.0], [18.0, 40.0], [22.0, 75.0], [16.0, 85.0]]), name="salt shaker")
-    free_only = plan(shaker, "power", restarts=4, power_held_pass=False)
-    assert not free_only.success and len(free_only.attempts) == 4
-    r = plan(shaker, "power", restarts=4)
-    verify(r, shaker)
-    assert [a["pass"] for a in r.attempts] == [1] * 4 + [2] * 4  # the fourth start succeeds with the held reach
-    assert r.attempts[0]["start"] == r.attempts[4]["start"]  # the same schedule again
+    box = so.from_mesh(trimesh.creation.box((60.0, 190.0, 270.0)), name="cereal box", cache=False)
+    free_only = plan(box, "power", restarts=5, power_held_pass=False)
+    assert not free_only.success and len(free_only.attempts) == 5
+    r = plan(box, "power", restarts=5)
+    verify(r, box)
+    assert [a["pass"] for a in r.attempts] == [1] * 5 + [2] * 5  # the fifth start succeeds with the held reach
+    assert r.attempts[0]["start"] == r.attempts[5]["start"]  # the same schedule again
     assert r.options["power_free_reach"]  # the caller's options; only the second pass holds the synergies
 
 

@@ -62,7 +62,7 @@ import numpy as np
 
 from .. import lp
 from .._checks import as_points, positive_scalar
-from .._vectors import cross
+from .._vectors import cross, unit_rows
 from ..pseudo_distance import regular_simplex
 
 _Q = regular_simplex(3)
@@ -195,6 +195,12 @@ class Penetration:
         Signed distance of each capsule to the object (negative = penetration).
     piece : int
         Piece the deepest capsule penetrates most, -1 if none.
+    witnesses : (k, 2, 3) float
+        For each penetrating capsule, fcl's witness points in the piece it
+        penetrates most: the capsule's point deepest in the object, then the
+        object's point deepest in the capsule (the translation from the first
+        to the second frees the capsule, its length is the depth); NaN for the
+        capsules that do not penetrate.
 
     Notes
     -----
@@ -208,6 +214,7 @@ class Penetration:
     depths: np.ndarray
     distances: np.ndarray
     piece: int
+    witnesses: np.ndarray
 
     @property
     def collision(self) -> bool:
@@ -442,11 +449,6 @@ def _polish(entries, c, rhs, x, y, start, block_of):
         x[basis[ok]] = np.maximum(xb[ok], 0.0)
         y[ok] = yb[ok]
     return x, y
-
-
-def _unit_rows(v):
-    norm = np.linalg.norm(v, axis=-1, keepdims=True)
-    return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)
 
 
 def _check_points(points):
@@ -924,7 +926,7 @@ def _contact_distance(obj, probe, solver, ids=None) -> ContactDistance:
         value=vals[chosen],
         grad=grads[chosen],
         nearest=wits[chosen],
-        normal=_unit_rows(nrms[chosen]),
+        normal=unit_rows(nrms[chosen]),
         piece=pcs[chosen],
         inside=~sep_rows[chosen],
         degenerate=degenerate,
@@ -1028,7 +1030,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     return ScaledContacts(
         scale=1.0 / t,
         contact=contact,
-        normal=_unit_rows(y),
+        normal=unit_rows(y),
         point=P.copy(),
         grad_scale=-dt / t[:, None] ** 2,
         jac_contact=jac_contact,
@@ -1125,6 +1127,7 @@ def penetration(obj, segments, radius) -> Penetration:
     request = fcl.DistanceRequest(enable_signed_distance=True)
     distances = np.empty(k)
     deepest_piece = np.full(k, -1)
+    witnesses = np.full((k, 2, 3), np.nan)
     manager = obj._fcl_manager
     for i in range(k):
         a, b = seg[i]
@@ -1139,9 +1142,11 @@ def penetration(obj, segments, radius) -> Penetration:
         manager.distance(capsule, data, fcl.defaultDistanceCallback)
         distances[i] = data.result.min_distance
         if distances[i] < 0:
-            per = [fcl.distance(capsule, piece.fcl, request, fcl.DistanceResult()) for piece in obj.convex]
+            results = [fcl.DistanceResult() for _ in obj.convex]
+            per = [fcl.distance(capsule, piece.fcl, request, res) for piece, res in zip(obj.convex, results)]
             distances[i] = min(per)
             deepest_piece[i] = int(np.argmin(per))
+            witnesses[i] = results[deepest_piece[i]].nearest_points
     depths = np.maximum(-distances, 0.0)
     index = int(np.argmax(depths)) if (depths > 0).any() else -1
     return Penetration(
@@ -1150,4 +1155,5 @@ def penetration(obj, segments, radius) -> Penetration:
         depths=depths,
         distances=distances,
         piece=int(deepest_piece[index]) if index >= 0 else -1,
+        witnesses=witnesses,
     )

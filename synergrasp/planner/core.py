@@ -36,10 +36,10 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from .._checks import as_vector
-from ..hand import SynergyHand
+from ..hand import SynergyHand, rotation_xyz
 from ..lp import get_backend
 from .result import PlanResult
-from .status import grasp_status
+from .status import capsule_rows, grasp_status
 from .step import limited_step
 from .stop import check_grasp
 
@@ -201,8 +201,17 @@ class PlannerOptions:
         (``restarts``) are spent without a grasp and iterations are left, go
         through the schedule again with the synergies held at the pre-shape
         while reaching (``power_free_reach=False``). Some objects are grasped
-        only one way: the held reach gets a wine bottle and a salt shaker that
-        the free reach misses.
+        only one way: the held reach gets a cereal box (60 x 190 x 270 mm)
+        that the free reach misses from the first five starts.
+    power_capsule_rows : bool
+        Power grasps with ``power_phases``: once an attempt has met the
+        criterion with a phalanx capsule deeper than ``max_penetration``, its
+        segment rows watch the capsules as well as the skin points while the
+        palm touches: a capsule deeper in the object than its skin points read
+        (an edge or a thin plate cutting in between them) gets its signed
+        distance as its row (`synergrasp.planner.status.capsule_rows`), so the
+        step pushes that phalanx out. One fcl query per wrap iteration, paid
+        only by the attempts that need it.
     """
 
     eps_c: float = 5.0
@@ -232,6 +241,7 @@ class PlannerOptions:
     contact_band: tuple | None = (1.0, 4.5)
     band_after: int = 600
     power_held_pass: bool = True
+    power_capsule_rows: bool = True
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
@@ -461,9 +471,22 @@ def _starts(hand, obj, grasp, opts, first, preshapes):
 
 
 def _power_start(hand, obj, direction, opts, preshape, wide):
-    """A power start: `start_configuration` from ``direction`` (palm-centred for the wide pre-shape), synergies at ``preshape``."""
+    """A power start: `start_configuration` from ``direction`` (palm-centred for the wide pre-shape), synergies at ``preshape``.
+
+    The pre-shape moves the fingers from where `start_configuration` cleared
+    them; the hand is then moved back along its palm normal until every
+    phalanx capsule is ``start_clearance`` mm from the object (a wide open
+    hand in front of a large object can start with fingers inside it).
+    """
     u = start_configuration(hand, obj, direction, opts.start_distance, opts.start_clearance, palm_centred=wide)
     u[6:] = preshape
+    back = -rotation_xyz(u[3:6])[:, 2]  # the palm normal reversed: away from the object
+    for _ in range(20):
+        geo = hand.segments(u)
+        need = opts.start_clearance - float(obj.penetration(geo.capsules, geo.radius).distances.min())
+        if need <= 0.0:
+            break
+        u[:3] += back * (need + 1e-6)
     return u
 
 
@@ -487,17 +510,31 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size
 
+    watch_capsules = kind == "power" and opts.power_phases and opts.power_capsule_rows
+    capsules_seen = False  # an attempt watches the capsules once it has met the criterion with a phalanx too deep
+
     def evaluate(u):
+        nonlocal capsules_seen
         st = grasp_status(hand, obj, u, kind, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
+        pen = None
+        if capsules_seen and st.g[-2] < opts.eps_c:  # wrapping
+            geo = hand.segments(u)
+            pen = obj.penetration(geo.capsules, geo.radius)
+            st = capsule_rows(hand, obj, u, st, pen)
         # a pinch must not end with the palm on the object
         palm = lambda: float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])  # noqa: E731
         chk = check_grasp(obj, st, kind, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
                           palm_distance=palm if kind == "precision" else None)
         if chk.done and kind == "power" and opts.power_phases:
             # not done while a phalanx is in the object: its penetrating row pushes it out
-            geo = hand.segments(u)
-            if obj.penetration(geo.capsules, geo.radius).depth > opts.max_penetration:
+            if pen is None:
+                geo = hand.segments(u)
+                pen = obj.penetration(geo.capsules, geo.radius)
+            if pen.depth > opts.max_penetration:
                 chk = replace(chk, done=False)
+                if watch_capsules and not capsules_seen:
+                    capsules_seen = True
+                    st = capsule_rows(hand, obj, u, st, pen)
         return st, chk
 
     u = np.array(u0, dtype=float)

@@ -10,10 +10,11 @@ differentiated numerically.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._vectors import unit_rows
 from ..objects.proximity import group_contact_distance
 from ..quality import q_distance
 
@@ -174,6 +175,73 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
         normal=cp.normal,
         lp_solves=cp.lp_solves,
     )
+
+
+def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
+    """A power status whose segment rows also see the phalanx capsules' penetration.
+
+    The skin points of a segment (`segment_distance`) sample its capsule: an
+    object's edge or a thin plate can cut into the capsule between them, deep,
+    while every skin point reads shallow or outside. A segment whose capsule
+    penetrates the object (python-fcl's signed distance,
+    `synergrasp.objects.GraspObject.penetration`) deeper than its row reads
+    gets that signed distance (negative, mm) as its row instead. The capsule
+    is the set of points within its radius of its axis, so the distance moves
+    with the axis point nearest the capsule's deepest point, ``(1 - t) a + t b``:
+    the derivative is the unit translation that frees the capsule (from its
+    point deepest in the object to the object's point deepest in it, the
+    penetration normal) times that point's Jacobian ``(1 - t) J_a + t J_b``.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (6 + n_syn,) float
+        The configuration of ``status``.
+    status : Status
+        A power grasp's status at ``u`` (`grasp_status` with ``kind="power"``).
+    penetration : Penetration, optional
+        ``obj.penetration(hand.segments(u).capsules, hand.finger_radius)`` if
+        already computed.
+
+    Returns
+    -------
+    Status
+        ``status`` with the rows of the deeper capsules replaced (``status``
+        itself when none is deeper); nearest points and normals stay the skin
+        points'.
+
+    Examples
+    --------
+    A phalanx through an 8 mm plate: its skin points are all within 4 mm of a
+    face, its capsule is 12 mm deep.
+
+    >>> import trimesh
+    >>> from synergrasp import SynergyHand, objects
+    >>> hand = SynergyHand.default()
+    >>> plate = objects.from_mesh(trimesh.creation.box((200.0, 200.0, 8.0)), cache=False)
+    >>> u = np.zeros(hand.n_u)
+    >>> u[:3] = -hand.segments(u).capsules[1].mean(axis=0)  # the thumb's middle phalanx centred in the plate
+    >>> skin = grasp_status(hand, plate, u, "power")
+    >>> seen = capsule_rows(hand, plate, u, skin)
+    >>> bool(skin.g[1] > -5.0), bool(seen.g[1] < -10.0)
+    (True, True)
+    """
+    ends, jac_ends = hand.segments_and_jacobian(u)
+    pen = obj.penetration(ends, hand.finger_radius) if penetration is None else penetration
+    deeper = np.flatnonzero((pen.distances < 0.0) & (pen.distances < status.g[: len(ends)]))
+    if not len(deeper):
+        return status
+    inner, outer = pen.witnesses[deeper, 0], pen.witnesses[deeper, 1]
+    free = unit_rows(outer - inner)
+    a, b = ends[deeper, 0], ends[deeper, 1]
+    axis = b - a
+    t = np.clip(np.einsum("ij,ij->i", inner - a, axis) / np.maximum(np.einsum("ij,ij->i", axis, axis), 1e-12), 0.0, 1.0)
+    jac_point = (1.0 - t)[:, None, None] * jac_ends[deeper, 0] + t[:, None, None] * jac_ends[deeper, 1]
+    g, J = status.g.copy(), status.J.copy()
+    g[deeper] = pen.distances[deeper]
+    J[deeper] = np.einsum("ia,iab->ib", free, jac_point)
+    return replace(status, g=g, J=J)
 
 
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
