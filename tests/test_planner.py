@@ -111,6 +111,28 @@ def test_an_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch
     assert not calls
 
 
+def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
+    """Below power_sq_hold the sQ row asks to keep g_sQ, not for sq_step less; above it, for sq_step less."""
+    obj = so.ellipsoid()
+    asked = []
+    step = core.limited_step
+
+    def spy(J, e, z, limits, first):
+        asked.append(e[-1])  # the sQ row's (scaled) error: target - g_sQ
+        return step(J, e, z, limits, first)
+
+    monkeypatch.setattr(core, "limited_step", spy)
+    r = plan(obj, "power", restarts=1, max_iter=60)
+    sq = r.status[: len(asked), -1]
+    held, pulled = sq < -0.05, sq >= -0.05
+    assert held.any() and pulled.any()
+    np.testing.assert_array_equal(np.asarray(asked)[held], 0.0)
+    np.testing.assert_allclose(np.asarray(asked)[pulled], -0.1)
+    asked.clear()
+    r = plan(obj, "power", restarts=1, max_iter=60, power_sq_hold=None)
+    assert np.all(np.asarray(asked)[r.status[: len(asked), -1] > -0.9] == pytest.approx(-0.1))
+
+
 def test_power_starts_keep_every_phalanx_clear_of_the_object(hand):
     box = so.from_mesh(trimesh.creation.box((120.0, 120.0, 130.0)), cache=False)
     for direction, wide in power_schedule()[:6]:

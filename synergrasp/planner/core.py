@@ -203,6 +203,13 @@ class PlannerOptions:
         while reaching (``power_free_reach=False``). Some objects are grasped
         only one way: the held reach gets a cereal box (60 x 190 x 270 mm)
         that the free reach misses from the first five starts.
+    power_sq_hold : float or None
+        Power grasps: once g_sQ is below this, the sQ row asks only to keep
+        its value instead of ``sq_step`` less. The predicted grasp is then
+        good enough, and a row still pulling sQ towards -1 (first priority
+        level) took the step from the palm and finger rows: attempts stalled
+        with g_sQ near -0.13 and the palm or the fingers short of the
+        surface. None: the moving target all the way.
     power_capsule_rows : bool
         Power grasps with ``power_phases``: once an attempt has met the
         criterion with a phalanx capsule deeper than ``max_penetration``, its
@@ -241,6 +248,7 @@ class PlannerOptions:
     contact_band: tuple | None = (1.0, 4.5)
     band_after: int = 600
     power_held_pass: bool = True
+    power_sq_hold: float | None = -0.05
     power_capsule_rows: bool = True
 
 
@@ -569,6 +577,8 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
         target = np.r_[_contact_goal(st.g[:-1], opts.contact_target, band, standoff * np.clip(st.g[-1], 0.0, 1.0) + backoff), 0.0]
         sq_step = sq_request(opts.sq_step, radius, st.J[-1] * scale_u) if kind == "precision" else opts.sq_step
         target[-1] = max(-1.0, st.g[-1] - sq_step)
+        if kind == "power" and opts.power_sq_hold is not None and st.g[-1] < opts.power_sq_hold:
+            target[-1] = st.g[-1]  # predicted good enough: keep it, the contact rows get the step
         first = np.r_[st.g[:-1] < 0.0, True]  # first priority: sQ and penetrating hand points
         active, reaching = np.r_[target[:-1] != st.g[:-1], True], False  # a fingertip inside its band is free
         if kind == "power" and opts.power_phases:
