@@ -490,12 +490,17 @@ def _power_start(hand, obj, direction, opts, preshape, wide):
     u[6:] = preshape
     back = -rotation_xyz(u[3:6])[:, 2]  # the palm normal reversed: away from the object
     for _ in range(20):
-        geo = hand.segments(u)
-        need = opts.start_clearance - float(obj.penetration(geo.capsules, geo.radius).distances.min())
+        need = opts.start_clearance - float(_phalanx_penetration(hand, obj, u).distances.min())
         if need <= 0.0:
             break
         u[:3] += back * (need + 1e-6)
     return u
+
+
+def _phalanx_penetration(hand, obj, u):
+    """`GraspObject.penetration` of the hand's phalanx capsules at configuration u."""
+    geo = hand.segments(u)
+    return obj.penetration(geo.capsules, geo.radius)
 
 
 def _contact_goal(cp, target, band, offset):
@@ -526,8 +531,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
         st = grasp_status(hand, obj, u, kind, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
         pen = None
         if capsules_seen and st.g[-2] < opts.eps_c:  # wrapping
-            geo = hand.segments(u)
-            pen = obj.penetration(geo.capsules, geo.radius)
+            pen = _phalanx_penetration(hand, obj, u)
             st = capsule_rows(hand, obj, u, st, pen)
         # a pinch must not end with the palm on the object
         palm = lambda: float(obj.contact_distance(hand.points(u, "power")[-1:], backend=backend).value[0])  # noqa: E731
@@ -536,8 +540,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
         if chk.done and kind == "power" and opts.power_phases:
             # not done while a phalanx is in the object: its penetrating row pushes it out
             if pen is None:
-                geo = hand.segments(u)
-                pen = obj.penetration(geo.capsules, geo.radius)
+                pen = _phalanx_penetration(hand, obj, u)
             if pen.depth > opts.max_penetration:
                 chk = replace(chk, done=False)
                 if watch_capsules and not capsules_seen:
@@ -554,22 +557,21 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
     solves = st.lp_solves + chk.lp_solves
     reason = f"iteration cap ({budget}) reached"
     labels = hand.point_labels(kind)
-    geo = hand.segments(u)
+    segments = hand.segments(u).labels
     # the status rows of each phalanx: its own hand point (power) or its finger's tip (precision)
     rows_of = {seg: [i for i, lab in enumerate(labels) if lab == seg] or [i for i, lab in enumerate(labels) if lab[0] == seg[0]]
-               for seg in geo.labels}
+               for seg in segments}
     backoff, backoffs, depth = np.zeros(n), 0, None
     bests, touched = [], False
     for _ in range(budget):
         if chk.done:
-            geo = hand.segments(u)
-            pen = obj.penetration(geo.capsules, geo.radius)
+            pen = _phalanx_penetration(hand, obj, u)
             depth = pen.depth
             if depth <= opts.max_penetration or backoffs == opts.backoffs:
                 reason = "stop criterion met"
                 break
             backoffs += 1  # back the too-deep fingers off by their depth and go on
-            for seg, d in zip(geo.labels, pen.depths):
+            for seg, d in zip(segments, pen.depths):
                 if d > opts.max_penetration:
                     backoff[rows_of[seg]] = np.maximum(backoff[rows_of[seg]], d)
             best, stalled, bests = np.inf, 0, []
@@ -633,8 +635,7 @@ def _attempt(hand, obj, kind, u0, opts, backend, budget, progress, standoff=0.0,
                 reason = f"stalled (merit down less than {opts.crawl_fraction:.0%} in {opts.crawl_window} iterations)"
                 break
     if depth is None:
-        geo = hand.segments(u)
-        depth = obj.penetration(geo.capsules, geo.radius).depth
+        depth = _phalanx_penetration(hand, obj, u).depth
     if reason == "stop criterion met" and depth > opts.max_penetration:
         reason = f"grasp rejected: a phalanx penetrates the object by {depth:.1f} mm"
     return reason, traj, statuses, checks, st, depth, solves
