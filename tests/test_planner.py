@@ -407,6 +407,9 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"grasp": "power", "contact_band": (1.0, 4.5)}, "for precision grasps only"),
         ({"band_after": -1}, "band_after must be an integer >= 0"),
         ({"band_after": 2.5}, "band_after must be an integer >= 0"),
+        ({"grasp": "power", "power_sq_hold": np.nan}, "power_sq_hold must be a finite number"),
+        ({"grasp": "power", "power_sq_hold": "low"}, "power_sq_hold must be a finite number"),
+        ({"grasp": "power", "power_capsule_rows": "yes"}, "power_capsule_rows must be True or False"),
     ],
 )
 def test_bad_input(ellipsoid, kwargs, match):

@@ -705,6 +705,11 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
         raise ValueError("contact_band is for precision grasps only; power grasps use contact_target")
     if isinstance(opts.band_after, bool) or not isinstance(opts.band_after, (int, np.integer)) or opts.band_after < 0:
         raise ValueError(f"band_after must be an integer >= 0 (iterations), got {opts.band_after!r}")
+    if opts.power_sq_hold is not None and (isinstance(opts.power_sq_hold, bool) or not isinstance(opts.power_sq_hold, (int, float))
+                                           or not np.isfinite(opts.power_sq_hold)):
+        raise ValueError(f"power_sq_hold must be a finite number (a g_sQ value, e.g. -0.05) or None, got {opts.power_sq_hold!r}")
+    if not isinstance(opts.power_capsule_rows, (bool, np.bool_)):
+        raise ValueError(f"power_capsule_rows must be True or False, got {opts.power_capsule_rows!r}")
     get_backend(backend)
     hand = hand or SynergyHand.default()
     if int(max_iter) < 1:
