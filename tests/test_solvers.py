@@ -54,6 +54,15 @@ def test_outputs_and_paper_rows(quick):
     paper = [r for r in quick["plan"] if r["source"] == "paper"]
     assert len(paper) == 8 and all(r["backend"] == compare.PAPER_LABEL for r in paper)
     assert [r["target"] for r in quick["ratios"]] == [20.0, 10.0, 10.0, 100.0]
+    for row in quick["ratios"][:3]:  # measured splits: the time outside the solver is positive
+        assert row["rest_now"] > 0 and np.isfinite(row["rest_allowed"]), row
+
+
+@pytest.mark.parametrize("slow, fast, target", [(0.37, 0.029, 10.0), (2.4, 0.2, 10.0), (12.0, 0.2, 20.0)])
+def test_allowed_rest_is_where_the_ratio_meets_its_target(slow, fast, target):
+    rest = compare.allowed_rest(slow, fast, target)
+    assert (rest + slow) / (rest + fast) == pytest.approx(target)
+    assert (rest * 1.01 + slow) / (rest * 1.01 + fast) < target  # more time outside the solver: below the target
 
 
 @pytest.mark.parametrize("make", [LinprogBackend, PlainCvxpyBackend])
