@@ -549,7 +549,8 @@ def markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, figure_link
                 for r in ratio_rows]),
         "",
         "Outside the solver: the time both backends spend alike around the LPs (the library's Python: geometry, "
-        "wrenches, gradients, the planner), in the unit of the note; *at most* is the largest such time at which "
+        "wrenches, gradients, the planner), in the unit of the note (for Q5 the median call time times the run's "
+        "share of time inside the solver); *at most* is the largest such time at which "
         "the ratio would still reach its target with this run's solver times (see `allowed_rest`; negative: not "
         "even with none).",
         "",
