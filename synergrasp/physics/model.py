@@ -166,7 +166,9 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
         '    <default class="hand"><geom contype="0" conaffinity="1" rgba="0.85 0.7 0.6 1"/></default>',
         '    <default class="object"><geom type="mesh" contype="1" conaffinity="1" rgba="0.3 0.5 0.8 1"/></default>',
         "  </default>",
+        '  <visual><headlight ambient="0.45 0.45 0.45" diffuse="0.6 0.6 0.6"/><global offwidth="1280" offheight="960"/></visual>',
         "  <asset>",
+        '    <texture type="skybox" builtin="gradient" rgb1="1 1 1" rgb2="0.75 0.8 0.88" width="64" height="64"/>',
     ]
     for i, piece in enumerate(obj.pieces):
         lines.append(f'    <mesh name="piece{i}" vertex="{_vec(((piece - obj.center) * MM).ravel())}"/>')

@@ -7,6 +7,7 @@ of one grasp (`simulate`); `synergrasp.physics.validate` prepares its inputs.
 from __future__ import annotations
 
 import contextlib
+
 import numpy as np
 
 from .model import OBJECT, grasp_mjcf
@@ -24,8 +25,8 @@ LOST = 5.0
 REST_TIME = 0.2
 REST_SPEED = 1e-4
 REST_SPIN = 1e-3
-_AXES = np.array([[-1.0, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]])
-assert len(_AXES) == len(DIRECTIONS)
+#: Unit vectors of `DIRECTIONS` ("-x" -> [-1, 0, 0], ...).
+_AXES = np.array([float(d[0] + "1") * np.eye(3)["xyz".index(d[1])] for d in DIRECTIONS])
 
 
 def mujoco_module():
