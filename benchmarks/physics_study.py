@@ -97,7 +97,7 @@ def object_sets(names, meshes=None, scale=1.0, quick=False):
 
 def study_case(group, name, obj, grasp, out):
     """Plan one grasp and validate it every way; one row of the study (dict)."""
-    folder = out / "cases" / re.sub(r"[^A-Za-z0-9]+", "_", f"{group}_{name}_{grasp}")
+    folder = out / "cases" / "_".join(re.sub(r"[^A-Za-z0-9_]+", "-", part) for part in (group, name, grasp))
     folder.mkdir(parents=True, exist_ok=True)
     row = dict(set=group, object=name, grasp=grasp)
     start = time.perf_counter()
@@ -256,19 +256,20 @@ def plot(rows, path):
 
     fig, axes = plt.subplots(1, len(PRESETS), figsize=(10, 3.2), sharex=True)
     rng = np.random.default_rng(0)
+    top = 0.1  # failed plans reach Q of several units: drawn at the right edge
     for ax, variant in zip(axes, PRESETS):
         for grasp, colour in zip(GRASPS, ("tab:blue", "tab:orange")):
             for lp, marker in ((True, "o"), (False, "x")):
                 mine = [r for r in rows if r["grasp"] == grasp and r["lp"] == lp and np.isfinite(r["q"])]
                 if mine:
                     y = np.array([held(r, variant) for r in mine], float) + rng.uniform(-0.12, 0.12, len(mine))
-                    ax.scatter([r["q"] for r in mine], y, c=colour, marker=marker, s=22,
+                    ax.scatter([min(r["q"], top) for r in mine], y, c=colour, marker=marker, s=22,
                                label=f"{grasp}, LP {'yes' if lp else 'no'}")
         t = q_threshold(rows, variant)
         if t is not None:
             ax.axvline(t["t"], color="k", ls="--", lw=1)
         ax.set_yticks([0, 1], ["not held", "held"])
-        ax.set_xlabel("Q (final g_Q)")
+        ax.set_xlabel(f"Q (final g_Q; above {top:g} drawn at {top:g})")
         ax.set_title(f"protocol {variant}", fontsize=10)
     axes[0].legend(fontsize=7, loc="center left")
     fig.tight_layout()

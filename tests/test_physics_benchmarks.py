@@ -24,7 +24,7 @@ def run(script, *args, cwd):
 def test_bench_validate_quick(tmp_path):
     out = run("bench_validate.py", "--quick", cwd=tmp_path)
     rows = [line for line in out.splitlines() if line.startswith(("box pinch", "ball pinch"))]
-    outcomes = {line[:34].strip(): line[35:47].strip() for line in rows}
+    outcomes = {line[:44].strip(): line[45:57].strip() for line in rows}
     assert outcomes == {"box pinch": "held", "box pinch, 40 mm back": "no contact",
                         "ball pinch (thumb and index)": "held"}
     assert "one validation: median" in out and "over 3 cases" in out

@@ -60,7 +60,7 @@ class Validation:
     contact_pieces : list of int
         The object's convex piece of each contact.
     contact_points : (c, 3) float
-        Contact positions (mm, world frame).
+        Contact positions (mm, world frame, the object at its settled pose).
     contact_normals : (c, 3) float
         Unit contact normals pointing into the object.
     contact_forces : (c,) float
