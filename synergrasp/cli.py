@@ -105,6 +105,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_plan)
+    from .physics.cli import add_validate_parser  # the validate subcommand lives with the physics package
+
+    add_validate_parser(sub)
     return parser
 
 

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-_ARRAYS = ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals")
+from .._records import load_record, save_record
+
+_FORMAT = "synergrasp.PlanResult/1"
+_ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
+           "contact_points": (-1, 3), "contact_normals": (-1, 3)}
 
 
 @dataclass
@@ -139,13 +142,7 @@ class PlanResult:
         >>> bool((again.trajectory == result.trajectory).all())   # floats round-trip exactly
         True
         """
-        data = asdict(self)
-        for name in _ARRAYS:
-            data[name] = np.asarray(data[name]).tolist()
-        data["format"] = "synergrasp.PlanResult/1"
-        path = Path(path)
-        path.write_text(json.dumps(data, indent=1))
-        return path
+        return save_record(self, path, _FORMAT, _ARRAYS)
 
     @classmethod
     def load(cls, path) -> "PlanResult":
@@ -177,19 +174,4 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        path = Path(path)
-        try:
-            data = json.loads(path.read_text())
-        except (OSError, json.JSONDecodeError) as exc:
-            raise ValueError(f"cannot read a PlanResult from {path}: {exc}") from exc
-        if not isinstance(data, dict) or data.pop("format", None) != "synergrasp.PlanResult/1":
-            raise ValueError(f"{path} is not a saved synergrasp PlanResult")
-        names = {f.name for f in fields(cls)}
-        missing = names - set(data)
-        if missing:
-            raise ValueError(f"{path} lacks the fields {sorted(missing)}")
-        for name in _ARRAYS:
-            data[name] = np.asarray(data[name], dtype=float)
-        data["contact_points"] = data["contact_points"].reshape(-1, 3)
-        data["contact_normals"] = data["contact_normals"].reshape(-1, 3)
-        return cls(**{k: data[k] for k in names})
+        return cls(**load_record(cls, path, _FORMAT, _ARRAYS))
