@@ -1,25 +1,33 @@
-"""The reach-to-grasp planner (paper Sec. 3.2): status vector, step, stop rules, results."""
+"""The reach-to-grasp planner (paper Sec. 3.2): options, starts, attempts, status vector, step, stop rules, results."""
 
-from .core import APPROACHES, GRASPS, POWER_APPROACHES, POWER_WIDE_APPROACHES, STANDOFF_APPROACHES, PlannerOptions, attempt_schedule, plan, power_schedule, start_configuration
+from .attempt import AttemptResult, Outcome, run_attempt, sq_request
+from .core import plan
+from .options import GRASPS, PlannerOptions
 from .result import PlanResult
-from .status import Status, grasp_status, smoothed_normals
+from .starts import Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts
+from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
 __all__ = [
-    "APPROACHES",
-    "POWER_APPROACHES",
-    "POWER_WIDE_APPROACHES",
-    "STANDOFF_APPROACHES",
-    "attempt_schedule",
-    "power_schedule",
     "GRASPS",
+    "AttemptResult",
     "GraspCheck",
+    "Outcome",
     "PlanResult",
     "PlannerOptions",
+    "Start",
     "Status",
     "check_grasp",
+    "direction_starts",
     "grasp_status",
+    "pinch_seeds",
     "plan",
+    "power_schedule",
+    "principal_directions",
+    "run_attempt",
     "smoothed_normals",
+    "sq_request",
     "start_configuration",
+    "starts",
+    "status_rows",
 ]
