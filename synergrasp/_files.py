@@ -1,0 +1,92 @@
+"""Output files: atomic writes (a temporary file, then one rename) and writable folders."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+
+@contextmanager
+def atomic_path(path):
+    """A temporary file beside ``path`` to write to; it replaces ``path`` only when the block succeeds.
+
+    The temporary file is in the same folder (so ``os.replace`` is one atomic
+    rename) and keeps the suffix (so writers that choose the format by the
+    extension, such as matplotlib, still do). If the block raises, the
+    temporary file is removed and ``path`` is left as it was: a reader never
+    sees a half-written file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+
+    Yields
+    ------
+    Path
+        The temporary file (it exists, empty).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> with atomic_path(folder / "out.txt") as tmp:
+    ...     _ = tmp.write_text("done")
+    >>> (folder / "out.txt").read_text(), sorted(p.name for p in folder.iterdir())
+    ('done', ['out.txt'])
+    """
+    path = Path(path)
+    fd, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent)
+    os.close(fd)
+    tmp = Path(name)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def writable_folder(path, what: str = "output folder") -> Path:
+    """Create ``path`` if needed and check that a file can be written in it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder.
+    what : str
+        How the folder is named in the error message.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If the folder cannot be created or written to; the message names the
+        folder and the reason.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> writable_folder(Path(tempfile.mkdtemp()) / "new" / "folder").is_dir()
+    True
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=".write-check.", dir=path)
+        os.close(fd)
+        os.unlink(name)
+    except OSError as exc:
+        reason = (exc.strerror or str(exc)).lower()
+        if path.exists() and not path.is_dir():
+            reason = "it is a file, not a folder"
+        raise ValueError(f"cannot write to the {what} '{path}' ({reason}); choose a writable folder") from None
+    return path
