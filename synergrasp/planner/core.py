@@ -759,7 +759,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
             solves += n_solves
             attempts.append({"start": u_start.tolist(), "standoff": standoff, "pass": number,
                              "band": band and list(band), "iterations": len(traj) - 1, "reason": reason,
-                             "status": np.array(statuses)})
+                             "status": np.array(statuses).tolist()})
             if reason == "stop criterion met":
                 break
         if reason == "stop criterion met":

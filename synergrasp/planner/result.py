@@ -149,8 +149,6 @@ class PlanResult:
         data = asdict(self)
         for name in _ARRAYS:
             data[name] = np.asarray(data[name]).tolist()
-        data["attempts"] = [{k: np.asarray(v).tolist() if k == "status" else v for k, v in a.items()}
-                            for a in data["attempts"]]
         data["format"] = _FORMAT
         path = Path(path)
         text = json.dumps(data, indent=1)
@@ -304,7 +302,5 @@ def _validated(data: dict, names, path) -> dict:
             if trace is None or trace.shape != (iterations + 1, m):
                 raise ValueError(f"{path}: field '{where}.status' must be an array of shape "
                                  f"(iterations + 1, len(target)) = ({iterations + 1}, {m})")
-            attempt = {**attempt, "status": trace}
-        attempts[i] = attempt
     out["attempts"] = attempts
     return {name: out[name] for name in names}
