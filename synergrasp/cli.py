@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 import numpy as np
 
@@ -250,11 +251,23 @@ def main(argv=None) -> int:
     0
     """
     args = build_parser().parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, TypeError, OSError) as exc:
-        print(f"synergrasp: error: {exc}", file=sys.stderr)
-        return 2
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        try:
+            return args.func(args)
+        except (ValueError, TypeError, OSError) as exc:
+            print(f"synergrasp: error: {_command_line_hint(str(exc))}", file=sys.stderr)
+            return 2
+
+
+def _command_line_hint(message: str) -> str:
+    """A library message that suggests ``scale=...``, with the command line's way of saying it."""
+    return message + (" (on the command line: --units m or cm, or --scale FACTOR)" if "scale=" in message else "")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Warnings as one line on stderr, without the library's file and line."""
+    print(f"synergrasp: warning: {_command_line_hint(str(message))}", file=sys.stderr)
 
 
 if __name__ == "__main__":

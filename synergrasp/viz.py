@@ -21,19 +21,14 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from ._files import atomic_path  # noqa: E402
 
-__all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "write_html"]
+__all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
 
 _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
 _FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
 
 
 def plot_status(result, path, labels=None, attempts=None):
-    """The status vector against iterations, like the paper's Figs. 7b-14b.
-
-    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
-    g_Q with the -0.1 level of a good grasp. With every attempt shown, the
-    attempts follow one another along the iteration axis, separated by grey
-    lines and numbered; g_Q is known for the returned (last) attempt only.
+    """The status vector against iterations, like the paper's Figs. 7b-14b (`status_figure`, written to ``path``).
 
     Parameters
     ----------
@@ -41,24 +36,14 @@ def plot_status(result, path, labels=None, attempts=None):
     path : str or Path
         Output image (.png, .svg, .pdf).
     labels : list of str, optional
-        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
-        (pass ``hand.point_labels(result.grasp)`` for another hand).
+        See `status_figure`.
     attempts : {"all", "last"}, optional
-        Show every attempt's status trace, or the returned reach only. Default:
-        every attempt for a plan that found no grasp (so the figure shows what
-        each attempt did), the returned reach for a successful one. Results
-        without per-attempt traces (saved by older versions) show the returned
-        reach.
+        See `status_figure`.
 
     Returns
     -------
     Path
         ``path``.
-
-    Raises
-    ------
-    ValueError
-        If ``attempts`` is not "all", "last" or None.
 
     Examples
     --------
@@ -71,6 +56,50 @@ def plot_status(result, path, labels=None, attempts=None):
     ...     path = viz.plot_status(result, Path(folder) / "status.png")
     ...     path.name, path.stat().st_size > 0
     ('status.png', True)
+    """
+    return _save(status_figure(result, labels, attempts), path, dpi=120)
+
+
+def status_figure(result, labels=None, attempts=None):
+    """The figure of `plot_status`: the status vector against iterations.
+
+    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
+    g_Q with the -0.1 level of a good grasp. With every attempt shown, the
+    attempts follow one another along the iteration axis, separated by grey
+    lines and numbered; g_Q is known for the returned (last) attempt only.
+
+    Parameters
+    ----------
+    result : PlanResult
+    labels : list of str, optional
+        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
+        (pass ``hand.point_labels(result.grasp)`` for another hand).
+    attempts : {"all", "last"}, optional
+        Show every attempt's status trace, or the returned reach only. Default:
+        every attempt for a plan that found no grasp (so the figure shows what
+        each attempt did), the returned reach for a successful one. Results
+        without per-attempt traces (saved by older versions) show the returned
+        reach.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes (cP rows, Q distances); close it with ``plt.close(fig)``.
+
+    Raises
+    ------
+    ValueError
+        If ``attempts`` is not "all", "last" or None.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import synergrasp as sg
+    >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision", max_iter=6, iterations_per_attempt=3)
+    >>> fig = status_figure(result)            # a failed plan: both attempts, one after the other
+    >>> [len(a["status"]) for a in result.attempts], bool(fig.axes[1].get_xlim()[1] > 7)
+    ([4, 4], True)
+    >>> plt.close(fig)
     """
     from .hand import SynergyHand
 
@@ -119,7 +148,8 @@ def plot_status(result, path, labels=None, attempts=None):
     bottom.set_ylabel("Q distance")
     bottom.set_xlabel("iteration k" + (" (attempts one after another)" if len(traces) > 1 else ""))
     bottom.legend(fontsize=8, loc="upper right")
-    return _save(fig, path, dpi=120)
+    fig.tight_layout()
+    return fig
 
 
 def _save(fig, path, dpi):

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
+import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.objects import loading
 
@@ -306,3 +307,19 @@ def test_bad_files(tmp_path):
     np.savez(keys, a=np.ones(3), b=np.ones(3))
     with pytest.raises(ValueError, match="keys.npz.*'points'"):
         so.load(keys)
+
+
+def test_an_open_box_is_grasped_like_the_closed_one(tmp_path):
+    """A 60 mm box without its lid, from a file and as a point cloud, gives the closed box's plan."""
+    closed = trimesh.creation.box(extents=[60.0, 60.0, 60.0])
+    lidless = trimesh.Trimesh(closed.vertices, closed.faces[closed.face_normals[:, 2] < 0.5])
+    path = tmp_path / "open_box.stl"
+    lidless.export(path)
+    with pytest.warns(UserWarning, match="1 hole"):
+        from_file = so.load(path, cache=False)
+    cloud = np.vstack([lidless.vertices, trimesh.sample.sample_surface(lidless, 2500, seed=0)[0]])
+    plans = [sg.plan(obj, "precision") for obj in (so.from_mesh(closed, cache=False), from_file, so.from_points(cloud, cache=False))]
+    for r, obj in zip(plans, ("closed", "open file", "open cloud")):
+        assert r.success, f"{obj}: {r.reason}"
+    assert plans[1].iterations == plans[0].iterations and np.allclose(plans[1].u, plans[0].u)
+    assert plans[2].total_iterations <= 2 * plans[0].total_iterations
