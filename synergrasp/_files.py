@@ -40,6 +40,8 @@ def atomic_path(path):
     ('done', ['out.txt'])
     """
     path = Path(path)
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write '{path}': the folder '{path.parent}' does not exist")
     while True:  # like tempfile.mkstemp, but the file gets the usual permissions (0o666 less the umask)
         tmp = path.with_name(f".{path.stem}.{secrets.token_hex(4)}.tmp{path.suffix}")
         try:

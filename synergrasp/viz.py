@@ -45,6 +45,15 @@ def plot_status(result, path, labels=None, attempts=None):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``result`` is not a PlanResult.
+    ValueError
+        If the file's extension is not an image format matplotlib writes, or ``attempts`` is unknown.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import tempfile
@@ -57,6 +66,7 @@ def plot_status(result, path, labels=None, attempts=None):
     ...     path.name, path.stat().st_size > 0
     ('status.png', True)
     """
+    path = _image_path(path)
     return _save(status_figure(result, labels, attempts), path, dpi=120)
 
 
@@ -103,6 +113,7 @@ def status_figure(result, labels=None, attempts=None):
     """
     from .hand import SynergyHand
 
+    _check(result=result)
     if attempts not in (None, "all", "last"):
         raise ValueError(f"attempts must be 'all', 'last' or None, got {attempts!r}")
     labels = labels or SynergyHand.default().point_labels(result.grasp)
@@ -150,6 +161,29 @@ def status_figure(result, labels=None, attempts=None):
     bottom.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     return fig
+
+
+def _check(result=None, obj=None, hand=None):
+    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand."""
+    from .hand import SynergyHand
+    from .objects import GraspObject
+    from .planner import PlanResult
+
+    for name, value, kind in (("result", result, PlanResult), ("obj", obj, GraspObject), ("hand", hand, SynergyHand)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+
+
+def _image_path(path, suffixes=None):
+    """``Path(path)``; ValueError unless its extension is an image format matplotlib writes (or one of ``suffixes``)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    path = Path(path)
+    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes())
+    if path.suffix.lower() not in known:
+        raise ValueError(f"cannot write '{path}': {path.suffix or 'no extension'} is not a supported format; "
+                         f"use one of {', '.join(known)}")
+    return path
 
 
 def _save(fig, path, dpi):
@@ -214,6 +248,15 @@ def plot_poses(result, obj, hand, path, count=5):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``result``, ``obj`` or ``hand`` is of the wrong type.
+    ValueError
+        If the file's extension is not an image format matplotlib writes, or ``count`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -223,6 +266,10 @@ def plot_poses(result, obj, hand, path, count=5):
     >>> plot_poses(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "poses.png").exists()
     True
     """
+    _check(result=result, obj=obj, hand=hand)
+    path = _image_path(path)
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
+        raise ValueError(f"count must be an integer >= 1 (poses drawn), got {count!r}")
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
     fig = plt.figure(figsize=(7, 7))
@@ -269,6 +316,15 @@ def plot_grasps(plans, hand, path, columns=6):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If a result, object or the hand is of the wrong type.
+    ValueError
+        If ``plans`` is empty or malformed, the extension is not an image format, or ``columns`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -280,6 +336,14 @@ def plot_grasps(plans, hand, path, columns=6):
     """
     if not plans:
         raise ValueError("plot_grasps needs at least one (result, object, caption) triple")
+    _check(hand=hand)
+    path = _image_path(path)
+    for i, plan in enumerate(plans):
+        if not isinstance(plan, (tuple, list)) or len(plan) != 3:
+            raise ValueError(f"plans[{i}] must be a (result, object, caption) triple")
+        _check(result=plan[0], obj=plan[1])
+    if isinstance(columns, bool) or not isinstance(columns, (int, np.integer)) or columns < 1:
+        raise ValueError(f"columns must be an integer >= 1, got {columns!r}")
     columns = max(1, min(int(columns), len(plans)))
     rows = -(-len(plans) // columns)
     fig = plt.figure(figsize=(2.6 * columns, 2.6 * rows))
@@ -318,6 +382,15 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``result``, ``obj`` or ``hand`` is of the wrong type.
+    ValueError
+        If ``path`` does not end in .gif, or ``fps`` or ``max_frames`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -327,6 +400,11 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     >>> animate(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "reach.gif").exists()
     True
     """
+    _check(result=result, obj=obj, hand=hand)
+    path = _image_path(path, [".gif"])
+    for name, value in (("fps", fps), ("max_frames", max_frames)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
     fig = plt.figure(figsize=(5.5, 5.5))
@@ -370,6 +448,11 @@ def scene(obj, hand, u):
         The object and the hand's parts as coloured meshes (``scene.show()`` opens a viewer
         where one is installed; ``scene.export("grasp.glb")`` writes a file).
 
+    Raises
+    ------
+    TypeError
+        If ``obj`` or ``hand`` is of the wrong type.
+
     Examples
     --------
     >>> from synergrasp import SynergyHand, objects
@@ -377,6 +460,7 @@ def scene(obj, hand, u):
     >>> len(scene(objects.ellipsoid(), hand, np.r_[0.0, 0.0, 150.0, np.zeros(5)]).geometry)  # object, 15 phalanges, palm
     17
     """
+    _check(obj=obj, hand=hand)
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
     geo = hand.segments(u)
@@ -413,6 +497,13 @@ def write_html(obj, hand, u, path):
     -------
     Path
         ``path``.
+
+    Raises
+    ------
+    TypeError
+        If ``obj`` or ``hand`` is of the wrong type.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
 
     Examples
     --------

@@ -178,7 +178,7 @@ def test_force_closure_agrees_with_convex_hull():
         ({"points": np.zeros((0, 3)), "normals": np.zeros((0, 3))}, ValueError, "points is empty"),
         ({"mu": 0.0}, ValueError, "mu must be a finite number > 0"),
         ({"mu": -0.3}, ValueError, "mu must be"),
-        ({"edges": 2}, ValueError, "edges must be an integer >= 3"),
+        ({"edges": 2}, ValueError, "edges must be an integer from 3 to 1000"),
         ({"edges": 4.5}, ValueError, "edges must be an integer"),
         ({"center": [0, 0]}, ValueError, "center must have shape \\(3,\\)"),
         ({"torque_scale": 0.0}, ValueError, "torque_scale must be"),

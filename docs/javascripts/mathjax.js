@@ -1,4 +1,5 @@
-// MathJax configuration for pymdownx.arithmatex (generic mode).
+// MathJax configuration for pymdownx.arithmatex (generic mode); MathJax itself is served from
+// javascripts/mathjax/ (vendored, see README.txt there), so no network is needed.
 window.MathJax = {
   tex: {
     inlineMath: [["\\(", "\\)"]],
@@ -8,7 +9,9 @@ window.MathJax = {
   },
   options: {
     ignoreHtmlClass: ".*|",
-    processHtmlClass: "arithmatex"
+    processHtmlClass: "arithmatex",
+    // the menu's speech and explorer options would fetch their engine from a CDN: the site works offline
+    enableMenu: false
   }
 };
 

@@ -99,6 +99,12 @@ class GraspObject:
             self.center = self._default_center()
         else:
             self.center = as_vector(center, "center", 3).copy()
+            if not self.contains([self.center])[0]:
+                raise ValueError(
+                    f"center {self.center.round(3).tolist()} is outside {self.name}: torques are taken about it and "
+                    "the sQ rays start there, so it must be inside; omit it to use the default (the volume centroid, "
+                    "moved inside if needed)"
+                )
         if torque_scale is None:
             self.torque_scale = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
         else:

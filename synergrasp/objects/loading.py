@@ -771,6 +771,8 @@ def get(name_or_path, **kwargs) -> GraspObject:
 
     Raises
     ------
+    TypeError
+        If it is neither a string nor a path.
     ValueError
         If it is neither a built-in name nor an existing file (the message
         lists the built-ins).
@@ -787,6 +789,9 @@ def get(name_or_path, **kwargs) -> GraspObject:
     """
     from .shapes import BUILTINS
 
+    if not isinstance(name_or_path, (str, os.PathLike)):
+        raise TypeError(f"an object is a built-in name ({', '.join(BUILTINS)}) or a file path, "
+                        f"got {type(name_or_path).__name__}")
     if isinstance(name_or_path, str) and name_or_path.lower() in BUILTINS:
         return BUILTINS[name_or_path.lower()](**kwargs)
     path = Path(name_or_path)
