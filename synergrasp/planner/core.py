@@ -681,8 +681,10 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
 
     Raises
     ------
+    TypeError
+        If ``obj`` is not an object, a name or a path.
     ValueError
-        Unknown grasp type, bad ``u0`` or ``approach``, unknown option or backend.
+        Unknown object name or grasp type, bad ``u0`` or ``approach``, unknown option or backend.
 
     Examples
     --------
@@ -693,6 +695,8 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
     """
     if isinstance(obj, (str, os.PathLike)):
         obj = objects.get(obj)
+    elif not isinstance(obj, objects.GraspObject):
+        raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}")
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
     unknown = set(options) - set(PlannerOptions.__dataclass_fields__)
