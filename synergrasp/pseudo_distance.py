@@ -342,8 +342,9 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     spread = float(np.max(0.5 * hi - 0.5 * lo))
     low, high = SCALE_RANGE
     if spread > high or float(np.abs(centre).max()) > high or 0.0 < spread < low:
-        opt = _pseudo_distance((A - centre) / spread, (B - centre) / spread, Q, qmin, lp.get_backend(backend))
-        opt = opt._replace(value=opt.value * spread)
+        unit = spread if spread > 0 else 1.0  # all points in one place: translated only
+        opt = _pseudo_distance((A - centre) / unit, (B - centre) / unit, Q, qmin, lp.get_backend(backend))
+        opt = opt._replace(value=opt.value * unit)
         if not np.isfinite(opt.value):
             raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
                              f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}); rescale the data")

@@ -46,6 +46,16 @@ def _unit_normals(normals, n_points):
     if len(normals) != n_points:
         raise ValueError(f"normals has {len(normals)} rows but points has {n_points}; give one normal per contact")
     length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+    huge = ~np.isfinite(length)  # the squares overflowed (entries beyond 1e154): divide by the largest first
+    if huge.any():
+        normals = normals.copy()
+        biggest = np.abs(normals[huge]).max(axis=1)
+        normals[huge] /= biggest[:, None]
+        length[huge] = np.sqrt(np.einsum("ij,ij->i", normals[huge], normals[huge]))
+        unit = normals / length[:, None]
+        with np.errstate(over="ignore"):
+            length[huge] *= biggest  # inf where beyond the float range: the gradient through it is 0
+        return unit, length
     if length.min() < 1e-12:
         raise ValueError(f"normals has zero-length rows {np.nonzero(length < 1e-12)[0].tolist()}; each contact needs a direction")
     return normals / length[:, None], length
