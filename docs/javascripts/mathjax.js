@@ -15,10 +15,18 @@ window.MathJax = {
   }
 };
 
-// Re-typeset after instant navigation (mkdocs-material's document$ observable).
+// Re-typeset after instant navigation (mkdocs-material's document$ observable). Its first
+// emission is the page as loaded, which MathJax typesets on startup by itself: re-typesetting it
+// (clearing the output's cache) would drop the glyphs' styles when MathJax, served locally, is
+// already running by then.
 if (typeof document$ !== "undefined") {
+  let loaded = false;
   document$.subscribe(() => {
-    if (!(window.MathJax && MathJax.startup && MathJax.startup.output)) return; // first load: MathJax typesets on startup
+    if (!loaded) {
+      loaded = true;
+      return;
+    }
+    if (!(window.MathJax && MathJax.startup && MathJax.startup.output)) return;
     MathJax.startup.output.clearCache();
     MathJax.typesetClear();
     MathJax.texReset();
