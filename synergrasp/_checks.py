@@ -82,6 +82,13 @@ def positive_scalar(value, name: str, maximum: float | None = None) -> float:
     return out
 
 
+def integer(value, name: str, minimum: int = 1, what: str = "") -> int:
+    """Validate a whole number >= ``minimum`` (bools refused); ``what`` says what it counts."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}{f' ({what})' if what else ''}, got {value!r}")
+    return int(value)
+
+
 def _kind(value) -> str:
     """How a value that is not a numeric array is named in messages."""
     if isinstance(value, np.ndarray):

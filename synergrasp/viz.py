@@ -19,6 +19,7 @@ import trimesh  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
+from ._checks import integer  # noqa: E402
 from ._files import atomic_path  # noqa: E402
 
 __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
@@ -268,8 +269,7 @@ def plot_poses(result, obj, hand, path, count=5):
     """
     _check(result=result, obj=obj, hand=hand)
     path = _image_path(path)
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
-        raise ValueError(f"count must be an integer >= 1 (poses drawn), got {count!r}")
+    count = integer(count, "count", what="poses drawn")
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
     fig = plt.figure(figsize=(7, 7))
@@ -342,8 +342,7 @@ def plot_grasps(plans, hand, path, columns=6):
         if not isinstance(plan, (tuple, list)) or len(plan) != 3:
             raise ValueError(f"plans[{i}] must be a (result, object, caption) triple")
         _check(result=plan[0], obj=plan[1])
-    if isinstance(columns, bool) or not isinstance(columns, (int, np.integer)) or columns < 1:
-        raise ValueError(f"columns must be an integer >= 1, got {columns!r}")
+    columns = integer(columns, "columns")
     columns = max(1, min(int(columns), len(plans)))
     rows = -(-len(plans) // columns)
     fig = plt.figure(figsize=(2.6 * columns, 2.6 * rows))
@@ -402,9 +401,7 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     """
     _check(result=result, obj=obj, hand=hand)
     path = _image_path(path, [".gif"])
-    for name, value in (("fps", fps), ("max_frames", max_frames)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    fps, max_frames = integer(fps, "fps"), integer(max_frames, "max_frames")
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
     fig = plt.figure(figsize=(5.5, 5.5))

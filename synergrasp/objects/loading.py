@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from .._checks import as_points, positive_scalar
+from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, _hull
 from .grasp_object import GraspObject
 from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, close_mesh
@@ -190,11 +190,7 @@ def _scaled(pieces, scale):
 
 
 def _options(max_parts, max_vertices):
-    if isinstance(max_parts, bool) or not isinstance(max_parts, (int, np.integer)) or max_parts < 1:
-        raise ValueError(f"max_parts must be an integer >= 1, got {max_parts!r}")
-    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 4:
-        raise ValueError(f"max_vertices must be an integer >= 4, got {max_vertices!r}")
-    return int(max_parts), int(max_vertices)
+    return integer(max_parts, "max_parts"), integer(max_vertices, "max_vertices", 4)
 
 
 def _reduce(points, max_vertices, name):
