@@ -39,7 +39,11 @@ def atomic_path(path):
     >>> (folder / "out.txt").read_text(), sorted(p.name for p in folder.iterdir())
     ('done', ['out.txt'])
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"an output path must be a str or os.PathLike, got {type(path).__name__}")
     path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(f"cannot write '{path}': it is a folder; give a file name")
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write '{path}': the folder '{path.parent}' does not exist")
     while True:  # like tempfile.mkstemp, but the file gets the usual permissions (0o666 less the umask)

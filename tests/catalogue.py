@@ -24,6 +24,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
+from synergrasp.planner import check_grasp, grasp_status
 
 
 @dataclass(frozen=True)
@@ -161,6 +162,8 @@ API = [
     Case("sg.plan", "an approach that is a word", lambda tmp: sg.plan("ellipsoid", approach="up"), TypeError, "approach must be a numeric vector"),
     Case("sg.plan", "an unknown option", lambda tmp: sg.plan("ellipsoid", foo=1), ValueError, "unknown planner options ['foo']"),
     Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "max_iter must be >= 1"),
+    Case("PlanResult.save", "a path that is a number", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(3), TypeError, "an output path must be a str or os.PathLike"),
+    Case("PlanResult.save", "a path that is a folder", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(tmp), IsADirectoryError, "it is a folder; give a file name"),
     Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
@@ -208,6 +211,7 @@ API = [
     Case("sg.objects.GraspObject", "a ragged piece", lambda tmp: so.GraspObject([[[0, 0, 0], [1, 0]]]), TypeError, "pieces[0] must be a numeric array"),
     Case("sg.objects.GraspObject", "a centre outside", lambda tmp: so.GraspObject([_box_corners()], center=[30.0, 0.0, 0.0]), ValueError, "is outside object"),
     Case("sg.objects.GraspObject", "a negative torque scale", lambda tmp: so.GraspObject([_box_corners()], torque_scale=-1.0), ValueError, "torque_scale must be a finite number > 0"),
+    Case("sg.objects.GraspObject", "info that is not a dict", lambda tmp: so.GraspObject([_box_corners()], info="scan"), TypeError, "info must be a dict"),
     Case("sg.objects.revolve", "one knot", lambda tmp: so.revolve([[10.0, 0.0]]), ValueError, "profile needs at least 2 knots"),
     Case("sg.objects.revolve", "heights going down", lambda tmp: so.revolve([[10.0, 10.0], [10.0, 0.0]]), ValueError, "strictly increasing"),
     Case("sg.objects.revolve", "a negative radius", lambda tmp: so.revolve([[-10.0, 0.0], [10.0, 10.0]]), ValueError, "negative radii at knots [0]"),
@@ -216,7 +220,11 @@ API = [
     Case("GraspObject.contact_distance", "2-D hand points", lambda tmp: so.ellipsoid().contact_distance([[0.0, 0.0]]), ValueError, "hand points must be an (n, 3) array in mm"),
     Case("GraspObject.scaled_contacts", "a point at the centre", lambda tmp: so.ellipsoid().scaled_contacts([[0.0, 0.0, 0.0]]), ValueError, "coincide with the object's centre"),
     Case("GraspObject.penetration", "a negative capsule radius", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), -1.0), ValueError, "radius must be a finite number > 0"),
+    Case("GraspObject.penetration", "a radius that is a word", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), "thick"), TypeError, "radius must be a number"),
+    Case("GraspObject.transformed", "a matrix that is a word", lambda tmp: so.ellipsoid().transformed("identity"), TypeError, "matrix must be a (4, 4) array of numbers"),
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
+    Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
+    Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),

@@ -150,11 +150,10 @@ class PlanResult:
         for name in _ARRAYS:
             data[name] = np.asarray(data[name]).tolist()
         data["format"] = _FORMAT
-        path = Path(path)
         text = json.dumps(data, indent=1)
         with atomic_path(path) as tmp:
             tmp.write_text(text)
-        return path
+        return Path(path)
 
     @classmethod
     def load(cls, path) -> "PlanResult":
