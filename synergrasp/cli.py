@@ -187,7 +187,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=_epilog(),
     )
     parser.add_argument("--version", action="version", version=f"synergrasp {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="{demo,plan}")
+    sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="print the Q distance of a built-in grasp",
                           description="Print the Q distance of contacts spread on a sphere's equator.", epilog=_epilog())
     demo.add_argument("--contacts", type=_positive(int), default=5, help="number of contacts (default 5)")
@@ -223,6 +223,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_plan)
+    from .physics.cli import add_validate_parser  # the validate subcommand lives with the physics package
+
+    add_validate_parser(sub)
     return parser
 
 

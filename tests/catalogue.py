@@ -259,7 +259,7 @@ CLI = [
     Case("synergrasp plan", "a cloud in metres without --units", argv=["plan", "--object", "{tmp}/metres.npy"], says="on the command line: --units m"),
     Case("synergrasp demo", "a negative mu", argv=["demo", "--mu", "-1"], says="mu must be a finite number > 0"),
     Case("synergrasp demo", "--contacts 0", argv=["demo", "--contacts", "0"], says="expected an integer > 0"),
-    Case("synergrasp", "no command", argv=[], says="the following arguments are required: {demo,plan}"),
+    Case("synergrasp", "no command", argv=[], says="the following arguments are required: command"),
 ]
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 from collections import OrderedDict
 from contextlib import redirect_stdout
 from io import StringIO
@@ -52,7 +53,9 @@ def cli_reference() -> str:
     lines += [f"| {code} | {meaning} |" for code, meaning in EXIT_CODES.items()]
     lines += ["", "Errors are printed to stderr as `synergrasp: error: ...`, warnings as `synergrasp: warning: ...`; "
               "the results go to stdout. No solver banner is printed.", ""]
-    for title, argv in (("synergrasp", []), ("synergrasp plan", ["plan"]), ("synergrasp demo", ["demo"])):
+    top = _help([])
+    commands = re.search(r"\{([a-z,]+)\}", top).group(1).split(",")  # the subcommands, as the usage line lists them
+    for title, argv in [("synergrasp", [])] + [(f"synergrasp {c}", [c]) for c in commands]:
         lines += [f"## `{title}`", "", "```text", _help(argv), "```", ""]
     lines += [
         "## Output files of `plan`", "",

@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
-import json
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_path
+from .._records import load_record, save_record
 
-_ARRAYS = ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals")
 _FORMAT = "synergrasp.PlanResult/1"
+_ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
+           "contact_points": (-1, 3), "contact_normals": (-1, 3)}
 
 
 @dataclass
@@ -146,14 +146,7 @@ class PlanResult:
         >>> bool((again.trajectory == result.trajectory).all())   # floats round-trip exactly
         True
         """
-        data = asdict(self)
-        for name in _ARRAYS:
-            data[name] = np.asarray(data[name]).tolist()
-        data["format"] = _FORMAT
-        text = json.dumps(data, indent=1)
-        with atomic_path(path) as tmp:
-            tmp.write_text(text)
-        return Path(path)
+        return save_record(self, path, _FORMAT, _ARRAYS)
 
     @classmethod
     def load(cls, path) -> "PlanResult":
@@ -189,24 +182,11 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"PlanResult file not found: '{path}'")
-        try:
-            data = json.loads(path.read_text())
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise ValueError(f"cannot read a PlanResult from {path}: {exc}") from exc
-        if not isinstance(data, dict) or data.pop("format", None) != _FORMAT:
-            raise ValueError(f"{path} is not a saved synergrasp PlanResult (no \"format\": \"{_FORMAT}\")")
-        names = [f.name for f in fields(cls)]
-        missing = [name for name in names if name not in data]
-        if missing:
-            raise ValueError(f"{path} lacks the fields {missing}")
-        return cls(**_validated(data, names, path))
+        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS), path))
 
 
-def _validated(data: dict, names, path) -> dict:
-    """The fields of a loaded PlanResult, each checked; errors name the file and the field."""
+def _validated(data: dict, path) -> dict:
+    """The fields of a loaded PlanResult (`load_record`), each checked; errors name the file and the field."""
 
     def fail(name, what):
         value = repr(data[name])
@@ -302,4 +282,4 @@ def _validated(data: dict, names, path) -> dict:
                 raise ValueError(f"{path}: field '{where}.status' must be an array of shape "
                                  f"(iterations + 1, len(target)) = ({iterations + 1}, {m})")
     out["attempts"] = attempts
-    return {name: out[name] for name in names}
+    return {name: out[name] for name in data}
