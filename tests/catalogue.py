@@ -167,7 +167,7 @@ API = [
     Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
-    Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be a 1-D array of numbers"),
+    Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be an array of numbers of shape (n,)"),
     Case("sg.PlanResult.load", "success = \"maybe\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, success="maybe")), ValueError, "field 'success' must be true or false"),
     Case("sg.PlanResult.load", "iterations = -3", lambda tmp: sg.PlanResult.load(_plan_file(tmp, iterations=-3)), ValueError, "field 'iterations' must be an integer >= 0"),
     Case("sg.PlanResult.load", "a NaN penetration", lambda tmp: sg.PlanResult.load(_plan_file(tmp, penetration=float("nan"))), ValueError, "field 'penetration' must be a finite number"),

@@ -67,15 +67,16 @@ def test_the_status_figure_of_a_failed_plan_shows_every_attempt(failed_plan):
 
 
 @pytest.mark.parametrize("field, value, message", [
-    ("u", "garbage", "field 'u' must be a 1-D array of numbers, got 'garbage'"),
+    ("u", "garbage", "field 'u' must be an array of numbers of shape \\(n,\\), got 'garbage'"),
     ("u", [1.0, 2.0], "field 'u' must be a configuration"),
     ("success", "maybe", "field 'success' must be true or false, got 'maybe'"),
     ("iterations", -3, "field 'iterations' must be an integer >= 0, got -3"),
     ("iterations", 2.5, "field 'iterations' must be an integer >= 0"),
     ("trajectory", [[0.0] * 8], "field 'trajectory' must be of shape \\(iterations \\+ 1, len\\(u\\)\\)"),
     ("status", [[1.0, 2.0]], "field 'status' must be of shape"),
-    ("target", "x", "field 'target' must be a 1-D array"),
+    ("target", "x", "field 'target' must be an array of numbers of shape \\(n,\\)"),
     ("q_history", [0.0], "field 'q_history' must be 5 numbers"),
+    ("trajectory", "x", "field 'trajectory' must be an array of numbers, got 'x'"),
     ("contact_points", [[0.0, 0.0, 0.0]], "field 'contact_points' must be of shape"),
     ("contact_normals", [[np.nan, 0.0, 1.0]] * 5, "field 'contact_normals' must be finite numbers"),
     ("contact_labels", "T0", "field 'contact_labels' must be a list of strings"),
