@@ -52,7 +52,8 @@ def _positive(kind):
 #: ``--units``: the factor that turns each unit into millimetres.
 UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 #: Exit status of the ``synergrasp`` command.
-EXIT_CODES = {0: "success (plan: a stable grasp was found)", 1: "plan: no stable grasp was found (the outputs are written)",
+EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
+              1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written)",
               2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)"}
 
 
@@ -225,7 +226,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_plan)
     from .physics.cli import add_validate_parser  # the validate subcommand lives with the physics package
 
-    add_validate_parser(sub)
+    add_validate_parser(sub).epilog = _epilog()
     return parser
 
 

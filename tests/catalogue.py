@@ -259,13 +259,26 @@ CLI = [
     Case("synergrasp plan", "a cloud in metres without --units", argv=["plan", "--object", "{tmp}/metres.npy"], says="on the command line: --units m"),
     Case("synergrasp demo", "a negative mu", argv=["demo", "--mu", "-1"], says="mu must be a finite number > 0"),
     Case("synergrasp demo", "--contacts 0", argv=["demo", "--contacts", "0"], says="expected an integer > 0"),
+    Case("synergrasp validate", "a missing result file", argv=["validate", "{tmp}/none.json", "--object", "ellipsoid", "--no-still"],
+         says="PlanResult file not found"),
+    Case("synergrasp validate", "an image for the result", argv=["validate", "{tmp}/image.png", "--object", "ellipsoid", "--no-still"],
+         says="cannot read a PlanResult from"),
+    Case("synergrasp validate", "a NaN retreat", argv=["validate", "{tmp}/plan.json", "--object", "ellipsoid", "--retreat", "nan",
+                                                      "--no-still", "--out", "{tmp}/out"], says="retreat must be a finite number"),
+    Case("synergrasp validate", "--out is a file", argv=["validate", "{tmp}/plan.json", "--object", "ellipsoid", "--out", "{tmp}/file.txt"],
+         says="cannot write to the output folder (--out)"),
+    Case("synergrasp validate", "the plan of another object", argv=["validate", "{tmp}/plan.json", "--object", "cup", "--no-still",
+                                                                   "--out", "{tmp}/out"], says="does not grasp the object"),
     Case("synergrasp", "no command", argv=[], says="the following arguments are required: command"),
 ]
 
 
 def cli_files(folder):
-    """The files the command-line cases name: a plain file, an .obj with a NaN vertex, a cloud in metres."""
+    """The files the command-line cases name: a plain file, an .obj with a NaN vertex, a cloud in metres, a
+    saved plan of the ellipsoid and an image."""
     _write(folder, "file.txt", "not a folder")
+    sg.plan("ellipsoid", "precision", max_iter=3).save(Path(folder) / "plan.json")
+    _write(folder, "image.png", b"\x89PNG\r\n\x1a\n" + bytes(64))
     _nan_obj(folder)
     _write(folder, "metres.npy", data=_cloud(radius=0.03))
 

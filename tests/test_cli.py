@@ -149,7 +149,7 @@ def test_exit_codes_are_documented(capsys):
     from synergrasp.cli import EXIT_CODES
 
     assert sorted(EXIT_CODES) == [0, 1, 2]
-    for argv in ([], ["plan"], ["demo"]):
+    for argv in ([], ["plan"], ["demo"], ["validate"]):
         with pytest.raises(SystemExit):
             main(argv + ["--help"])
         text = " ".join(capsys.readouterr().out.split())
