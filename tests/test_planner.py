@@ -111,7 +111,7 @@ def test_the_palm_row_sees_a_corner_of_the_palm_box_in_the_object(hand, box):
     u = np.zeros(hand.n_u)
     geo = hand.segments(u)
     corner = geo.palm_center + geo.palm_axes @ (geo.palm_half_extents * [1.0, 1.0, 1.0])
-    u[:3] = np.array([30.0, 25.0, 45.0]) - corner + [-4.0, -4.0, -4.0]  # that corner 4 mm inside the box's corner
+    u[:3] = np.array([-30.0, -25.0, 45.0]) - corner + [4.0, 4.0, -4.0]  # that corner 4 mm inside a corner of the box
     st = grasp_status(hand, box, u, "power")
     p_only = box.contact_distance(hand.points(u, "power")[-1:]).value[0]
     assert p_only > 5.0 and st.g[-2] < -1.0  # the palm point is outside, the palm box is not
@@ -139,10 +139,10 @@ def test_capsule_rows_see_a_phalanx_through_a_plate_and_match_finite_differences
 
 def test_the_contact_quality_gradient_matches_finite_differences(hand, box):
     """g_Q of contacts sliding on flat faces: the tangent-projected point Jacobian is exact there."""
-    u = next(pinch_seeds(hand, box, PlannerOptions(seed_retreat=0.0, seed_opening=3.0))).u
+    u = plan(box, "precision", refine_iterations=0).u
     st = grasp_status(hand, box, u, "precision")
-    contact = st.contact & (st.g[:-1] < 8.0)
-    assert contact.sum() >= 2
+    contact = st.contact & (st.g[:-1] < 5.0)
+    assert contact.sum() >= 3
 
     def value(v):
         return contact_quality(box, grasp_status(hand, box, v, "precision"), contact)[0]
@@ -166,7 +166,7 @@ def fake_status(hand, kind, cp, sq=0.0):
     nearest = 40.0 * np.c_[np.cos(t), np.sin(t), np.zeros(n)]
     return Status(g=np.r_[cp, sq], J=np.zeros((n + 1, 8)), labels=labels, contact=contact, segment_rows=segment_rows,
                   points=nearest, nearest=nearest, normals=-nearest / 40, pieces=np.zeros(n, int),
-                  point_jac=np.zeros((n, 3, 8)), lp_solves=0)
+                  row_points=nearest, point_jac=np.zeros((n, 3, 8)), lp_solves=0)
 
 
 def test_precision_stop_criterion(hand, ellipsoid):
@@ -224,11 +224,13 @@ def test_pinch_seeds_straddle_opposed_surface_points(hand, box):
     assert len(seeds) >= 5 and all(s.kind == "pinch" for s in seeds)
     for s in seeds[:5]:
         thumb_at, finger_at, width = np.array(s.detail["thumb"]), np.array(s.detail["finger"]), s.detail["width"]
-        assert width in pytest.approx([60.0, 50.0, 90.0], abs=1e-6) or min(abs(width - w) for w in (60, 50, 90)) < 1e-6
+        assert min(abs(width - w) for w in (60.0, 50.0, 90.0)) < 1e-6  # across the box
         tips = hand.points(s.u, "precision")
         thumb, fingers = tips[0], tips[1:3].mean(axis=0)
         axis = (finger_at - thumb_at) / width
-        np.testing.assert_allclose(0.5 * (thumb + fingers), 0.5 * (thumb_at + finger_at), atol=1e-6)
+        shift = 0.5 * (thumb + fingers) - 0.5 * (thumb_at + finger_at)  # the pair's middle, at most moved back
+        np.testing.assert_allclose(np.cross(shift, rotation_xyz(s.u[3:6])[:, 2]), 0.0, atol=1e-3)
+        assert shift @ rotation_xyz(s.u[3:6])[:, 2] <= 1e-6
         assert (fingers - thumb) @ axis > width + 2 * opts.seed_opening - 5.0  # opened wider than the pair
         np.testing.assert_allclose(np.cross(fingers - thumb, axis), 0.0, atol=1e-6)
     again = list(pinch_seeds(hand, box, opts))
@@ -243,8 +245,9 @@ def test_seeds_start_back_from_the_object_with_every_phalanx_clear(hand, box):
 
 
 def test_an_object_without_opposed_faces_starts_from_directions(hand):
-    prism = so.from_mesh(trimesh.creation.cylinder(radius=30.0, height=80.0, sections=3), name="prism", cache=False)
-    kinds = [s.kind for s in starts(hand, prism, "precision", PlannerOptions())]
+    corners = np.array([[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]) * 30.0
+    tetrahedron = so.GraspObject([corners], name="tetrahedron", mesh=trimesh.convex.convex_hull(corners))
+    kinds = [s.kind for s in starts(hand, tetrahedron, "precision", PlannerOptions())]
     assert kinds and set(kinds) == {"direction"} and len(kinds) == 14
 
 
@@ -272,7 +275,7 @@ def test_a_palm_centred_start_faces_the_object_with_the_palm(hand, ellipsoid):
 
 
 def test_an_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch):
-    obj = so.ellipsoid()
+    obj = so.goblet()
     calls = []
     rows = attempt_module.capsule_rows
     monkeypatch.setattr(attempt_module, "capsule_rows", lambda h, o, u, st, pen=None: calls.append(pen) or rows(h, o, u, st, pen))
@@ -283,7 +286,7 @@ def test_an_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch
 
 def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
     """Below power_sq_hold the sQ row asks to keep g_sQ, not for sq_step less; above it, for sq_step less."""
-    obj = so.ellipsoid()
+    obj = so.cup()
     asked = []
     step = attempt_module.limited_step
 
@@ -292,7 +295,7 @@ def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
         return step(J, e, z, limits, first)
 
     monkeypatch.setattr(attempt_module, "limited_step", spy)
-    r = plan(obj, "power", restarts=1, max_iter=40, refine_iterations=0)
+    r = plan(obj, "power", restarts=1, refine_iterations=0)
     sq = r.status[: len(asked), -1]
     held, pulled = sq < -0.05, sq >= -0.05
     assert held.any() and pulled.any()
@@ -373,8 +376,8 @@ def test_options_come_as_an_object_or_as_keywords(ellipsoid):
     a = plan(ellipsoid, "precision", options=opts)
     b = plan(ellipsoid, "precision", max_iter=5, restarts=1)
     c = plan(ellipsoid, "precision", options=PlannerOptions(restarts=1), max_iter=5)
-    np.testing.assert_array_equal(a.trajectory, b.trajectory)
-    np.testing.assert_array_equal(a.trajectory, c.trajectory)
+    np.testing.assert_allclose(a.trajectory, b.trajectory, atol=1e-6)  # the LP warm starts differ at round-off
+    np.testing.assert_allclose(a.trajectory, c.trajectory, atol=1e-6)
     assert a.options == b.options == c.options and a.options["max_iter"] == 5
 
 

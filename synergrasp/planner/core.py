@@ -139,7 +139,8 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     Raises
     ------
     TypeError
-        If ``obj`` is not an object, a name or a path, or ``options`` not a PlannerOptions.
+        If ``obj`` is not an object, a name or a path, ``options`` not a
+        PlannerOptions, ``hand`` not a SynergyHand or ``progress`` not callable.
     ValueError
         Unknown object name or grasp type, an option out of its range, bad
         ``u0`` or ``approach``, unknown backend, or an object the hand cannot
@@ -156,7 +157,11 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
     opts = _options(options, option_values)
     solver = get_backend(backend)
-    hand = hand or SynergyHand.default()
+    hand = SynergyHand.default() if hand is None else hand
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand (e.g. SynergyHand.from_file(path)), got {type(hand).__name__}")
+    if progress is not None and not callable(progress):
+        raise TypeError(f"progress must be callable as progress(check, status), got {type(progress).__name__}")
     obj = _check_object(obj, hand)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else t0 + opts.time_limit

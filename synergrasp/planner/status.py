@@ -19,6 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._vectors import unit_rows
+from ..hand import SynergyHand
 from ..objects.proximity import group_contact_distance
 from ..quality import q_distance
 
@@ -49,8 +50,10 @@ class Status:
         Inward object normal at ``nearest``.
     pieces : (n,) int
         The piece ``nearest`` lies on.
+    row_points : (n, 3) float
+        The hand point attaining each row (a skin point or a fingertip pad).
     point_jac : (n, 3, len(u)) float
-        Jacobian of the hand point attaining each row.
+        Its Jacobian.
     lp_solves : int
         Solver calls made.
     """
@@ -64,6 +67,7 @@ class Status:
     nearest: np.ndarray
     normals: np.ndarray
     pieces: np.ndarray
+    row_points: np.ndarray
     point_jac: np.ndarray
     lp_solves: int
 
@@ -223,6 +227,16 @@ def status_rows(hand, kind):
     return labels, np.arange(len(labels)) < len(tips), np.array(rows)
 
 
+def _require(hand, obj):
+    """TypeError unless ``hand`` is a SynergyHand and ``obj`` a GraspObject."""
+    from ..objects import GraspObject
+
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
+    if not isinstance(obj, GraspObject):
+        raise TypeError(f"obj must be a GraspObject, got {type(obj).__name__}")
+
+
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
@@ -251,6 +265,11 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     -------
     Status
 
+    Raises
+    ------
+    TypeError
+        If ``hand`` is not a SynergyHand or ``obj`` not a GraspObject.
+
     Examples
     --------
     >>> from synergrasp import SynergyHand, objects
@@ -260,6 +279,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     >>> st.g.shape, st.J.shape, st.labels[:2]
     ((17,), (17, 8), ['T0', 'I0'])
     """
+    _require(hand, obj)
     power, jac_power, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
     labels, contact, segment_rows = status_rows(hand, kind)
     k, m = skin.shape[:2]
@@ -273,7 +293,8 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
         groups.insert(0, np.arange(len(points)))
         candidates.insert(0, points)
         jacobians.insert(0, jac)
-    cp, best = group_contact_distance(obj, np.vstack(candidates), np.concatenate(groups), backend)
+    candidates = np.vstack(candidates)
+    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend)
     point_jac = np.concatenate(jacobians)[best]
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:
@@ -296,6 +317,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
         nearest=cp.nearest,
         normals=cp.normal,
         pieces=cp.piece,
+        row_points=candidates[best],
         point_jac=point_jac,
         lp_solves=cp.lp_solves + sc.lp_solves + sq.lp_solves,
     )
@@ -304,11 +326,12 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
 def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="highs", smoothing=None):
     """g_Q of the contacts and its gradient with respect to u: the row that improves a grasp's margin.
 
-    The contacts are the nearest object points of the rows in ``contact``,
-    with the smoothed surface's normals there (`smoothed_normals`; the facet
-    normals if ``smoothing`` is None). A contact slides on the surface as its
-    hand point moves: its derivative is the hand point's motion projected on
-    the tangent plane, ``(I - n n^T) dp/du``.
+    Each row in ``contact`` touches at the foot of its hand point on the
+    supporting plane of its nearest object point (the orthogonal projection
+    on the facet), with the smoothed surface's normal there
+    (`smoothed_normals`; the facet normal if ``smoothing`` is None). A
+    contact slides on the surface as its hand point moves: its derivative is
+    the hand point's motion projected on the plane, ``(I - n n^T) dp/du``.
 
     Parameters
     ----------
@@ -328,7 +351,9 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="highs", s
     gradient : (len(u),) float
         Its derivative with respect to u.
     """
-    x, n, pieces = status.nearest[contact], status.normals[contact], status.pieces[contact]
+    n, pieces = status.normals[contact], status.pieces[contact]
+    p, b = status.row_points[contact], status.nearest[contact]
+    x = p - np.einsum("ij,ij->i", p - b, n)[:, None] * n  # the hand point's foot on the facet plane
     if smoothing:
         normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
     else:
