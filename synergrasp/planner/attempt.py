@@ -21,11 +21,14 @@ A power attempt first reaches with the palm (the finger rows only keep the
 fingers out of the object, the synergies shaped by the first level), then
 wraps once the palm touches.
 
-Once the criterion holds, an attempt whose g_Q is above ``q_margin`` refines
-the grasp for up to ``refine_iterations`` more iterations: the sQ row gives
-way to the g_Q of the contacts themselves (`contact_quality`), asked to
-fall, and the best configuration that meets the criterion is returned. An
-attempt ends with an `Outcome`.
+A grasp is accepted when the criterion holds, no phalanx is deeper than
+``max_penetration``, and its contacts, moved to the object's true surface
+(`surface_check`), are within ``eps_c`` of it and force-closed there with a
+Q distance below ``q_accept``. Once the criterion holds, the attempt refines
+the grasp for up to ``refine_iterations`` more iterations, until its Q on
+the true surface is below ``q_margin``: the sQ row gives way to the g_Q of
+the contacts themselves (`contact_quality`), asked to fall, and the best
+accepted configuration is returned. An attempt ends with an `Outcome`.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ import numpy as np
 
 from .status import Status, capsule_rows, contact_quality, grasp_status
 from .step import limited_step
-from .stop import GraspCheck, check_grasp, surface_check
+from .stop import GraspCheck, SurfaceCheck, check_grasp, surface_check
 
 
 class Outcome(enum.Enum):
@@ -75,6 +78,8 @@ class AttemptResult:
     penetration : float
         Deepest phalanx capsule penetration at the last configuration (mm).
     lp_solves : int
+    surface : SurfaceCheck or None
+        The grasp judged on the object's true surface (`surface_check`), None without a grasp.
     """
 
     outcome: Outcome
@@ -86,6 +91,7 @@ class AttemptResult:
     check: GraspCheck
     penetration: float
     lp_solves: int
+    surface: SurfaceCheck | None = None
 
     @property
     def iterations(self) -> int:
@@ -202,7 +208,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
             return False, pen, None
         surface = surface_check(obj, st.nearest[chk.contact], st.normals[chk.contact], mu=opts.mu, edges=opts.edges,
                                 backend=backend)
-        return surface.gap <= opts.eps_c and surface.q < 0.0, pen, surface
+        return surface.gap <= opts.eps_c and surface.q < opts.q_accept, pen, surface
 
     u = np.array(u0, dtype=float)
     st, chk, pen = evaluate(u)
@@ -313,14 +319,16 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
             if earlier - best < opts.crawl_fraction * (abs(earlier) + 0.1):
                 outcome = Outcome.CRAWLED
                 break
+    surface = None
     if kept is not None:  # the best grasp met on the way
-        k, st, chk, pen, _ = kept
+        k, st, chk, pen, surface = kept
         outcome, traj, statuses, qs = Outcome.GRASP, traj[: k + 1], statuses[: k + 1], qs[: k + 1]
     elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
         outcome = Outcome.PENETRATION
     depth = (pen if pen is not None else penetration_depth(hand, obj, traj[-1])).depth
     reason = _reason(outcome, opts, len(traj) - 1, chk, depth)
-    return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves))
+    return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
+                         surface)
 
 
 def _reason(outcome, opts, iterations, check, depth):

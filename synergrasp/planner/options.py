@@ -97,11 +97,16 @@ class PlannerOptions:
         Most iterations of a plan, over all its attempts.
     time_limit : float or None
         Most wall-clock seconds of a plan (checked every iteration); None: no limit.
+    q_accept : float
+        A grasp is accepted when, besides the paper's criterion, its contacts
+        moved to the object's true surface have a Q distance below this there
+        (`synergrasp.planner.stop.surface_check`): force-closed with a margin.
     q_margin : float
-        Once the paper's criterion holds, an attempt whose g_Q is above this
-        refines the grasp (`synergrasp.planner.attempt`): the contacts' own
-        g_Q is asked to fall for up to ``refine_iterations`` iterations, and
-        the best configuration meeting the criterion is kept.
+        Once the paper's criterion holds, an attempt refines the grasp
+        (`synergrasp.planner.attempt`) until its Q on the true surface is
+        below this: the contacts' own g_Q is asked to fall for up to
+        ``refine_iterations`` iterations, and the best accepted configuration
+        is kept.
     refine_iterations : int
         Most refining iterations of an attempt (0: stop at the criterion, as the paper).
     max_penetration : float
@@ -172,6 +177,7 @@ class PlannerOptions:
     restarts: int = 40
     max_iter: int = 1500
     time_limit: float | None = 10.0
+    q_accept: float = -0.01
     q_margin: float = -0.03
     refine_iterations: int = 15
     max_penetration: float = 3.0
@@ -205,7 +211,8 @@ class PlannerOptions:
         for name, low in (("stall_window", 1), ("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
                           ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
-        set_(self, "q_margin", _number(self.q_margin, "q_margin", -10.0, 0.0))
+        set_(self, "q_accept", _number(self.q_accept, "q_accept", -10.0, 0.0))
+        set_(self, "q_margin", _number(self.q_margin, "q_margin", -10.0, self.q_accept))
         set_(self, "crawl_fraction", _number(self.crawl_fraction, "crawl_fraction", 0, 1.0))
         set_(self, "time_limit", _number(self.time_limit, "time_limit", 0, None, open_low=True, allow_none=True))
         for name in ("max_penetration", "start_clearance", "seed_opening", "seed_retreat"):

@@ -32,9 +32,10 @@ class PlanResult:
         for the paper's two-synergy hand).
     trajectory : (k+1, 6 + n_syn) float
         Configuration at every iteration, start included.
-    status : (k+1, 6) or (k+1, 17) float
-        Status vector g at every iteration: cP of each hand point (mm), then g_sQ.
-    target : (6,) or (17,) float
+    status : (k+1, n+1) float
+        Status vector g at every iteration: the cP rows (mm; 16 for the paper's
+        hand, see `synergrasp.planner.status.status_rows`), then g_sQ.
+    target : (n+1,) float
         Target status ``[0 ... 0, -1]``.
     q_history : (k+1,) float
         g_Q (Q distance of the real contacts) at every iteration; NaN with
@@ -61,11 +62,17 @@ class PlanResult:
         Planner settings used.
     attempts : list of dict
         Every attempt made, in order: ``start`` (its start configuration),
-        ``standoff`` (mm), ``pass`` (1, or 2 for the second pass over the
-        schedule), ``band`` (the contact band of a precision plan's second
-        pass, else None), ``iterations`` and ``reason`` (why it ended).
-        An attempt that stalls is followed by one from another approach
-        direction; the trajectory is the last one's.
+        ``kind`` (how the start was placed, `synergrasp.planner.Start`) and
+        its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
+        ``direction`` of a direction start), ``outcome`` (the name of its
+        `synergrasp.planner.Outcome`, lower case, or ``"off_surface"``),
+        ``reason`` (the outcome in words), ``iterations`` and ``status`` (its
+        status at every iteration). The trajectory is the successful
+        attempt's, or the last one's.
+    surface_q : float
+        Q distance of the final contacts moved to the object's true surface,
+        with its normals there (`synergrasp.planner.stop.surface_check`): the
+        grasp's margin as accepted; NaN without a grasp.
 
     Examples
     --------
@@ -98,6 +105,7 @@ class PlanResult:
     object_name: str = ""
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
+    surface_q: float = math.nan
 
     @property
     def total_iterations(self) -> int:
@@ -236,6 +244,11 @@ def _validated(data: dict, path) -> dict:
     out["lp_solves"] = integer("lp_solves")
     out["penetration"] = number("penetration", 0.0)
     out["time_s"] = number("time_s", 0.0)
+    if "surface_q" in data:
+        value = data["surface_q"]
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or math.isinf(value)):
+            fail("surface_q", "a number, or NaN without a grasp")
+        out["surface_q"] = math.nan if value is None else float(value)
     u = out["u"] = array("u", 1)
     if len(u) < 7:
         fail("u", "a configuration of 6 + n_syn >= 7 numbers")
