@@ -78,8 +78,8 @@ class PlanResult:
     --------
     >>> import synergrasp as sg
     >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision")
-    >>> result.success, result.grasp, result.contact_labels
-    (True, 'precision', ['T0', 'I0', 'R0', 'L0'])
+    >>> result.success, result.grasp, "T0" in result.contact_labels
+    (True, 'precision', True)
     >>> result.trajectory.shape == (result.iterations + 1, 8)
     True
     >>> bool(result.final_q < 0)         # the final contacts are force-closed

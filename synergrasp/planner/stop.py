@@ -56,13 +56,15 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="highs") -> 
 
     Examples
     --------
-    Two opposed contacts on a sphere's mesh are in place but cannot resist a torque about their axis:
+    Three contacts 120 degrees apart on a ball's equator, claimed 2 mm outside its surface:
 
     >>> from synergrasp import objects
     >>> ball = objects.ellipsoid(30.0, 30.0, 30.0)
-    >>> s = surface_check(ball, [[0.0, 0.0, 30.0], [0.0, 0.0, -30.0]], [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]])
-    >>> bool(s.gap < 0.5), bool(s.q > 0)
-    (True, True)
+    >>> t = 2 * np.pi * np.arange(3) / 3
+    >>> ring = np.c_[np.cos(t), np.sin(t), np.zeros(3)]
+    >>> s = surface_check(ball, 32.0 * ring, -ring)
+    >>> round(s.gap, 1), bool(s.q < -0.1)      # 2 mm off; force-closed on the surface
+    (2.0, True)
     """
     points = np.asarray(points, dtype=float).reshape(-1, 3)
     normals = np.asarray(normals, dtype=float).reshape(-1, 3)
