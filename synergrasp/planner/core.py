@@ -87,7 +87,7 @@ def _options(options, values):
 
 
 def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, approach=None, hand=None, progress=None,
-         **option_values) -> PlanResult:
+         validate=False, **option_values) -> PlanResult:
     """Plan a reach-to-grasp motion (paper Sec. 3.2) for the synergy hand.
 
     Parameters
@@ -110,6 +110,13 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         Default: ``SynergyHand.default()``.
     progress : callable, optional
         Called as ``progress(check, status)`` after every iteration.
+    validate : bool or dict
+        Also test every accepted grasp in MuJoCo (`synergrasp.validate`; a
+        dict gives its protocol settings) and keep searching, through
+        further attempts, until one holds. The result records both verdicts
+        (``success`` and ``held``); if no grasp holds within the budget, the
+        first accepted one is returned with ``held`` False. Needs the
+        ``sim`` extra.
     **option_values
         Fields of `PlannerOptions`, replacing those of ``options``.
 
@@ -156,7 +163,10 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
             if grasp == "power":
                 first[6:] = np.clip(opts.power_wide_preshape or np.zeros(hand.n_syn), *hand.synergy_limits.T)
             queue = itertools.chain([Start(first, "direction", {"direction": list(approach)})], queue)
-    total, solves, attempts, result = 0, 0, [], None
+    if not isinstance(validate, (bool, dict)):
+        raise TypeError(f"validate must be True, False or a dict of protocol settings, got {type(validate).__name__}")
+    physics = _validator(validate, obj, hand, solver)
+    total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):
         budget = min(opts.iterations_per_attempt, opts.max_iter - total)
         if budget <= 0 or (deadline is not None and time.perf_counter() > deadline):
@@ -168,16 +178,27 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         record = {"start": start.u.tolist(), "kind": start.kind, **start.detail, "outcome": result.outcome.name.lower(),
                   "reason": result.reason, "iterations": result.iterations, "status": result.status.tolist()}
         attempts.append(record)
+        if result.success and physics is not None:
+            verdict = physics(result.trajectory[-1])
+            record.update(held=verdict.held, physics=verdict.reason)
+            held = verdict.held
+            if not held:
+                fallback = fallback or (result, held)
+                continue
         if result.success or result.outcome is Outcome.BUDGET:
             break
     if result is None:
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
+    if fallback is not None and not (result.success and held):
+        result, held = fallback  # no grasp held: the first accepted one
     success = result.success
     elapsed = time.perf_counter() - t0
     if success:
         reason = f"stop criterion met ({result.check.n_contacts} contacts, g_Q = {result.check.q:.4f})"
     else:
         reason = _failure(attempts, elapsed)
+    if physics is not None and success:
+        reason += "; it holds in simulation" if held else "; no accepted grasp held in simulation"
     if len(attempts) > 1:
         reason += f"; {len(attempts)} attempts, {total} iterations in all"
     chk, final = result.check, result.final
@@ -202,7 +223,18 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         options=opts.as_dict(),
         attempts=attempts,
         surface_q=result.surface.q if success else float("nan"),
+        held=held if success else None,
     )
+
+
+def _validator(validate, obj, hand, backend):
+    """The physics test of a plan's accepted grasps (a function of u -> Validation), or None."""
+    if validate is False:
+        return None
+    from ..physics import validate as simulate  # noqa: PLC0415 - MuJoCo only when asked for
+
+    settings = {} if validate is True else dict(validate)
+    return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 
 def _failure(attempts, elapsed):

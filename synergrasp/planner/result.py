@@ -73,6 +73,9 @@ class PlanResult:
         Q distance of the final contacts moved to the object's true surface,
         with its normals there (`synergrasp.planner.stop.surface_check`): the
         grasp's margin as accepted; NaN without a grasp.
+    held : bool or None
+        With ``plan(..., validate=True)``: whether the returned grasp held in
+        the physics validation (`synergrasp.validate`); None when not tested.
 
     Examples
     --------
@@ -106,6 +109,7 @@ class PlanResult:
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
     surface_q: float = math.nan
+    held: bool | None = None
 
     @property
     def total_iterations(self) -> int:
@@ -244,6 +248,10 @@ def _validated(data: dict, path) -> dict:
     out["lp_solves"] = integer("lp_solves")
     out["penetration"] = number("penetration", 0.0)
     out["time_s"] = number("time_s", 0.0)
+    if "held" in data:
+        if data["held"] is not None and not isinstance(data["held"], bool):
+            fail("held", "true, false or null")
+        out["held"] = data["held"]
     if "surface_q" in data:
         value = data["surface_q"]
         if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or math.isinf(value)):
