@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import ast
 import json
-import re
 import sys
 import time
 import warnings
@@ -87,11 +86,6 @@ def verify(result, obj):
     return out
 
 
-def _kind(reason: str) -> str:
-    """The kind of an attempt's end, for the taxonomy: its reason up to the first bracket or colon."""
-    return re.split(r"[(:]", reason, maxsplit=1)[0].strip() or reason
-
-
 def run(entry_name, grasp, options):
     """Plan and verify one object: a JSON-able row."""
     warnings.simplefilter("ignore")
@@ -106,8 +100,9 @@ def run(entry_name, grasp, options):
     row = dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=result.success,
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
-               contacts=list(result.contact_labels), penetration=result.penetration,
-               attempts=[dict(reason=a["reason"], iterations=a["iterations"]) for a in result.attempts])
+               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q,
+               attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
+                         for a in result.attempts])
     row.update(verify(result, obj))
     return row
 
@@ -120,17 +115,18 @@ def summarise(rows, grasp):
     n, ok = len(mine), sum(r["verified"] for r in mine)
     times = np.array([r["time"] for r in mine])
     accepted = [r for r in mine if r["success"]]
-    q = np.array([r["q"] for r in accepted]) if accepted else np.array([np.nan])
+    q = np.array([r["q_true"] for r in accepted]) if accepted else np.array([np.nan])
     gaps = np.array([r["gap"] for r in accepted]) if accepted else np.array([np.nan])
     lines = [
         f"{grasp}: {ok}/{n} verified ({100.0 * ok / n:.1f}%), by source: "
         + ", ".join(f"{s} {sum(r['verified'] for r in mine if r['source'] == s)}/{sum(r['source'] == s for r in mine)}"
                     for s in sorted({r["source"] for r in mine})),
         f"  plan time: median {np.median(times):.2f} s, p90 {np.percentile(times, 90):.2f} s, max {times.max():.2f} s",
-        f"  accepted {len(accepted)}: median Q {np.nanmedian(q):+.3f}, Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
+        f"  accepted {len(accepted)}: median Q on the true surface {np.nanmedian(q):+.3f}, "
+        f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
     ]
-    failed = Counter(_kind(a["reason"]) for r in mine for a in r["attempts"] if not a["reason"].startswith("stop criterion"))
+    failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])
     lines.append("  attempts that failed: " + (", ".join(f"{k} {v}" for k, v in failed.most_common()) or "none"))
     if refused:
