@@ -48,8 +48,8 @@ def run_object(name, grasp, count, options):
         plan_like = SimpleNamespace(success=r.success, penetration=r.penetration,
                                     contact_points=r.final.nearest[r.check.contact])
         check = verify(plan_like, obj)
-        rows.append(dict(name=name, start=start.kind, outcome=r.outcome.name.lower(), verified=check["verified"],
-                         iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
+        rows.append(dict(name=name, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
+                         verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
     return rows
 
 

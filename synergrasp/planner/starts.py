@@ -30,6 +30,9 @@ PAIR_ANGLE = 30.0
 PAIR_SAMPLES = 200
 #: Rolls of the hand about a pair's axis tried for each seed.
 ROLLS = 12
+#: Pair width (mm) tried first: pairs are taken in order of their width's distance from it plus their
+#: axis's distance from the object's centre.
+PAIR_WIDTH = 65.0
 
 
 @dataclass(frozen=True)
@@ -228,8 +231,9 @@ def pinch_seeds(hand, obj, options):
     Pairs are drawn from `surface_samples` (their inward ray's exit, within
     `PAIR_ANGLE` of opposed normals), those the hand can span with
     ``options.seed_opening`` to spare on either side, the ones whose axis
-    passes nearest the object's centre first, pairs too alike to an earlier
-    one (midpoints within 10 mm, axes within 20 degrees) skipped.
+    passes nearest the object's centre and whose width is nearest
+    `PAIR_WIDTH` first, pairs too alike to an earlier one (midpoints within
+    10 mm, axes within 20 degrees) skipped.
 
     Parameters
     ----------
@@ -251,7 +255,8 @@ def pinch_seeds(hand, obj, options):
     offset = obj.center - p1
     off_axis = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, axis)[:, None] * axis, axis=1)
     taken = []
-    for i in np.flatnonzero(usable)[np.argsort(off_axis[usable], kind="stable")]:
+    score = np.abs(width - PAIR_WIDTH) + off_axis
+    for i in np.flatnonzero(usable)[np.argsort(score[usable], kind="stable")]:
         mid = 0.5 * (p1[i] + p2[i])
         if any(np.linalg.norm(mid - m) < 10.0 and abs(axis[i] @ a) > np.cos(np.radians(20.0)) for m, a in taken):
             continue
@@ -265,7 +270,7 @@ def pinch_seeds(hand, obj, options):
         u[:3] += options.seed_retreat * back
         u = _clear(hand, obj, u, back, options.start_clearance)
         yield Start(u, "pinch", {"thumb": a.round(3).tolist(), "finger": b.round(3).tolist(),
-                                 "width": round(float(width[i]), 3)})
+                                 "width": round(float(width[i]), 3), "off_axis": round(float(off_axis[i]), 3)})
 
 
 def _straddle(hand, obj, apertures, thumb_at, fingers_at, opening):
