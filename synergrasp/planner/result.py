@@ -11,7 +11,7 @@ from .._records import load_record, save_record
 
 _FORMAT = "synergrasp.PlanResult/1"
 _ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
-           "contact_points": (-1, 3), "contact_normals": (-1, 3)}
+           "contact_points": (-1, 3), "contact_normals": (-1, 3), "pregrasp": (-1,), "path": None, "clearance": (-1,)}
 
 
 @dataclass
@@ -30,7 +30,11 @@ class PlanResult:
         Final configuration ``[px, py, pz, phi1, phi2, phi3, z1, z2]`` (mm, rad; 8 entries
         for the paper's two-synergy hand).
     trajectory : (k+1, 6 + n_syn) float
-        Configuration at every iteration, start included.
+        Configuration at every iteration of the planner's search, start
+        included. It is how the grasp was found, not a motion to execute:
+        the iteration watches a few points per phalanx, and phalanges may
+        pass through the object between them. The motion to execute is
+        ``path``.
     status : (k+1, 6) or (k+1, 17) float
         Status vector g at every iteration: cP of each hand point (mm), then g_sQ.
     target : (6,) or (17,) float
@@ -65,6 +69,27 @@ class PlanResult:
         pass, else None), ``iterations`` and ``reason`` (why it ended).
         An attempt that stalls is followed by one from another approach
         direction; the trajectory is the last one's.
+    pregrasp : (6 + n_syn,) float
+        The first configuration of ``path``: the hand open and clear of the
+        object (NaN when no grasp was found).
+    path : (p, 6 + n_syn) float
+        The executable reach to the final grasp (`executable_reach`):
+        approach from ``pregrasp`` with the hand open, then close; dense
+        enough that between two rows (a straight line in ``u``) no part of
+        the hand crosses the object unseen. Empty when no grasp was found.
+    clearance : (p,) float
+        Smallest signed distance (mm) of the phalanx capsules and the palm
+        box to the object at each row of ``path``; negative inside.
+    collision_free : bool
+        No row of ``path`` is deeper in the object than the planner's
+        ``max_penetration`` (False when no grasp was found).
+    reach : dict
+        How ``path`` was made and checked (`Reach.summary`): ``reason``,
+        ``depth`` and ``deepest`` (the deepest penetration along the path
+        and its capsule or ``"palm"``), ``grasp_depth`` and
+        ``grasp_shape`` (the grasp's own), ``source``, ``direction``,
+        ``retreat``, ``opening``, ``candidates``, ``margin``,
+        ``tolerance``, ``cpu_time``. Empty when no grasp was found.
 
     Examples
     --------
@@ -75,6 +100,10 @@ class PlanResult:
     >>> result.trajectory.shape == (result.iterations + 1, 8)
     True
     >>> bool(result.final_q < 0)         # the final contacts are force-closed
+    True
+    >>> result.collision_free, bool((result.path[-1] == result.u).all())   # the reach to execute
+    (True, True)
+    >>> bool(result.clearance[0] >= 10.0) and bool(result.clearance.min() >= -3.0)   # mm
     True
     """
 
@@ -97,6 +126,20 @@ class PlanResult:
     object_name: str = ""
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
+    pregrasp: np.ndarray | None = None
+    path: np.ndarray | None = None
+    clearance: np.ndarray | None = None
+    collision_free: bool = False
+    reach: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        n = np.asarray(self.u).size
+        if self.pregrasp is None:  # no executable reach (no grasp, or a result built without one)
+            self.pregrasp = np.full(n, np.nan)
+        if self.path is None:
+            self.path = np.zeros((0, n))
+        if self.clearance is None:
+            self.clearance = np.zeros(0)
 
     @property
     def total_iterations(self) -> int:
@@ -174,4 +217,6 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        return cls(**load_record(cls, path, _FORMAT, _ARRAYS))
+        data = load_record(cls, path, _FORMAT, _ARRAYS)
+        data["path"] = data["path"].reshape(-1, data["u"].size)  # an empty path reads back as shape (0,)
+        return cls(**data)
