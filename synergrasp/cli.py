@@ -64,6 +64,9 @@ def _plan(args) -> int:
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
     print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {result.final_q:+.4f}, "
           f"contacts {', '.join(result.contact_labels) or 'none'}, penetration {result.penetration:.1f} mm")
+    if len(result.path):
+        print(f"executable reach: {len(result.path)} poses, clearance {result.clearance[0]:.1f} mm at the pre-grasp, "
+              f"smallest {result.clearance.min():+.1f} mm; {result.reach['reason']}")
     print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
     print("wrote " + ", ".join(str(f) for f in files))
     return 0 if result.success else 1
@@ -91,8 +94,8 @@ def build_parser() -> argparse.ArgumentParser:
         "plan",
         help="plan a reach-to-grasp motion and write the result and its figures",
         description="Plan a precision or power grasp of an object with the synergy hand (paper Sec. 3.2). "
-        "Writes DIR/NAME_GRASP.json (the PlanResult), the status figure, the poses figure, a GIF of the reach "
-        "and an interactive 3-D page of the final grasp. Exit status 0 on success, 1 if no stable grasp was found.",
+        "Writes DIR/NAME_GRASP.json (the PlanResult, with its executable reach and the reach's clearance), the status "
+        "figure, the poses figure, a GIF of the reach and an interactive 3-D page of the final grasp. Exit status 0 on success, 1 if no stable grasp was found.",
     )
     p.add_argument("--object", default="ellipsoid",
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")

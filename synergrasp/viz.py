@@ -24,10 +24,13 @@ _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab
 
 
 def plot_status(result, path, labels=None):
-    """The status vector against iterations, like the paper's Figs. 7b-14b.
+    """The status vector against iterations, like the paper's Figs. 7b-14b, and the clearance along the reach.
 
-    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
-    g_Q with the -0.1 level of a good grasp.
+    Top: every cP row (mm) with the contact threshold eps_c; middle: g_sQ and
+    g_Q with the -0.1 level of a good grasp; bottom (when the result has an
+    executable reach, `PlanResult.path`): the smallest signed distance of the
+    phalanx capsules and the palm box to the object along the path, with the
+    tolerance it must stay above.
 
     Parameters
     ----------
@@ -60,7 +63,12 @@ def plot_status(result, path, labels=None):
     labels = labels or SynergyHand.default().point_labels(result.grasp)
     status = np.asarray(result.status)
     k = np.arange(len(status))
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    reach = len(result.path) > 0
+    fig, axes = plt.subplots(3 if reach else 2, 1, figsize=(8, 9.0 if reach else 6.5),
+                             gridspec_kw={"height_ratios": [3, 2, 2] if reach else [3, 2]})
+    top, bottom = axes[0], axes[1]
+    bottom.sharex(top)
+    top.tick_params(labelbottom=False)
     for i, label in enumerate(labels):
         top.plot(k, status[:, i], color=_FINGER_COLORS.get(label[0], "gray"), lw=1.4,
                  ls=["-", "--", ":", "-."][int(label[1]) % 4] if label[1:].isdigit() else "-", label=f"$g_{{{label}}}$")
@@ -79,7 +87,27 @@ def plot_status(result, path, labels=None):
     bottom.set_ylabel("Q distance")
     bottom.set_xlabel("iteration k")
     bottom.legend(fontsize=8, loc="upper right")
+    if reach:
+        _plot_clearance(axes[2], result)
     return _save(fig, path, dpi=120)
+
+
+def _plot_clearance(ax, result):
+    """The clearance along the executable reach, on its own axes."""
+    rows = np.arange(len(result.clearance))
+    tolerance = result.reach.get("tolerance", result.options.get("max_penetration", 3.0))
+    ax.plot(rows, result.clearance, color="tab:green", lw=1.6, marker=".", ms=3, label="clearance (capsules and palm)")
+    ax.axhline(0.0, color="gray", lw=0.6)
+    ax.axhline(-tolerance, color="k", lw=0.8, ls="--", label=f"-{tolerance:g} mm (tolerance)")
+    deepest = int(np.argmin(result.clearance))
+    where = result.reach.get("deepest") or "none"
+    ax.plot(deepest, result.clearance[deepest], "v", color="tab:red", label=f"deepest: {where}")
+    ax.set_yscale("symlog", linthresh=10.0)
+    ax.set_ylabel("clearance (mm)")
+    ax.set_xlabel("row of the executable reach (pre-grasp to grasp)")
+    ax.set_title(f"executable reach: {'collision-free' if result.collision_free else 'NOT collision-free'}, "
+                 f"deepest {max(0.0, -float(result.clearance.min())):.1f} mm", fontsize=10)
+    ax.legend(fontsize=8, loc="upper right")
 
 
 def _save(fig, path, dpi):

@@ -332,3 +332,31 @@ def test_bad_input_gets_clear_errors(plate):
         executable_reach(HAND, obj, u, openings=[0.5, 1.5])
     with pytest.raises(ValueError, match="trajectory has points of dimension 3"):
         executable_reach(HAND, obj, u, trajectory=np.zeros((4, 3)))
+
+
+# ---------------------------------------------------------------------- replayed in MuJoCo
+
+
+def test_a_replayed_reach_leaves_the_object_where_a_path_through_it_does_not(plate):
+    """The plate free in MuJoCo: the repaired reach does not move it before closing; a path through it knocks it away."""
+    obj, u = plate
+    reach = executable_reach(HAND, obj, u)
+    replay = sg.replay_reach(reach.path, obj)
+    assert replay.outcome == "done" and len(replay.moved) == len(reach.path)
+    assert replay.moved_before_closed < 1.0 and replay.turned_before_closed < 1.0
+    through = np.array([u + [0.0, 0.0, -200.0, 0, 0, 0, 0, 0], u])  # up through the plate, hand closed
+    knocked = sg.replay_reach(through, obj)
+    assert knocked.first_contact == 1 and (knocked.moved_before_closed > 5.0 or knocked.turned_before_closed > 10.0)
+
+
+def test_replay_bad_input(plate):
+    obj, u = plate
+    capped = sg.plan(so.ellipsoid(), "precision", max_iter=3)
+    with pytest.raises(ValueError, match="no executable reach"):
+        sg.replay_reach(capped, so.ellipsoid())
+    with pytest.raises(ValueError, match="speed must be a finite number > 0"):
+        sg.replay_reach(np.array([u]), obj, speed=0.0)
+    with pytest.raises(ValueError, match="path has points of dimension 7"):
+        sg.replay_reach(np.zeros((2, 7)), obj)
+    with pytest.raises(TypeError, match="obj must be a GraspObject"):
+        sg.replay_reach(np.array([u]), obj.mesh)

@@ -1,7 +1,7 @@
 """The reach-to-grasp planner (paper Sec. 3.2): status vector, step, stop rules, results; the executable reach and its clearance."""
 
 from .core import APPROACHES, GRASPS, POWER_APPROACHES, POWER_WIDE_APPROACHES, STANDOFF_APPROACHES, PlannerOptions, attempt_schedule, plan, power_schedule, start_configuration
-from .clearance import HandClearance, PathClearance, clearance_labels, hand_clearance, path_clearance
+from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
 from .status import Status, grasp_status, smoothed_normals
@@ -28,6 +28,7 @@ __all__ = [
     "Status",
     "check_grasp",
     "clearance_labels",
+    "hand_and_object",
     "executable_reach",
     "hand_clearance",
     "path_clearance",

@@ -21,8 +21,10 @@ import fcl
 import numpy as np
 
 from .._checks import as_points, positive_scalar
+from ..hand import SynergyHand
+from ..objects import GraspObject
 
-__all__ = ["PALM", "HandClearance", "PathClearance", "clearance_labels", "hand_clearance", "path_clearance"]
+__all__ = ["PALM", "HandClearance", "PathClearance", "clearance_labels", "hand_and_object", "hand_clearance", "path_clearance"]
 
 #: Label of the palm box among the hand's collision shapes (the capsules carry their segment's label).
 PALM = "palm"
@@ -30,6 +32,31 @@ PALM = "palm"
 _ARC = 1.02
 #: Deepest bisection of one interval (2**_MAX_DEPTH pieces at most).
 _MAX_DEPTH = 16
+
+
+def hand_and_object(hand, obj):
+    """The hand (the paper's if None) and the object, checked: what the functions that take both start with.
+
+    Parameters
+    ----------
+    hand : SynergyHand or None
+    obj : GraspObject
+
+    Returns
+    -------
+    SynergyHand
+
+    Raises
+    ------
+    TypeError
+        If ``hand`` is not a SynergyHand (or None) or ``obj`` not a GraspObject.
+    """
+    hand = SynergyHand.default() if hand is None else hand
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
+    if not isinstance(obj, GraspObject):
+        raise TypeError(f"obj must be a GraspObject (synergrasp.objects), got {type(obj).__name__}")
+    return hand
 
 
 def clearance_labels(hand):
@@ -94,14 +121,7 @@ class HandClearance:
     """
 
     def __init__(self, hand, obj):
-        from ..hand import SynergyHand
-        from ..objects import GraspObject
-
-        if not isinstance(hand, SynergyHand):
-            raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
-        if not isinstance(obj, GraspObject):
-            raise TypeError(f"obj must be a GraspObject (synergrasp.objects), got {type(obj).__name__}")
-        self.hand = hand
+        self.hand = hand_and_object(hand, obj)
         rest = hand.segments(np.zeros(hand.n_u))
         self.radius = float(rest.radius)
         lengths = np.linalg.norm(rest.capsules[:, 1] - rest.capsules[:, 0], axis=1)

@@ -380,7 +380,8 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         if source == "trajectory":
             part = "along the iteration"
         else:
-            part = "at the grasp" if deepest == len(check.path) - 1 else \
+            at_grasp = check.clearance[-1] <= check.clearance[deepest] + 1e-6
+            part = "at the grasp" if at_grasp else \
                 "in the approach" if closing_from is None or deepest < closing_from else "in the close"
         where = f"{shape} {depth:.1f} mm deep {part} (row {deepest} of {len(check.path)})"
         free = bool(check.clearance.min() >= -tolerance)
