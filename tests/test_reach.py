@@ -234,6 +234,20 @@ def test_a_grasp_deeper_than_the_tolerance_is_never_collision_free(plate):
     assert f"the grasp itself penetrates the object, {reach.grasp_shape} {reach.grasp_depth:.1f} mm deep" in reach.reason
 
 
+def test_a_palm_deep_at_the_grasp_does_not_let_the_fingers_sink_on_the_way(plate):
+    """The plate plus a block through the palm box: the palm may be as deep as at the grasp, the capsules only 3 mm."""
+    obj, u = plate
+    geo = HAND.segments(u)
+    block = geo.palm_center + (np.array(list(itertools.product((-8.0, 8.0), repeat=3))) @ geo.palm_axes.T)
+    both = so.GraspObject([obj.convex[0].vertices, block], name="plate and block")
+    reach = executable_reach(HAND, both, u)
+    assert not reach.collision_free and reach.grasp_shape == "palm" and reach.grasp_depth > 10.0
+    capsules = np.array([hand_clearance(HAND, both, p)[:-1].min() for p in reach.path])
+    assert capsules.min() >= -TOLERANCE
+    palm = np.array([hand_clearance(HAND, both, p)[-1] for p in reach.path])
+    assert palm.min() >= -reach.grasp_depth - TOLERANCE
+
+
 def test_a_collision_free_trajectory_is_used_as_it_is_and_one_through_the_object_is_not(plate):
     obj, u = plate
     repaired = executable_reach(HAND, obj, u)
@@ -320,6 +334,8 @@ def test_bad_input_gets_clear_errors(plate):
         path_clearance(HAND, obj, [u[:7]])
     with pytest.raises(ValueError, match="path contains NaN"):
         path_clearance(HAND, obj, [u, np.r_[u[:7], np.inf]])
+    with pytest.raises(ValueError, match="stop_below must be a number or one per shape"):
+        path_clearance(HAND, obj, [u], stop_below=[0.0, 1.0])
     with pytest.raises(ValueError, match="resolution must be a finite number > 0"):
         path_clearance(HAND, obj, [u], resolution=0.0)
     with pytest.raises(ValueError, match=r"u_grasp must have shape \(8,\)"):
@@ -360,3 +376,27 @@ def test_replay_bad_input(plate):
         sg.replay_reach(np.zeros((2, 7)), obj)
     with pytest.raises(TypeError, match="obj must be a GraspObject"):
         sg.replay_reach(np.array([u]), obj.mesh)
+
+
+# ---------------------------------------------------------------------- the benchmark
+
+
+def test_the_benchmark_runs_in_its_quick_mode(tmp_path):
+    import csv
+    import os
+    import subprocess
+    import sys
+
+    root = Path(__file__).resolve().parents[1]
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join(filter(None, [str(root), os.environ.get("PYTHONPATH")])))
+    proc = subprocess.run([sys.executable, str(root / "benchmarks" / "bench_reach.py"), "--quick", "--out", str(tmp_path)],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stdout + proc.stderr
+    rows = list(csv.DictReader((tmp_path / "reach.csv").open()))
+    assert [(r["object"], r["grasp"]) for r in rows] == [("cup", "precision"), ("cup", "power")]
+    for r in rows:  # the collision-free flag agrees with the independent check where the grasp itself is shallow
+        deepest = max(float(r["depth_capsules"]), float(r["depth_palm"]))
+        if float(r["grasp_depth"]) <= TOLERANCE:
+            assert (r["collision_free"] == "True") == (deepest <= TOLERANCE + 0.5)
+    assert "deepest point along the returned reach (independent check)" in proc.stdout
+    assert "plan time overhead of the repair: median" in proc.stdout

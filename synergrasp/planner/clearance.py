@@ -174,7 +174,7 @@ class HandClearance:
             If ``u`` does not fit the hand or is not finite.
         """
         self._place(u)
-        return self._smallest()
+        return self._smallest()[:2]
 
     def near(self, u, within):
         """The shapes nearer the object than ``within`` at configuration u, with fcl's witness points.
@@ -226,38 +226,49 @@ class HandClearance:
         path = as_points(path, "path", dim=self.hand.n_u)
         resolution = positive_scalar(resolution, "resolution")
         max_angle = positive_scalar(max_angle, "max_angle")
-        floor = -np.inf if stop_below is None else float(stop_below)
+        floors = None
+        if stop_below is not None:
+            floors = np.broadcast_to(np.asarray(stop_below, dtype=float), (len(self.labels),)) \
+                if np.ndim(stop_below) == 0 else np.asarray(stop_below, dtype=float)
+            if floors.shape != (len(self.labels),) or np.isnan(floors).any():
+                raise ValueError(f"stop_below must be a number or one per shape ({len(self.labels)}: {self.labels}), "
+                                 f"got {stop_below!r}")
         step = resolution * self.radius
 
         def sample(u):
             points = self._place(u)
-            return (u, points, *self._smallest())
+            return (u, points, *self._smallest(floors))
+
+        def below(row):  # a shape under its floor: stop there
+            return floors is not None and row[4] < 0.0
 
         rows, given = [sample(path[0])], [True]
         for u_a, u_b in zip(path[:-1], path[1:]):
             n = _pieces(self.hand, u_a, u_b, max_angle)
             for i in range(1, n + 1):
-                if rows[-1][2] < floor:
+                if below(rows[-1]):
                     break
                 end = sample(u_b if i == n else u_a + (u_b - u_a) * (i / n))
                 stack = [(rows[-1], end, 0)]
-                while stack and rows[-1][2] >= floor:  # depth first, left half first: rows come in path order
+                while stack and not below(rows[-1]):  # depth first, left half first: rows come in path order
                     lo, hi, depth = stack.pop()
                     motion = _ARC * float(np.linalg.norm(hi[1] - lo[1], axis=1).max())
-                    if motion <= step or lo[2] + hi[2] - motion > 0.0 or depth >= _MAX_DEPTH or hi[2] < floor:
+                    if motion <= step or lo[2] + hi[2] - motion > 0.0 or depth >= _MAX_DEPTH or below(hi):
                         rows.append(hi)
                         given.append(hi is end and i == n)
                         continue
                     mid = sample(0.5 * (lo[0] + hi[0]))
                     stack += [(mid, hi, depth + 1), (lo, mid, depth + 1)]
         values = np.array([r[2] for r in rows])
+        slack = np.array([r[4] for r in rows])
         return PathClearance(
             path=np.array([r[0] for r in rows]),
             clearance=values,
             closest=np.array([r[3] for r in rows], dtype=int),
             given=np.array(given, dtype=bool),
             labels=list(self.labels),
-            complete=bool((values >= floor).all()),
+            slack=slack,
+            complete=not any(below(r) for r in rows),
         )
 
     # ------------------------------------------------------------------ internals
@@ -283,15 +294,24 @@ class HandClearance:
         box = np.linalg.norm(np.maximum(np.abs(local) - geo.palm_half_extents, 0.0), axis=1)
         return np.vstack([capsule, box[None]]) - self._reach
 
-    def _smallest(self):
-        """The smallest signed distance over the placed shapes, and its shape (nearest-bound shapes first)."""
+    def _smallest(self, floors=None):
+        """The smallest signed distance over the placed shapes, its shape, and the smallest ``distance - floors``.
+
+        Shapes are visited nearest bound first, and only while their bound can
+        lower either minimum. Without ``floors`` the third value is the first.
+        """
         bounds = self._bounds()
-        best, which = np.inf, -1
-        for k in np.argsort(bounds.min(axis=1)):
-            d = self._nearest(k, bounds[k], best)
+        lows = bounds.min(axis=1)
+        offsets = np.zeros(len(lows)) if floors is None else floors
+        best, which, slack = np.inf, -1, np.inf
+        for k in np.argsort(lows):
+            if lows[k] >= best and lows[k] - offsets[k] >= slack:
+                continue
+            d = self._nearest(k, bounds[k], max(best, slack + offsets[k]))  # exact below that cap
             if d < best:
                 best, which = d, int(k)
-        return best, which
+            slack = min(slack, d - offsets[k])
+        return best, which, slack
 
     def _nearest(self, shape, bounds, cap):
         """Signed distance of one placed shape to the object, exact when below ``cap`` (nearest pieces first)."""
@@ -384,9 +404,13 @@ class PathClearance:
         The row is one of the given configurations (False: inserted).
     labels : list of str
         The shapes' names (`clearance_labels`).
+    slack : (m,) float
+        Smallest margin of the shapes above ``stop_below`` at each row
+        (mm): ``min_k (distance_k - stop_below_k)``; the clearance itself
+        without ``stop_below``.
     complete : bool
-        False when the check stopped early at a pose below ``stop_below``
-        (the arrays end there).
+        False when the check stopped early at a pose where a shape was below
+        its ``stop_below`` (the arrays end there).
     """
 
     path: np.ndarray
@@ -394,6 +418,7 @@ class PathClearance:
     closest: np.ndarray
     given: np.ndarray
     labels: list
+    slack: np.ndarray
     complete: bool = True
 
     @property
@@ -446,9 +471,10 @@ def path_clearance(hand, obj, path, *, resolution=0.25, max_angle=0.1, stop_belo
         Largest change of a joint or Euler angle between two checked poses
         (rad), so that every point moves nearly straight and the chord
         between two poses bounds its path (scaled by 1.02).
-    stop_below : float, optional
-        Stop at the first pose whose clearance is below this (mm); the
-        result is then marked incomplete.
+    stop_below : float or (k + 1,) float, optional
+        Stop at the first pose where a shape's clearance is below this (mm;
+        one value for all the shapes, or one per shape in the order of
+        `clearance_labels`); the result is then marked incomplete.
 
     Returns
     -------
@@ -460,8 +486,9 @@ def path_clearance(hand, obj, path, *, resolution=0.25, max_angle=0.1, stop_belo
         If ``hand`` is not a SynergyHand, ``obj`` not a GraspObject or
         ``path`` not numeric.
     ValueError
-        If ``path`` is not an (n, 6 + n_syn) finite array, or ``resolution``
-        or ``max_angle`` is not a positive number.
+        If ``path`` is not an (n, 6 + n_syn) finite array, ``resolution``
+        or ``max_angle`` is not a positive number, or ``stop_below`` is not a
+        number or one per shape.
 
     Examples
     --------

@@ -17,8 +17,9 @@ few points per phalanx, and whole capsules cross the object between them.
 
 Candidates (opening, retreat direction) are tried in turn until one's path
 stays within ``tolerance`` of the object everywhere. When none does within
-the budget, the least deep is returned with ``collision_free=False``, its
-depth and the shape (capsule or palm) that goes deepest.
+the budget, the one that goes least beyond it is returned with
+``collision_free=False``, its depth and the shape (capsule or palm) that
+goes deepest.
 """
 
 from __future__ import annotations
@@ -291,12 +292,14 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     of the synergies to the grasp's. The first two directions of every
     opening come first, then the others. The first candidate whose path
     stays within ``tolerance`` everywhere is returned; if none does, the
-    least deep.
+    one that goes least beyond it.
 
     The path can be no shallower than the grasp itself: when the grasp
-    penetrates deeper than ``tolerance``, the reach is not collision-free
-    and the candidates are held to the grasp's own depth plus
-    ``tolerance`` instead.
+    penetrates deeper than ``tolerance``, the reach is not collision-free.
+    The candidates are then held, shape by shape, to ``tolerance``, or to
+    the shape's own depth at the grasp plus ``tolerance`` where that is
+    deeper (the palm of a grasp that sinks it into the object may be that
+    deep on the way, the fingers no deeper than ``tolerance``).
 
     Parameters
     ----------
@@ -369,10 +372,11 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     if trajectory is not None:
         trajectory = as_points(trajectory, "trajectory", dim=hand.n_u)
 
-    grasp_value, grasp_shape = checker.at(u)
+    at_grasp = checker.shapes(u)
+    grasp_value, grasp_shape = float(at_grasp.min()), int(np.argmin(at_grasp))
     grasp = dict(grasp_depth=max(0.0, -grasp_value), grasp_shape=checker.labels[grasp_shape] if grasp_value < 0 else "")
-    # no path goes deeper than the tolerance, or than the grasp itself plus the tolerance if that is deeper
-    floor = min(-tolerance, grasp_value - tolerance) if grasp_value < -tolerance else -tolerance
+    # no shape goes deeper than the tolerance along the path, or than it is at the grasp plus the tolerance
+    floors = np.where(at_grasp >= -tolerance, -tolerance, at_grasp - tolerance)
 
     def reach(check, source, direction=np.zeros(3), retreat=0.0, closing_from=None, failed=False):
         deepest, depth = check.deepest, check.depth
@@ -392,10 +396,11 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
             reason = (f"not collision-free: the grasp itself penetrates the object, {grasp['grasp_shape']} "
                       f"{grasp['grasp_depth']:.1f} mm deep (more than {tolerance:g} mm); deepest: {where}")
             if failed:
-                reason += f"; none of {tried} candidate approaches stays within {tolerance:g} mm of that depth"
+                reason += (f"; none of {tried} candidate approaches keeps every shape within {tolerance:g} mm of its "
+                           "depth at the grasp")
         else:
             reason = (f"not collision-free: none of {tried} candidate approaches stays within {tolerance:g} mm of "
-                      f"the object; the least deep goes {where}")
+                      f"the object; the best goes {where}")
         return Reach(path=check.path, clearance=check.clearance, closest=[check.labels[i] for i in check.closest],
                      pregrasp=check.path[0].copy(), collision_free=free, depth=depth, deepest=shape, deepest_row=deepest,
                      source=source, direction=np.asarray(direction, float), retreat=float(retreat),
@@ -407,7 +412,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         tried += 1
         if not np.array_equal(trajectory[-1], u):
             trajectory = np.vstack([trajectory, u])
-        check = checker.along(trajectory, resolution=resolution, stop_below=floor)
+        check = checker.along(trajectory, resolution=resolution, stop_below=floors)
         if check.complete:
             return reach(check, "trajectory")
 
@@ -435,18 +440,18 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         candidates.append((waypoints, direction, retreat))
         if retreat is None:  # not clear within max_retreat: no pre-grasp along this direction
             continue
-        check = checker.along(waypoints, resolution=resolution, stop_below=floor)
+        check = checker.along(waypoints, resolution=resolution, stop_below=floors)
         if check.complete:
             return reach(check, "approach", direction, retreat, _closing_row(check, waypoints))
-    # none stays above the floor: the least deep, checked whole (those with a pre-grasp first); a check
-    # stops once it is deeper than the least deep so far
+    # none keeps every shape above its floor: the one that comes least below them, checked whole (those with a
+    # pre-grasp first); a check stops once it is worse than the best so far
     best = None
     for waypoints, direction, retreat in sorted(candidates, key=lambda c: c[2] is None):
         if best is not None and retreat is None and best[2] is not None:
             break
         check = checker.along(waypoints, resolution=resolution,
-                              stop_below=None if best is None else float(best[0].clearance.min()))
-        if best is None or (check.complete and check.clearance.min() > best[0].clearance.min()):
+                              stop_below=floors if best is None else floors + float(best[0].slack.min()))
+        if best is None or (check.complete and check.slack.min() > best[0].slack.min()):
             best = (check, waypoints, retreat, direction)
     check, waypoints, retreat, direction = best
     return reach(check, "approach", direction, np.nan if retreat is None else retreat,
