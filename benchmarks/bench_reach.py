@@ -28,9 +28,9 @@ and goblet, planned with the defaults and HiGHS):
   closed, and after the squeeze.
 
 Prints a table; writes ``reach.csv`` under ``--out`` (default
-``bench-out/reach``). ``--docs`` also writes ``docs/results/reach.csv`` and
+``bench-out/reach``). ``--docs`` also writes ``docs/results/reach.csv``,
 the table into ``docs/executable-reach.md`` (between its ``reach-table``
-markers). ``--quick`` (used by the tests): the cup's two cases, one repeat,
+markers) and the summary into ``README.md`` (between its ``reach`` markers). ``--quick`` (used by the tests): the cup's two cases, one repeat,
 no trajectory check.
 """
 
@@ -159,6 +159,9 @@ def write_csv(rows, path):
 
 def write_docs(rows, lines):
     write_csv(rows, ROOT / "docs" / "results" / "reach.csv")
+    readme = ROOT / "README.md"
+    block = "<!-- reach:start -->\n" + "\n".join(f"- {line}" for line in lines) + "\n<!-- reach:end -->"
+    readme.write_text(re.sub(r"<!-- reach:start -->.*?<!-- reach:end -->", lambda _: block, readme.read_text(), flags=re.S))
     text = PAGE.read_text()
     load = os.getloadavg()[0]
     block = (f"<!-- reach-table -->\n{table(rows)}\n\n" + "\n".join(f"- {line}" for line in lines)
@@ -171,7 +174,7 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=3, help="timed plans per case, with and without (default 3)")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "reach", help="output folder")
     parser.add_argument("--quick", action="store_true", help="the cup's two cases, one repeat, no trajectory check")
-    parser.add_argument("--docs", action="store_true", help="also write docs/results/reach.csv and the docs table")
+    parser.add_argument("--docs", action="store_true", help="also write docs/results/reach.csv, the docs table and the README summary")
     args = parser.parse_args(argv)
     if args.quick and args.docs:
         parser.error("--docs needs the full run (without --quick)")
@@ -188,7 +191,7 @@ def main(argv=None):
     print(f"wrote {write_csv(rows, args.out / 'reach.csv')}")
     if args.docs:
         write_docs(rows, lines)
-        print(f"wrote {PAGE} and docs/results/reach.csv")
+        print(f"wrote {PAGE}, docs/results/reach.csv and README.md")
 
 
 if __name__ == "__main__":
