@@ -139,6 +139,25 @@ def test_the_clearance_equals_an_independent_dense_check(name, hollow_cup, rng):
     assert compared >= 15
 
 
+def test_capsule_gradients_match_finite_differences(rng):
+    """On a box (large faces: the distance's second derivative is small, where a fine mesh's facets make it jump)."""
+    obj = so.from_mesh(trimesh.creation.box((60.0, 80.0, 100.0)), cache=False)
+    check = HandClearance(HAND, obj)
+    compared = 0
+    for u in near_poses(obj, 4, rng, low=-2.0, high=6.0):
+        shapes, distances, grad = check.gradients(u, 10.0)
+        np.testing.assert_allclose(distances, check.shapes(u)[shapes], atol=1e-9)
+        h = np.r_[np.full(3, 1e-2), np.full(5, 1e-4)]  # hand points move ~0.01 mm: above fcl's 1e-6 tolerance
+        for j in range(8):
+            step = np.zeros(8)
+            step[j] = h[j]
+            fd = (check.shapes(u + step)[shapes] - check.shapes(u - step)[shapes]) / (2 * h[j])
+            scale = np.maximum(np.abs(fd), 1.0)
+            assert np.all(np.abs(grad[:, j] - fd) <= 1e-3 * scale), (j, grad[:, j], fd)
+        compared += len(shapes)
+    assert compared >= 4
+
+
 def test_clearance_labels_and_the_palm():
     labels = clearance_labels(HAND)
     assert labels == HAND.segments(np.zeros(8)).labels + ["palm"]

@@ -221,6 +221,61 @@ class HandClearance:
         return (np.array(shapes, dtype=int), np.array(distances, dtype=float),
                 np.array(on_shape, dtype=float).reshape(-1, 3), np.array(on_object, dtype=float).reshape(-1, 3))
 
+    def gradients(self, u, within):
+        """The phalanx capsules nearer the object than ``within``, their distances and gradients with respect to u.
+
+        A capsule's distance is the distance of its axis segment minus the
+        radius, so it changes as its axis point nearest the object (or, when
+        it overlaps, the one under its deepest point) moves along the
+        direction that frees it: ``grad = n . J``, with ``n`` from fcl's
+        witness points (`near`) and ``J`` interpolated between the
+        Jacobians of the capsule's ends (`SynergyHand.segments_and_jacobian`).
+        The palm box is left out.
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+        within : float
+            mm.
+
+        Returns
+        -------
+        shapes : (m,) int
+            Indices into ``labels`` (capsules only).
+        distances : (m,) float
+            mm.
+        gradients : (m, 6 + n_syn) float
+            d distance / d u (mm per mm, per rad, per unit of synergy).
+
+        Examples
+        --------
+        The synergy columns against a central difference:
+
+        >>> import numpy as np
+        >>> import synergrasp as sg
+        >>> hand, obj = sg.SynergyHand.default(), sg.objects.get("ellipsoid")
+        >>> check = HandClearance(hand, obj)
+        >>> u = np.array([0.0, -20.0, 95.0, np.pi, 0.0, 0.0, 0.2, 0.1])
+        >>> shapes, d, grad = check.gradients(u, 20.0)
+        >>> h = np.r_[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-6, 0.0]
+        >>> fd = (check.shapes(u + h)[shapes] - check.shapes(u - h)[shapes]) / 2e-6
+        >>> bool(np.allclose(grad[:, 6], fd, atol=1e-4))
+        True
+        """
+        shapes, distances, on_shape, on_object = self.near(u, within)
+        ends, jac = self.hand.segments_and_jacobian(_configuration(self.hand, u))
+        keep, rows = [], []
+        for i, (k, d, p_s, p_o) in enumerate(zip(shapes, distances, on_shape, on_object)):
+            n = np.sign(d) * (p_s - p_o)  # the direction that frees it
+            if k >= len(ends) or np.linalg.norm(n) < 1e-9:
+                continue
+            n /= np.linalg.norm(n)
+            a, b = ends[k]
+            s = float(np.clip((p_s + self.radius * n - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0))
+            keep.append(i)
+            rows.append(n @ ((1.0 - s) * jac[k, 0] + s * jac[k, 1]))
+        return shapes[keep], distances[keep], np.array(rows).reshape(-1, self.hand.n_u)
+
     def along(self, path, *, resolution=0.25, max_angle=0.1, stop_below=None):
         """The clearance along a path, checked densely; see `path_clearance`."""
         path = as_points(path, "path", dim=self.hand.n_u)

@@ -159,8 +159,7 @@ def open_synergies(hand, checker, u, margin, steps=6):
 
     At each step the phalanx capsules within 5 mm of the hand's clearance
     (and within ``margin``) give the gradient of their distance with respect
-    to the synergies (fcl's witness points and the hand's capsule
-    Jacobians); the direction that increases the smallest of these
+    to the synergies (`HandClearance.gradients`); the direction that increases the smallest of these
     distances fastest (a small LP, within the synergy limits) is followed
     with the longest of a few steps that increases the hand's clearance.
     It stops once the hand clears the object by ``margin``, when no
@@ -189,19 +188,8 @@ def open_synergies(hand, checker, u, margin, steps=6):
         if value >= margin:
             break
         pose = np.r_[u[:6], z]
-        shapes, distances, on_shape, on_object = checker.near(pose, min(margin, value + 5.0))
-        ends, jac = hand.segments_and_jacobian(pose)
-        grads = []
-        for k, d, p_s, p_o in zip(shapes, distances, on_shape, on_object):
-            n = np.sign(d) * (p_s - p_o)
-            if k >= len(ends) or np.linalg.norm(n) < 1e-9:  # the palm: the synergies do not move it
-                continue
-            n /= np.linalg.norm(n)
-            a, b = ends[k]
-            s = float(np.clip((p_s + checker.radius * n - a) @ (b - a) / ((b - a) @ (b - a)), 0.0, 1.0))
-            g = n @ ((1.0 - s) * jac[k, 0, :, 6:] + s * jac[k, 1, :, 6:])
-            if np.linalg.norm(g) > 1e-6:
-                grads.append(g)
+        _, _, grads = checker.gradients(pose, min(margin, value + 5.0))
+        grads = [g[6:] for g in grads if np.linalg.norm(g[6:]) > 1e-6]
         dz = _ascent(np.array(grads), z, lo, hi) if grads else None
         if dz is None:
             break
