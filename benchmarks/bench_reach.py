@@ -124,13 +124,18 @@ def table(rows):
 def summary(rows):
     overhead = float(np.median([r["overhead"] for r in rows]))
     share = float(np.median([r["repair_share"] for r in rows if "repair_share" in r]))
-    deepest = [max(r["depth_capsules"], r["depth_palm"]) for r in rows if "depth_capsules" in r]
-    within = sum(d <= TOLERANCE for d in deepest)
-    blocked = [f"{r['object']} {r['grasp']} (grasp {r['grasp_depth']:.1f} mm, {r['grasp_shape']})" for r in rows
-               if "depth_capsules" in r and max(r["depth_capsules"], r["depth_palm"]) > TOLERANCE
-               and r["grasp_depth"] > TOLERANCE]
-    lines = [f"deepest point along the returned reach (independent check): <= {TOLERANCE:g} mm in {within} of "
-             f"{len(deepest)} cases; largest {max(deepest):.1f} mm",
+    done = [r for r in rows if "depth_capsules" in r]
+    deepest = [max(r["depth_capsules"], r["depth_palm"]) for r in done]
+    worst = done[int(np.argmax(deepest))]
+    capsules = [r["depth_capsules"] for r in done]
+    blocked = [f"{r['object']} {r['grasp']} (grasp {r['grasp_depth']:.1f} mm, path {max(r['depth_capsules'], r['depth_palm']):.1f} mm, "
+               f"{r['grasp_shape']})" for r in done
+               if max(r["depth_capsules"], r["depth_palm"]) > TOLERANCE and r["grasp_depth"] > TOLERANCE]
+    lines = [f"deepest point along the returned reach, capsules and palm (independent check): <= {TOLERANCE:g} mm in "
+             f"{sum(d <= TOLERANCE for d in deepest)} of {len(done)} cases; largest {max(deepest):.1f} mm "
+             f"({worst['object']} {worst['grasp']}, {'palm' if worst['depth_palm'] > worst['depth_capsules'] else 'a capsule'})",
+             f"the phalanx capsules alone: <= {TOLERANCE:g} mm in {sum(d <= TOLERANCE for d in capsules)} of {len(done)} "
+             f"cases; largest {max(capsules):.1f} mm",
              f"cases whose final grasp itself is deeper than {TOLERANCE:g} mm: {len(blocked)}"
              + (f" ({'; '.join(blocked)})" if blocked else "")]
     if any("trajectory_capsules" in r for r in rows):
