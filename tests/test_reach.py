@@ -4,9 +4,13 @@ The independent reference is ``benchmarks/reach_sampling.py``: sample points on 
 the palm box's faces against the object's true mesh with trimesh (no fcl, no convex pieces).
 """
 
+import csv
 import importlib.util
 import itertools
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -401,11 +405,6 @@ def test_replay_bad_input(plate):
 
 
 def test_the_benchmark_runs_in_its_quick_mode(tmp_path):
-    import csv
-    import os
-    import subprocess
-    import sys
-
     root = Path(__file__).resolve().parents[1]
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join(filter(None, [str(root), os.environ.get("PYTHONPATH")])))
     proc = subprocess.run([sys.executable, str(root / "benchmarks" / "bench_reach.py"), "--quick", "--out", str(tmp_path)],
@@ -417,5 +416,6 @@ def test_the_benchmark_runs_in_its_quick_mode(tmp_path):
         deepest = max(float(r["depth_capsules"]), float(r["depth_palm"]))
         if float(r["grasp_depth"]) <= TOLERANCE:
             assert (r["collision_free"] == "True") == (deepest <= TOLERANCE + 0.5)
-    assert "deepest point along the returned reach (independent check)" in proc.stdout
+    assert "deepest point along the returned reach, capsules and palm (independent check)" in proc.stdout
+    assert "the phalanx capsules alone: <= 3 mm in" in proc.stdout
     assert "plan time overhead of the repair: median" in proc.stdout
