@@ -1,4 +1,4 @@
-"""JSON files of the result dataclasses: arrays as nested lists, a format tag, clear errors on load."""
+"""JSON files of the result dataclasses: arrays as nested lists, a format tag, atomic writes, clear errors on load."""
 
 from __future__ import annotations
 
@@ -7,6 +7,8 @@ from dataclasses import asdict, fields
 from pathlib import Path
 
 import numpy as np
+
+from ._files import atomic_path
 
 
 def save_record(record, path, tag, arrays) -> Path:
@@ -25,14 +27,27 @@ def save_record(record, path, tag, arrays) -> Path:
     Returns
     -------
     Path
+
+    Raises
+    ------
+    TypeError
+        If ``path`` is not a path.
+    FileNotFoundError
+        If its folder does not exist.
+
+    Notes
+    -----
+    The file is written atomically (`synergrasp._files.atomic_path`): an
+    interrupted or failed write leaves no partial file.
     """
     data = asdict(record)
     for name in arrays:
         data[name] = np.asarray(data[name]).tolist()
     data["format"] = tag
-    path = Path(path)
-    path.write_text(json.dumps(data, indent=1))
-    return path
+    text = json.dumps(data, indent=1)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text)
+    return Path(path)
 
 
 def load_record(cls, path, tag, arrays) -> dict:
@@ -53,23 +68,45 @@ def load_record(cls, path, tag, arrays) -> dict:
 
     Raises
     ------
+    FileNotFoundError
+        If there is no such file.
     ValueError
-        If the file cannot be read, is not JSON, has another format tag or lacks fields.
+        If the file cannot be read, is not JSON, has another format tag, lacks
+        fields, or an array field is not numbers of its shape; the message names
+        the file (and the field).
     """
     path = Path(path)
     name = cls.__name__
+    if not path.is_file():
+        raise FileNotFoundError(f"{name} file not found: '{path}'")
     try:
         data = json.loads(path.read_text())
-    except (OSError, json.JSONDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"cannot read a {name} from {path}: {exc}") from exc
     if not isinstance(data, dict) or data.pop("format", None) != tag:
-        raise ValueError(f"{path} is not a saved synergrasp {name}")
-    names = {f.name for f in fields(cls)}
-    missing = names - set(data)
+        raise ValueError(f"{path} is not a saved synergrasp {name} (no \"format\": \"{tag}\")")
+    names = [f.name for f in fields(cls)]
+    missing = [key for key in names if key not in data]
     if missing:
-        raise ValueError(f"{path} lacks the fields {sorted(missing)}")
+        raise ValueError(f"{path} lacks the fields {missing}")
     for key, shape in arrays.items():
-        data[key] = np.asarray(data[key], dtype=float)
-        if shape is not None:  # an empty list reads back as shape (0,)
-            data[key] = data[key].reshape(shape)
+        data[key] = _array(data[key], shape, f"{path}: field '{key}'")
     return {k: data[k] for k in names}
+
+
+def _array(value, shape, where):
+    """``value`` as a float array of ``shape`` (-1: any length; None: any shape); ValueError naming ``where``."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is not None and shape is not None:
+        if arr.size == 0:  # an empty list reads back as shape (0,)
+            arr = arr.reshape([0 if n == -1 else n for n in shape])
+        elif arr.ndim != len(shape) or any(n not in (-1, m) for n, m in zip(shape, arr.shape)):
+            arr = None
+    if arr is None:
+        text = repr(value)
+        dims = "" if shape is None else " of shape (" + ", ".join("n" if n == -1 else str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise ValueError(f"{where} must be an array of numbers{dims}, got {text[:60] + '...' if len(text) > 60 else text}")
+    return arr

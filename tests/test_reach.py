@@ -233,7 +233,7 @@ def boxed_in(plate):
         else:
             a[i] = hi[i]
         walls.append(np.array(list(itertools.product(*zip(a, b)))))
-    return so.GraspObject(walls, name="closed box", center=(lo + hi) / 2.0), u
+    return so.GraspObject(walls, name="closed box"), u
 
 
 def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_and_shape(boxed_in):

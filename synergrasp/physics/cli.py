@@ -55,13 +55,14 @@ def _validate(args) -> int:
     from .figure import RenderingUnavailable, plot_validation, render_still
     from .validate import validate
 
+    from .._files import writable_folder
+
+    out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
     result = PlanResult.load(args.result)
     obj = objects.get(args.object)
     hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     stem = f"{Path(args.result).stem}_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
     if not args.no_still:

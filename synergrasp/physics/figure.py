@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._files import atomic_path
 from ..hand import SynergyHand
 from .protocol import Protocol
 from .simulate import build_model
@@ -62,10 +63,12 @@ def plot_validation(validation, path):
     fig.suptitle(f"{v.object_name}: {verdict}, preset {p.name}, mu {p.mu:g}, mass {v.object_mass * 1e3:.0f} g"
                  + (f", palm moved back {v.retreat:g} mm" if v.retreat else ""), fontsize=10)
     fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120)
+    finally:
+        plt.close(fig)
+    return Path(path)
 
 
 def render_still(validation, obj, path, *, hand=None, width=640, height=480):
@@ -120,9 +123,9 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
         pixels = renderer.render()
     finally:
         renderer.close()
-    path = Path(path)
-    _pyplot().imsave(path, pixels)
-    return path
+    with atomic_path(path) as tmp:
+        _pyplot().imsave(tmp, pixels)
+    return Path(path)
 
 
 def _pyplot():

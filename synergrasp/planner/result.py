@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -159,6 +160,9 @@ class PlanResult:
     def save(self, path) -> Path:
         """Write the result as JSON (arrays as nested lists; floats round-trip exactly).
 
+        The file is written atomically: to a temporary file in the same folder,
+        then renamed, so an interrupted or failed write leaves no partial file.
+
         Parameters
         ----------
         path : str or Path
@@ -203,8 +207,12 @@ class PlanResult:
 
         Raises
         ------
+        FileNotFoundError
+            If the file does not exist.
         ValueError
-            If the file is not a saved PlanResult.
+            If the file is not a saved PlanResult, or a field is missing or
+            has the wrong type, shape or value; the message names the file
+            and the field.
 
         Examples
         --------
@@ -217,6 +225,121 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        data = load_record(cls, path, _FORMAT, _ARRAYS)
-        data["path"] = data["path"].reshape(-1, data["u"].size)  # an empty path reads back as shape (0,)
-        return cls(**data)
+        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS), path))
+
+
+def _validated(data: dict, path) -> dict:
+    """The fields of a loaded PlanResult (`load_record`), each checked; errors name the file and the field."""
+
+    def fail(name, what):
+        value = repr(data[name])
+        raise ValueError(f"{path}: field '{name}' must be {what}, got {value[:60] + '...' if len(value) > 60 else value}")
+
+    def array(name, ndim, finite=True):
+        try:
+            arr = np.asarray(data[name], dtype=float)
+        except (TypeError, ValueError):
+            fail(name, f"a {ndim}-D array of numbers")
+        if arr.ndim != ndim:
+            if arr.size == 0 and ndim == 2:  # an empty list: no rows
+                return arr.reshape(0, 3)
+            fail(name, f"a {ndim}-D array of numbers (shape {arr.shape})")
+        if finite and not np.isfinite(arr).all():
+            fail(name, "finite numbers")
+        return arr
+
+    def integer(name, low=0):
+        value = data[name]
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            fail(name, f"an integer >= {low}")
+        return value
+
+    def number(name, low=None):
+        value = data[name]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                or (low is not None and value < low):
+            fail(name, "a finite number" + (f" >= {low}" if low is not None else ""))
+        return float(value)
+
+    def text(name):
+        if not isinstance(data[name], str):
+            fail(name, "a string")
+        return data[name]
+
+    out = {}
+    if not isinstance(data["success"], bool):
+        fail("success", "true or false")
+    out["success"] = data["success"]
+    for name in ("reason", "backend", "object_name"):
+        out[name] = text(name)
+    if data["grasp"] not in ("precision", "power"):
+        fail("grasp", "'precision' or 'power'")
+    out["grasp"] = data["grasp"]
+    k = out["iterations"] = integer("iterations")
+    out["lp_solves"] = integer("lp_solves")
+    out["penetration"] = number("penetration", 0.0)
+    out["time_s"] = number("time_s", 0.0)
+    u = out["u"] = array("u", 1)
+    if len(u) < 7:
+        fail("u", "a configuration of 6 + n_syn >= 7 numbers")
+    out["trajectory"] = array("trajectory", 2)
+    if out["trajectory"].shape != (k + 1, len(u)):
+        fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}")
+    out["target"] = array("target", 1)
+    m = len(out["target"])
+    out["status"] = array("status", 2)
+    if out["status"].shape != (k + 1, m):
+        fail("status", f"of shape (iterations + 1, len(target)) = ({k + 1}, {m}), not {out['status'].shape}")
+    out["q_history"] = array("q_history", 1, finite=False)  # NaN: fewer than two contacts
+    if out["q_history"].shape != (k + 1,) or np.isinf(out["q_history"]).any():
+        fail("q_history", f"{k + 1} numbers (iterations + 1), NaN where there were fewer than two contacts")
+    labels = data["contact_labels"]
+    if not isinstance(labels, list) or not all(isinstance(lab, str) for lab in labels):
+        fail("contact_labels", "a list of strings")
+    out["contact_labels"] = labels
+    for name in ("contact_points", "contact_normals"):
+        out[name] = array(name, 2)
+        if out[name].shape != (len(labels), 3):
+            fail(name, f"of shape ({len(labels)}, 3), one row per contact label")
+    if not isinstance(data["options"], dict):
+        fail("options", "an object of planner settings")
+    out["options"] = data["options"]
+    attempts = data["attempts"]
+    if not isinstance(attempts, list):
+        fail("attempts", "a list of attempts")
+    for i, attempt in enumerate(attempts):
+        where = f"attempts[{i}]"
+        if not isinstance(attempt, dict):
+            raise ValueError(f"{path}: field '{where}' must be an object, got {type(attempt).__name__}")
+        iterations = attempt.get("iterations")
+        if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 0:
+            raise ValueError(f"{path}: field '{where}.iterations' must be an integer >= 0, got {iterations!r}")
+        if not isinstance(attempt.get("reason"), str):
+            raise ValueError(f"{path}: field '{where}.reason' must be a string, got {attempt.get('reason')!r}")
+        if "status" in attempt:
+            try:
+                trace = np.asarray(attempt["status"], dtype=float)
+            except (TypeError, ValueError):
+                trace = None
+            if trace is None or trace.shape != (iterations + 1, m):
+                raise ValueError(f"{path}: field '{where}.status' must be an array of shape "
+                                 f"(iterations + 1, len(target)) = ({iterations + 1}, {m})")
+    out["attempts"] = attempts
+    # the executable reach: empty without a grasp
+    pregrasp = out["pregrasp"] = array("pregrasp", 1, finite=False)  # NaN: no grasp
+    if pregrasp.shape != u.shape or np.isinf(pregrasp).any():
+        fail("pregrasp", f"{len(u)} numbers (a configuration like u), NaN when no grasp was found")
+    reach = array("path", 2) if np.size(data["path"]) else np.zeros((0, len(u)))
+    if reach.shape[1:] != (len(u),):
+        fail("path", f"an array of shape (p, len(u) = {len(u)})")
+    out["path"] = reach
+    out["clearance"] = array("clearance", 1)
+    if out["clearance"].shape != (len(reach),):
+        fail("clearance", f"{len(reach)} numbers, one per row of path")
+    if not isinstance(data["collision_free"], bool):
+        fail("collision_free", "true or false")
+    out["collision_free"] = data["collision_free"]
+    if not isinstance(data["reach"], dict):
+        fail("reach", "an object (the summary of the executable reach)")
+    out["reach"] = data["reach"]
+    return {name: out[name] for name in data}
