@@ -1,5 +1,7 @@
 """The executable reach: dense clearance checks, the repaired approach, and the plan's path, checked independently.
 
+Bad input of these entry points is in the catalogue (tests/catalogue.py).
+
 The independent reference is ``benchmarks/reach_sampling.py``: sample points on the capsule axes and
 the palm box's faces against the object's true mesh with trimesh (no fcl, no convex pieces).
 """
@@ -340,39 +342,6 @@ def test_a_plan_without_a_grasp_or_without_the_reach_has_no_path(tmp_path):
         sg.plan(so.ellipsoid(), "precision", executable_reach="yes")
 
 
-# ---------------------------------------------------------------------- bad input
-
-
-def test_bad_input_gets_clear_errors(plate):
-    obj, u = plate
-    with pytest.raises(TypeError, match="hand must be a SynergyHand"):
-        hand_clearance("hand", obj, u)
-    with pytest.raises(TypeError, match="obj must be a GraspObject"):
-        path_clearance(HAND, obj.mesh, [u])
-    with pytest.raises(ValueError, match=r"u must have shape \(8,\)"):
-        hand_clearance(HAND, obj, u[:7])
-    with pytest.raises(ValueError, match="u contains NaN"):
-        hand_clearance(HAND, obj, np.r_[u[:7], np.nan])
-    with pytest.raises(ValueError, match="path has points of dimension 7"):
-        path_clearance(HAND, obj, [u[:7]])
-    with pytest.raises(ValueError, match="path contains NaN"):
-        path_clearance(HAND, obj, [u, np.r_[u[:7], np.inf]])
-    with pytest.raises(ValueError, match="stop_below must be a number or one per shape"):
-        path_clearance(HAND, obj, [u], stop_below=[0.0, 1.0])
-    with pytest.raises(ValueError, match="resolution must be a finite number > 0"):
-        path_clearance(HAND, obj, [u], resolution=0.0)
-    with pytest.raises(ValueError, match=r"u_grasp must have shape \(8,\)"):
-        executable_reach(HAND, obj, u[:6])
-    with pytest.raises(ValueError, match="margin must be a finite number > 0"):
-        executable_reach(HAND, obj, u, margin=-1.0)
-    with pytest.raises(ValueError, match="budget must be an integer >= 1"):
-        executable_reach(HAND, obj, u, budget=0)
-    with pytest.raises(ValueError, match=r"openings must be fractions in \[0, 1\]"):
-        executable_reach(HAND, obj, u, openings=[0.5, 1.5])
-    with pytest.raises(ValueError, match="trajectory has points of dimension 3"):
-        executable_reach(HAND, obj, u, trajectory=np.zeros((4, 3)))
-
-
 # ---------------------------------------------------------------------- replayed in MuJoCo
 
 
@@ -386,19 +355,6 @@ def test_a_replayed_reach_leaves_the_object_where_a_path_through_it_does_not(pla
     through = np.array([u + [0.0, 0.0, -200.0, 0, 0, 0, 0, 0], u])  # up through the plate, hand closed
     knocked = sg.replay_reach(through, obj)
     assert knocked.first_contact == 1 and (knocked.moved_before_closed > 5.0 or knocked.turned_before_closed > 10.0)
-
-
-def test_replay_bad_input(plate):
-    obj, u = plate
-    capped = sg.plan(so.ellipsoid(), "precision", max_iter=3)
-    with pytest.raises(ValueError, match="no executable reach"):
-        sg.replay_reach(capped, so.ellipsoid())
-    with pytest.raises(ValueError, match="speed must be a finite number > 0"):
-        sg.replay_reach(np.array([u]), obj, speed=0.0)
-    with pytest.raises(ValueError, match="path has points of dimension 7"):
-        sg.replay_reach(np.zeros((2, 7)), obj)
-    with pytest.raises(TypeError, match="obj must be a GraspObject"):
-        sg.replay_reach(np.array([u]), obj.mesh)
 
 
 # ---------------------------------------------------------------------- the benchmark
