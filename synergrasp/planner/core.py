@@ -40,6 +40,7 @@ from .. import objects
 from .._checks import as_vector
 from ..hand import SynergyHand, rotation_xyz
 from ..lp import get_backend
+from .reach import executable_reach
 from .result import PlanResult
 from .status import capsule_rows, grasp_status
 from .step import limited_step
@@ -221,6 +222,11 @@ class PlannerOptions:
         distance as its row (`synergrasp.planner.status.capsule_rows`), so the
         step pushes that phalanx out. One fcl query per wrap iteration, paid
         only by the attempts that need it.
+    executable_reach : bool
+        Make the found grasp's executable reach (`executable_reach`, with
+        ``max_penetration`` as its tolerance): `PlanResult.path`, its
+        ``clearance``, ``pregrasp`` and ``collision_free``. False: no path
+        (the plan is a little faster).
     """
 
     eps_c: float = 5.0
@@ -252,6 +258,7 @@ class PlannerOptions:
     power_held_pass: bool = True
     power_sq_hold: float | None = -0.05
     power_capsule_rows: bool = True
+    executable_reach: bool = True
 
 
 def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
@@ -719,6 +726,8 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
         raise ValueError(f"power_sq_hold must be a finite number (a g_sQ value, e.g. -0.05) or None, got {opts.power_sq_hold!r}")
     if not isinstance(opts.power_capsule_rows, (bool, np.bool_)):
         raise ValueError(f"power_capsule_rows must be True or False, got {opts.power_capsule_rows!r}")
+    if not isinstance(opts.executable_reach, (bool, np.bool_)):
+        raise ValueError(f"executable_reach must be True or False, got {opts.executable_reach!r}")
     get_backend(backend)
     hand = hand or SynergyHand.default()
     if int(max_iter) < 1:
@@ -777,6 +786,7 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
         reason = f"no stable grasp found: {len(attempts)} attempt(s), last {attempts[-1]['reason']}"
     if len(attempts) > 1:
         reason += f"; {len(attempts)} attempts from different approach directions, {total} iterations in all"
+    reach = executable_reach(hand, obj, traj[-1], tolerance=opts.max_penetration) if success and opts.executable_reach else None
     return PlanResult(
         success=bool(success),
         reason=reason,
@@ -797,4 +807,5 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
         object_name=getattr(obj, "name", ""),
         options={k: list(v) if isinstance(v, tuple) else v for k, v in asdict(opts).items()},  # as JSON keeps them
         attempts=attempts,
+        **({} if reach is None else reach.plan_fields()),
     )
