@@ -24,7 +24,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
-from synergrasp.planner import check_grasp, grasp_status
+from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance
 
 
 @dataclass(frozen=True)
@@ -225,6 +225,24 @@ API = [
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
     Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
+    # ------------------------------------------------------------ the executable reach
+    Case("planner.hand_clearance", "a hand given by name", lambda tmp: hand_clearance("paper_hand", so.ellipsoid(), np.zeros(8)), TypeError, "hand must be a SynergyHand"),
+    Case("planner.hand_clearance", "u of 7 numbers", lambda tmp: hand_clearance(HAND, so.ellipsoid(), np.zeros(7)), ValueError, "u must have shape (8,)"),
+    Case("planner.hand_clearance", "a NaN u", lambda tmp: hand_clearance(HAND, so.ellipsoid(), np.full(8, np.nan)), ValueError, "u contains NaN or inf"),
+    Case("planner.path_clearance", "a trimesh for the object", lambda tmp: path_clearance(HAND, trimesh.creation.box(), [np.zeros(8)]), TypeError, "obj must be a GraspObject"),
+    Case("planner.path_clearance", "poses of 7 numbers", lambda tmp: path_clearance(HAND, so.ellipsoid(), np.zeros((2, 7))), ValueError, "path has points of dimension 7, expected 8"),
+    Case("planner.path_clearance", "an infinite pose", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8), np.r_[np.zeros(7), np.inf]]), ValueError, "path contains NaN or inf at rows [1]"),
+    Case("planner.path_clearance", "resolution = 0", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8)], resolution=0.0), ValueError, "resolution must be a finite number > 0"),
+    Case("planner.path_clearance", "stop_below of two numbers", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8)], stop_below=[0.0, 1.0]), ValueError, "stop_below must be a number or one per shape (16"),
+    Case("planner.executable_reach", "u_grasp of 6 numbers", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(6)), ValueError, "u_grasp must have shape (8,)"),
+    Case("planner.executable_reach", "a negative margin", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), margin=-1.0), ValueError, "margin must be a finite number > 0"),
+    Case("planner.executable_reach", "budget = 0", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), budget=0), ValueError, "budget must be an integer >= 1"),
+    Case("planner.executable_reach", "an opening of 1.5", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), openings=[0.5, 1.5]), ValueError, "openings must be fractions in [0, 1]"),
+    Case("planner.executable_reach", "a trajectory of points", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), trajectory=np.zeros((4, 3))), ValueError, "trajectory has points of dimension 3, expected 8"),
+    Case("sg.replay_reach", "a plan without a grasp", lambda tmp: sg.replay_reach(sg.plan("ellipsoid", max_iter=1), so.ellipsoid()), ValueError, "the result has no executable reach"),
+    Case("sg.replay_reach", "speed = 0", lambda tmp: sg.replay_reach([np.zeros(8)], so.ellipsoid(), speed=0.0), ValueError, "speed must be a finite number > 0"),
+    Case("sg.replay_reach", "a path of 7 columns", lambda tmp: sg.replay_reach(np.zeros((2, 7)), so.ellipsoid()), ValueError, "path has points of dimension 7, expected 8"),
+    Case("sg.replay_reach", "a trimesh for the object", lambda tmp: sg.replay_reach([np.zeros(8)], trimesh.creation.box()), TypeError, "obj must be a GraspObject"),
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),

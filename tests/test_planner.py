@@ -397,11 +397,17 @@ def test_a_failed_plan_says_why_its_attempts_ended(ellipsoid):
 def test_save_load_round_trip(goblet_plan, tmp_path):
     path = goblet_plan.save(tmp_path / "plan.json")
     back = PlanResult.load(path)
-    for name in ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals"):
+    arrays = ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals", "pregrasp", "path",
+              "clearance")
+    for name in arrays:
         np.testing.assert_array_equal(getattr(back, name), getattr(goblet_plan, name))
-    for name in ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend",
-                 "options", "attempts"):
+    assert back.surface_q == goblet_plan.surface_q
+    others = ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend", "options",
+              "attempts", "grasp", "object_name", "collision_free", "reach", "held")
+    for name in others:
         assert getattr(back, name) == getattr(goblet_plan, name)
+    assert set(arrays + others + ("surface_q",)) == set(PlanResult.__dataclass_fields__)  # every field is checked
+    assert len(goblet_plan.path) > 1 and goblet_plan.reach
 
 
 def test_first_iterations_agree_on_every_backend(hand):

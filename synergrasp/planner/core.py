@@ -6,7 +6,8 @@ directions with two pre-shapes), one attempt each (`run_attempt`), until an
 attempt ends in an accepted grasp (the paper's criterion, no phalanx too
 deep, force-closed with a margin on the object's true surface), or
 ``restarts`` attempts, ``max_iter`` iterations or ``time_limit`` seconds are
-spent. The returned reach is the successful attempt's (or the last one's).
+spent. The returned search trajectory is the successful attempt's (or the
+last one's); the motion to execute is the grasp's `executable_reach`.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from ..hand import SynergyHand
 from ..lp import get_backend
 from .attempt import Outcome, run_attempt
 from .options import GRASPS, PlannerOptions
+from .reach import executable_reach
 from .result import PlanResult
 from .starts import Start, start_configuration, starts
 
@@ -202,6 +204,8 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     if len(attempts) > 1:
         reason += f"; {len(attempts)} attempts, {total} iterations in all"
     chk, final = result.check, result.final
+    reach = executable_reach(hand, obj, result.trajectory[-1], tolerance=opts.max_penetration) \
+        if success and opts.executable_reach else None
     return PlanResult(
         success=bool(success),
         reason=reason,
@@ -224,6 +228,7 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         attempts=attempts,
         surface_q=result.surface.q if success else float("nan"),
         held=held if success else None,
+        **({} if reach is None else reach.plan_fields()),
     )
 
 

@@ -138,6 +138,11 @@ class PlannerOptions:
         Power grasps: once g_sQ is below this, the sQ row asks only to keep
         its value, and the palm and contact rows get the step. None: the
         moving target all the way.
+    executable_reach : bool
+        Make the found grasp's executable reach
+        (`synergrasp.planner.executable_reach`, with ``max_penetration`` as
+        its tolerance): `PlanResult.path`, its ``clearance``, ``pregrasp`` and
+        ``collision_free``. False: no path (the plan is a little faster).
     seed : int
         Seed of the random choices of a plan's starts (the surface samples of
         `pinch_seeds`): plans are deterministic.
@@ -189,6 +194,7 @@ class PlannerOptions:
     power_wide_preshape: tuple | None = (-1.0, 1.0)
     power_free_reach: bool = True
     power_sq_hold: float | None = -0.05
+    executable_reach: bool = True
     seed: int = 0
 
     def __post_init__(self):
@@ -221,6 +227,7 @@ class PlannerOptions:
         for name in ("power_preshape", "power_wide_preshape"):
             set_(self, name, _values(getattr(self, name), name, "one finite value per synergy"))
         set_(self, "power_free_reach", _flag(self.power_free_reach, "power_free_reach"))
+        set_(self, "executable_reach", _flag(self.executable_reach, "executable_reach"))
         set_(self, "power_sq_hold", _number(self.power_sq_hold, "power_sq_hold", -10.0, 10.0, allow_none=True))
         set_(self, "seed", _number(self.seed, "seed", 0, None, integer=True))
 
