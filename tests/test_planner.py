@@ -311,13 +311,14 @@ def test_an_attempt_whose_fingertips_never_reach_the_surface_ends(hand, ellipsoi
     assert run_attempt(hand, ellipsoid, "power", far, PlannerOptions(touch_window=5), budget=8).iterations == 8
 
 
-def test_refining_raises_the_margin():
+def test_refining_raises_the_margin(hand):
+    """The cup's first attempt meets the criterion with g_Q = -0.0000: refined, it is accepted with a margin."""
     cup = so.cup()
-    plain = plan(cup, "precision", refine_iterations=0)
-    refined = plan(cup, "precision")
-    verify(plain, cup)
-    verify(refined, cup)
-    assert refined.final_q < plain.final_q - 0.02
+    start = next(starts(hand, cup, "precision", PlannerOptions())).u
+    plain = run_attempt(hand, cup, "precision", start, PlannerOptions(refine_iterations=0))
+    refined = run_attempt(hand, cup, "precision", start, PlannerOptions())
+    assert plain.outcome is Outcome.SURFACE and plain.check.done and plain.check.q > -0.01
+    assert refined.success and refined.surface.q < -0.03 and refined.iterations > plain.iterations
 
 
 def test_the_sq_request_is_what_a_step_within_the_radius_can_give():
