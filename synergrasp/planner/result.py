@@ -36,9 +36,10 @@ class PlanResult:
         the iteration watches a few points per phalanx, and phalanges may
         pass through the object between them. The motion to execute is
         ``path``.
-    status : (k+1, 6) or (k+1, 17) float
-        Status vector g at every iteration: cP of each hand point (mm), then g_sQ.
-    target : (6,) or (17,) float
+    status : (k+1, n+1) float
+        Status vector g at every iteration: the cP rows (mm; 16 for the paper's
+        hand, see `synergrasp.planner.status.status_rows`), then g_sQ.
+    target : (n+1,) float
         Target status ``[0 ... 0, -1]``.
     q_history : (k+1,) float
         g_Q (Q distance of the real contacts) at every iteration; NaN with
@@ -65,11 +66,21 @@ class PlanResult:
         Planner settings used.
     attempts : list of dict
         Every attempt made, in order: ``start`` (its start configuration),
-        ``standoff`` (mm), ``pass`` (1, or 2 for the second pass over the
-        schedule), ``band`` (the contact band of a precision plan's second
-        pass, else None), ``iterations`` and ``reason`` (why it ended).
-        An attempt that stalls is followed by one from another approach
-        direction; the trajectory is the last one's.
+        ``kind`` (how the start was placed, `synergrasp.planner.Start`) and
+        its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
+        ``direction`` of a direction start), ``outcome`` (the name of its
+        `synergrasp.planner.Outcome`, lower case), ``reason`` (the outcome
+        in words), ``iterations`` and ``status`` (its status at every
+        iteration); with ``plan(..., validate=True)`` an accepted grasp's
+        ``held`` and ``physics`` (the validation's reason). The trajectory is the successful
+        attempt's, or the last one's.
+    surface_q : float
+        Q distance of the final contacts moved to the object's true surface,
+        with its normals there (`synergrasp.planner.stop.surface_check`): the
+        grasp's margin as accepted; NaN without a grasp.
+    held : bool or None
+        With ``plan(..., validate=True)``: whether the returned grasp held in
+        the physics validation (`synergrasp.validate`); None when not tested.
     pregrasp : (6 + n_syn,) float
         The first configuration of ``path``: the hand open and clear of the
         object (NaN when no grasp was found).
@@ -96,8 +107,8 @@ class PlanResult:
     --------
     >>> import synergrasp as sg
     >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision")
-    >>> result.success, result.grasp, result.contact_labels
-    (True, 'precision', ['T0', 'I0', 'R0', 'L0'])
+    >>> result.success, result.grasp, "T0" in result.contact_labels
+    (True, 'precision', True)
     >>> result.trajectory.shape == (result.iterations + 1, 8)
     True
     >>> bool(result.final_q < 0)         # the final contacts are force-closed
@@ -127,6 +138,8 @@ class PlanResult:
     object_name: str = ""
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
+    surface_q: float = math.nan
+    held: bool | None = None
     pregrasp: np.ndarray | None = None
     path: np.ndarray | None = None
     clearance: np.ndarray | None = None
@@ -279,6 +292,15 @@ def _validated(data: dict, path) -> dict:
     out["lp_solves"] = integer("lp_solves")
     out["penetration"] = number("penetration", 0.0)
     out["time_s"] = number("time_s", 0.0)
+    if "held" in data:
+        if data["held"] is not None and not isinstance(data["held"], bool):
+            fail("held", "true, false or null")
+        out["held"] = data["held"]
+    if "surface_q" in data:
+        value = data["surface_q"]
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or math.isinf(value)):
+            fail("surface_q", "a number, or NaN without a grasp")
+        out["surface_q"] = math.nan if value is None else float(value)
     u = out["u"] = array("u", 1)
     if len(u) < 7:
         fail("u", "a configuration of 6 + n_syn >= 7 numbers")
