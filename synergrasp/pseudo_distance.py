@@ -32,11 +32,7 @@ import numpy as np
 
 from . import lp
 from ._checks import as_points
-
-#: Relative tolerance deciding that an LP quantity is zero.
-ZERO_TOL = 1e-9
-#: Tolerance on primal weights and reduced costs in the degeneracy test.
-DEGENERACY_TOL = 1e-7
+from .tolerances import DEGENERACY_TOL, VALUE_TOL
 
 
 @lru_cache(maxsize=None)
@@ -158,8 +154,8 @@ class PseudoDistance:
     active: int
 
 
-class _Optimum(NamedTuple):
-    """What one solve of :func:`_pseudo_distance` found (internal, no derived arrays).
+class Optimum(NamedTuple):
+    """The LP optimum behind a pseudo-distance (:func:`optimum`), without derived arrays.
 
     ``dual`` (d,) is signed so that ``grad_a = -alpha[:, None] * dual`` and
     ``grad_b = beta[:, None] * dual``; the other fields are those of :class:`PseudoDistance`.
@@ -321,13 +317,8 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     """
     A = as_points(A, "A", min_dim=2)
     B = as_points(B, "B", dim=A.shape[1])
-    d = A.shape[1]
-    if simplex is None:
-        Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
-    else:
-        Q = check_simplex(simplex, d)
-        qmin = float(np.linalg.norm(Q, axis=1).min())
-    opt = _pseudo_distance(A, B, Q, qmin, lp.get_backend(backend))
+    Q = _regular_simplex(A.shape[1]) if simplex is None else check_simplex(simplex, A.shape[1])
+    opt = optimum(A, B, simplex=None if simplex is None else Q, backend=backend, checked=True)
     alpha, beta, dual = opt.alpha, opt.beta, opt.dual
     return PseudoDistance(
         value=opt.value,
@@ -346,26 +337,51 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     )
 
 
-def _pseudo_distance(A, B, Q, qmin, solver) -> _Optimum:
-    """The optimum behind :func:`pseudo_distance`, on validated input (finite float arrays).
+def optimum(A, B, *, simplex=None, backend="highs", checked=False) -> Optimum:
+    """The LP optimum behind :func:`pseudo_distance`: value, weights and duals, no derived arrays.
+
+    What :func:`pseudo_distance` and :func:`synergrasp.q_distance` build their
+    results from. Its gradients are ``grad_a = -alpha[:, None] * dual`` and
+    ``grad_b = beta[:, None] * dual``.
 
     Parameters
     ----------
-    A : (na, d) float ndarray
-    B : (nb, d) float ndarray
-    Q : (d+1, d) float ndarray
-        The simplex.
-    qmin : float
-        Smallest ``|q_k|``.
-    solver : synergrasp.lp.Backend
+    A : (na, d) array_like
+    B : (nb, d) array_like
+    simplex : (d+1, d) array_like, optional
+        Default ``regular_simplex(d)``.
+    backend : str or synergrasp.lp.Backend
+    checked : bool
+        ``A``, ``B`` and ``simplex`` are already validated finite float
+        arrays (a caller that checked them skips the checks).
 
     Returns
     -------
-    _Optimum
+    Optimum
+
+    Raises
+    ------
+    ValueError, synergrasp.lp.LPError
+        As :func:`pseudo_distance`.
+
+    Examples
+    --------
+    >>> opt = optimum([[0.0, 0.0]], [[0.0, -3.0]])
+    >>> opt.kind, round(opt.value, 9), opt.alpha.tolist(), opt.beta.tolist()
+    ('separation', 3.0, [1.0], [1.0])
     """
+    if not checked:
+        A = as_points(A, "A", min_dim=2)
+        B = as_points(B, "B", dim=A.shape[1])
     d = A.shape[1]
+    if simplex is None:
+        Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
+    else:
+        Q = simplex if checked else check_simplex(simplex, d)
+        qmin = float(np.linalg.norm(Q, axis=1).min())
+    solver = lp.get_backend(backend)
     coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
-    zero = ZERO_TOL * coord_scale * d / qmin
+    zero = VALUE_TOL * coord_scale * d / qmin
     lay = _layout(len(A), len(B), d)
 
     # The penetration LPs (Eq. 3) are all feasible exactly when the sets overlap or touch
@@ -403,7 +419,7 @@ def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
         return None
     x, y = sol.x, sol.y
     reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * y[lay.sep_rows], minlength=len(lay.sep_c))
-    return _Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
+    return Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
                     x[nq + na :], y[:d], -1)
 
 
@@ -428,5 +444,5 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
     ties = np.count_nonzero(values >= values[k] - zero) > 1
     reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
-    return _Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
+    return Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
                     x[1 + na :], -y[:d], k)

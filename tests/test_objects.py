@@ -7,7 +7,8 @@ from hypothesis import strategies as st
 
 import synergrasp as sg
 import synergrasp.objects as so
-from synergrasp.objects.proximity import MAX_LP_COLUMNS, cp_bounds
+from synergrasp.objects import facets
+from synergrasp.objects.contact_distance import cp_bounds, group_contact_distance
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -182,7 +183,7 @@ def test_cp_matches_core_pseudo_distance(goblet, backend):
         if not r.degenerate[i]:
             assert r.grad[i] == pytest.approx(best.grad_a[0], abs=1e-6)
     assert (r.value[-4:] < 0).all() and r.inside[-4:].all()
-    if backend not in MAX_LP_COLUMNS:  # all blocks in one LP
+    if sg.lp.get_backend(backend).max_columns is None:  # all blocks in one LP
         assert r.lp_solves == 1
 
 
@@ -214,8 +215,6 @@ def test_cp_gradients_match_finite_differences(goblet, ellipsoid, backend):
 
 def test_group_cp_is_the_group_minimum_and_warm_starts_change_nothing(backend):
     """`group_contact_distance`: the smallest cP of each group; warm starts from the last bases keep every value."""
-    from synergrasp.objects.proximity import group_contact_distance
-
     rng = np.random.default_rng(21)
     obj = so.goblet()
     pts = np.vstack([around(obj, 30, rng, gap=(-3, 25)), obj.center + rng.normal(size=(6, 3)) * 4])
@@ -230,7 +229,7 @@ def test_group_cp_is_the_group_minimum_and_warm_starts_change_nothing(backend):
             assert best[g] in rows and alone.value[best[g]] == pytest.approx(r.value[g], abs=1e-7)
             if not r.degenerate[g]:
                 assert r.grad[g] == pytest.approx(alone.grad[best[g]], abs=1e-6)
-    assert (len(obj._lp_bases.codes) > 0) == sg.lp.get_backend(backend).basis_hints  # only simplex backends use them
+    assert (len(obj.index.memory) > 0) == sg.lp.get_backend(backend).basis_hints  # only simplex backends use them
 
 
 def test_cp_rejects_bad_points(goblet):
@@ -384,10 +383,7 @@ def test_sq_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
     closed = obj.scaled_contacts(pts, backend=backend)
     if name != "cube":  # faces of these meshes are split into coplanar triangles
         assert closed.lp_solves == 0
-    from synergrasp.objects import proximity
-
-    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
-        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    monkeypatch.setattr(facets, "CLOSED_FORM", False)
     lp_only = obj.scaled_contacts(pts, backend=backend)
     assert lp_only.lp_solves >= 1
     assert closed.scale == pytest.approx(lp_only.scale, rel=1e-7)
@@ -405,10 +401,7 @@ def test_cp_penetration_closed_form_equals_the_lp(name, cube, goblet, backend, m
     pts = inside[obj.contains(inside)][:12]
     closed = obj.contact_distance(pts, backend=backend)
     assert closed.inside.all() and len(pts) >= 8
-    from synergrasp.objects import proximity
-
-    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
-        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    monkeypatch.setattr(facets, "CLOSED_FORM", False)
     lp_only = obj.contact_distance(pts, backend=backend)
     assert lp_only.lp_solves >= 1
     assert closed.value == pytest.approx(lp_only.value, abs=1e-7)

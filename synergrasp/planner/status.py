@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._vectors import unit_rows
-from ..objects.proximity import group_contact_distance
+from ..objects.contact_distance import group_contact_distance
 from ..quality import q_distance
 
 
@@ -90,7 +90,7 @@ def smoothed_normals(obj, x, pieces, length):
         s = (x[rows] @ a.T + offset) / length
         w = np.exp(s - s.max(axis=1, keepdims=True))
         w /= w.sum(axis=1, keepdims=True)
-        moments = w @ obj._normal_moments[k]  # the weighted n_f and n_f n_f^T in one product
+        moments = w @ obj.index.normal_moments[k]  # the weighted n_f and n_f n_f^T in one product
         m[rows] = moments[:, :3]
         dm[rows] = (moments[:, 3:].reshape(-1, 3, 3) - m[rows, :, None] * m[rows, None, :]) / length
     norm = np.linalg.norm(m, axis=1)
@@ -133,7 +133,7 @@ def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> Pa
     object reads as penetrating. Its derivative is that of the skin point
     attaining the minimum. Skin points whose lower bound of cP exceeds an
     upper bound of another point of the same segment cannot attain it and
-    are left out (`synergrasp.objects.proximity.group_contact_distance`,
+    are left out (`synergrasp.objects.contact_distance.group_contact_distance`,
     valid bounds, so the rows are unchanged); the rest and the palm point
     are one LP.
 
