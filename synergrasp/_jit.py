@@ -7,6 +7,18 @@ code is cached beside the module (``__pycache__``), so only the first
 process after an install or an edit pays the compilation. ``error_model =
 "numpy"`` makes a float division by zero give inf or NaN as in numpy, which
 the callers rely on (e.g. a ray parallel to a facet plane).
+
+Rules for kernels, for speed and for a sound cache:
+
+* a kernel calls only kernels of its own module: numba invalidates a cached
+  kernel when its source file changes, not when a kernel it calls in
+  another file does;
+* kernels allocate no arrays: the caller passes its outputs and scratch in
+  (allocations and returned tuples cost far more compilation time than the
+  loops);
+* a loop over part of an array runs over a slice from 0 (``sub =
+  planes[f0:f1]; for f in range(len(sub))``): ``range(f0, f1)`` compiles
+  to code several times slower.
 """
 
 from __future__ import annotations

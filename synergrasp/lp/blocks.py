@@ -2,7 +2,7 @@
 
 The geometry of `synergrasp.objects` asks many tiny LPs at once (one per hand
 point and convex piece, or per ray): 3 coordinate rows and one convexity row
-each. `BlockLP` stacks them into one block-diagonal LP, so that the solver's
+each. `solve_blocks` stacks them (`Blocks`) into one block-diagonal LP, so that the solver's
 per-call overhead is paid once; the blocks are independent, so each block's
 optimum and duals are exactly those of the LP on its own. `BasisMemory`
 keeps, per block key, the columns that were basic at the block's last
@@ -10,6 +10,8 @@ optimum, and hands them to backends with ``basis_hints`` as a warm start.
 """
 
 from __future__ import annotations
+
+from typing import NamedTuple
 
 import numpy as np
 
@@ -22,44 +24,139 @@ ROWS = 4  # 3 coordinate rows + 1 convexity row per block
 MEMORY_SIZE = 20000
 
 
-class BlockLP:
-    """Independent 4-row LP blocks, solved together as one block-diagonal LP.
+class Blocks(NamedTuple):
+    """Independent 4-row LP blocks, described flat (block b: its lead columns, then its vertex columns).
 
-    Blocks come in batches. Every block of a batch has the same ``L`` lead
-    columns (entries in the 3 coordinate rows only, costs ``cost``), followed
-    by one column per vertex v of the block's own vertex list (entries
-    ``sign * v`` in the coordinate rows, 1 in the convexity row, cost 0); the
-    right-hand side is ``[h, 1]``: ``lead x_L + sign V^T x_V = h``,
-    ``sum x_V = 1``.
-
-    Each block is written relative to an origin o (the hand point, or the
-    object's centre): subtracting ``sign * o`` times the convexity row from
-    the coordinate rows gives entries ``sign * (v - o)`` and right-hand side
-    ``h - sign * o``. That is a row operation: the primal solution and the
-    duals of the coordinate rows are unchanged, and the LP data become
-    distances rather than coordinates (better conditioned).
-
-    For a backend without ``vertex_solutions`` (an interior-point method),
-    each block is then polished onto its optimal basis: the 4 columns with
-    the largest values form a basis B; if ``B x = b`` and ``B^T y = c_B``
-    give a primal and dual feasible pair (reduced costs >= 0), that exact
-    vertex solution replaces the solver's. Such backends then agree with the
-    simplex to round-off, and the derivatives are the exact ones of the basis.
-
-    With a `BasisMemory` (``memory``), every block carries a key (``add``'s
-    ``keys``, its vertices their indices ``ids``): the LP starts from the
-    columns that were basic at the last optimum of a block with the same key
-    (for a backend with ``basis_hints``), and the memory is then updated.
-
-    Parameters
-    ----------
-    memory : BasisMemory, optional
+    Block b reads ``lead x_L + sign_b (V_b - o_b)^T x_V = h_b - sign_b o_b``,
+    ``sum x_V = 1``, ``x >= 0``, minimising ``cost . x_L``: its ``n_lead[b]``
+    lead columns have entries in the 3 coordinate rows only; its
+    ``n_vert[b]`` vertex columns are the points ``table[ids]`` of its vertex
+    list, with entries ``sign_b * (v - o_b)`` in the coordinate rows and 1 in
+    the convexity row. Writing each block relative to its origin o_b (the
+    hand point, or the object's centre) subtracts ``sign_b o_b`` times the
+    convexity row from the coordinate rows: a row operation, so the primal
+    solution and the duals of the coordinate rows are those of
+    ``lead x_L + sign_b V_b^T x_V = h_b``, and the LP data are distances
+    rather than coordinates (better conditioned).
 
     Attributes
     ----------
+    n_lead : (B,) int64
+    lead : (sum(n_lead), 3) float
+        Coordinate entries of the lead columns, block by block.
+    cost : (sum(n_lead),) float
+        Costs of the lead columns (vertex columns cost 0).
+    n_vert : (B,) int64
+        Vertices per block (each >= 1).
+    table : (V, 3) float
+        The points the vertex lists index.
+    ids : (sum(n_vert),) int64
+        The blocks' vertex lists, concatenated: rows of ``table``. They are
+        also the vertex columns' identities in a `BasisMemory`.
+    sign : (B,) float
+        +1 or -1, the sign of each block's vertex entries.
+    origin : (B, 3) float
+    rhs : (B, 3) float
+        Right-hand sides h of the coordinate rows.
+    keys : (B,) int64 or None
+        Block keys for a `BasisMemory` (needed when there is one).
+    """
+
+    n_lead: np.ndarray
+    lead: np.ndarray
+    cost: np.ndarray
+    n_vert: np.ndarray
+    table: np.ndarray
+    ids: np.ndarray
+    sign: np.ndarray
+    origin: np.ndarray
+    rhs: np.ndarray
+    keys: np.ndarray | None = None
+
+    @classmethod
+    def uniform(cls, lead, cost, table, ids, counts, sign, rhs, origin, keys=None) -> "Blocks":
+        """B blocks that share their lead columns' count and costs and the sign of their vertex entries.
+
+        Parameters
+        ----------
+        lead : (B, L, 3) or (L, 3) float
+            Coordinate entries of the lead columns (the same for every block if 2-D).
+        cost : (L,) float
+        table : (V, 3) float
+        ids : (sum(counts),) int
+        counts : (B,) int
+        sign : float
+        rhs : (B, 3) float
+        origin : (B, 3) or (3,) float
+        keys : (B,) int, optional
+        """
+        counts = np.asarray(counts, dtype=np.int64)
+        B, lead = len(counts), np.asarray(lead, dtype=float)
+        L = lead.shape[-2]
+        return cls(np.full(B, L, dtype=np.int64), np.ascontiguousarray(np.broadcast_to(lead, (B, L, 3)).reshape(-1, 3)),
+                   np.tile(np.asarray(cost, dtype=float), B), counts, np.ascontiguousarray(table, dtype=float),
+                   np.asarray(ids, dtype=np.int64), np.full(B, float(sign)),
+                   np.ascontiguousarray(np.broadcast_to(origin, (B, 3)), dtype=float),
+                   np.ascontiguousarray(np.broadcast_to(rhs, (B, 3)), dtype=float),
+                   None if keys is None else np.asarray(keys, dtype=np.int64))
+
+
+class BlockSolution(NamedTuple):
+    """The optimum of every block of a `Blocks` LP (`solve_blocks`).
+
+    Attributes
+    ----------
+    lead_x : (sum(n_lead),) float
+        The lead variables, block by block.
+    witness : (B, 3) float
+        The point ``sum_v x_v v`` of each block.
+    y : (B, 3) float
+        Duals of each block's coordinate rows.
+    degenerate : (B,) bool
+        The optimum has fewer than 4 positive variables, so the duals may
+        not be unique. (Several primal optima, a face of the vertices
+        parallel to the lead columns' cone, leave y unique and are not flagged.)
     lp_solves : int
-        Solver calls made by the last `solve` (1, more for a backend with
-        ``max_columns`` below the LP's width).
+        Solver calls made (1, more for a backend with ``max_columns`` below the LP's width).
+    """
+
+    lead_x: np.ndarray
+    witness: np.ndarray
+    y: np.ndarray
+    degenerate: np.ndarray
+    lp_solves: int
+
+
+def solve_blocks(solver, blocks: Blocks, memory: BasisMemory | None = None, what: str = "block") -> BlockSolution:
+    """Solve independent 4-row LP blocks together as one block-diagonal LP.
+
+    One LP for all blocks, so that the solver's per-call overhead is paid
+    once (a few LPs for a backend with ``max_columns``); the blocks are
+    independent, so each block's optimum and duals are exactly those of the
+    LP on its own. For a backend without ``vertex_solutions`` (an
+    interior-point method), each block is then polished onto its optimal
+    basis (`polish`): such backends then agree with the simplex to
+    round-off, and the derivatives are the exact ones of the basis. With a
+    `BasisMemory`, the LP starts from the columns that were basic at the last
+    optimum of a block with the same key (for a backend with
+    ``basis_hints``), and the memory is then updated.
+
+    Parameters
+    ----------
+    solver : synergrasp.lp.Backend
+    blocks : Blocks
+    memory : BasisMemory, optional
+    what : str
+        Name of the LP in error messages.
+
+    Returns
+    -------
+    BlockSolution
+
+    Raises
+    ------
+    synergrasp.lp.LPError
+        If the backend does not solve the LP to optimality.
 
     Examples
     --------
@@ -74,153 +171,82 @@ class BlockLP:
     >>> from synergrasp.lp import get_backend
     >>> cube = np.array(list(itertools.product([-10.0, 10.0], repeat=3)))
     >>> p = np.array([[0.0, 0.0, 25.0]])
-    >>> blocks = BlockLP()
-    >>> batch = blocks.add(regular_simplex(3)[None], np.ones(4), cube, [8], -1.0, -p, p)
-    >>> lead_x, witness, y, degenerate = blocks.solve(get_backend("highs"), "cP")[batch]
-    >>> round(float(lead_x.sum()), 9), float(witness[0, 2])
+    >>> blocks = Blocks.uniform(regular_simplex(3), np.ones(4), cube, np.arange(8), [8], -1.0, -p, p)
+    >>> sol = solve_blocks(get_backend("highs"), blocks, what="cP")
+    >>> round(float(sol.lead_x.sum()), 9), float(sol.witness[0, 2])
     (15.0, 10.0)
     """
-
-    def __init__(self, memory: BasisMemory | None = None):
-        self.batches = []
-        self.lp_solves = 0
-        self.memory = memory
-        self.keys, self.ids = [], []
-
-    def add(self, lead, cost, vertices, counts, sign, rhs, origin, keys=None, ids=None) -> int:
-        """Add a batch of B blocks; returns the batch index.
-
-        Parameters
-        ----------
-        lead : (B, L, 3) float
-            Coordinate entries of the lead columns of each block.
-        cost : (L,) float
-            Costs of the lead columns.
-        vertices : (sum(counts), 3) float
-            The blocks' vertex lists, concatenated in block order.
-        counts : (B,) int
-            Vertices per block (each >= 1).
-        sign : float
-            +1 or -1, the sign of the vertex entries.
-        rhs : (B, 3) float
-            Right-hand sides h of the coordinate rows.
-        origin : (B, 3) or (3,) float
-            Origin o of each block.
-        keys : (B,) int, optional
-            Block keys for the memory (needed when there is one).
-        ids : (sum(counts),) int, optional
-            An identity of each vertex within its key's blocks (needed when there is a memory).
-        """
-        counts = np.asarray(counts, dtype=np.int64)
-        origin = np.ascontiguousarray(np.broadcast_to(origin, (len(counts), 3)), dtype=float)
-        lead = np.ascontiguousarray(np.broadcast_to(lead, (len(counts),) + np.shape(lead)[-2:]), dtype=float)
-        self.batches.append((lead, np.asarray(cost, dtype=float), np.ascontiguousarray(vertices, dtype=float), counts,
-                             float(sign), np.asarray(rhs, dtype=float), origin))
-        self.keys.append(keys)
-        self.ids.append(ids)
-        return len(self.batches) - 1
-
-    def solve(self, solver, what: str):
-        """Solve all blocks as one LP (or a few, for a backend with ``max_columns``).
-
-        Parameters
-        ----------
-        solver : synergrasp.lp.Backend
-        what : str
-            Name of the LP in error messages.
-
-        Returns
-        -------
-        list of (lead_x, witness, y, degenerate) per batch
-            ``lead_x`` (B, L) the lead variables, ``witness`` (B, 3) the
-            point ``sum_v x_v v``, ``y`` (B, 3) the duals of the coordinate
-            rows, ``degenerate`` (B,) bool: the optimum has fewer than 4
-            positive variables, so the duals may not be unique. (Several
-            primal optima, a face of the vertices parallel to the lead
-            columns' cone, leave y unique and are not flagged.)
-
-        Raises
-        ------
-        synergrasp.lp.LPError
-            If the backend does not solve the LP to optimality.
-        """
-        batches = self.batches
-        n_lead = np.concatenate([np.full(len(b[3]), b[0].shape[1], dtype=np.int64) for b in batches])
-        n_vert = np.concatenate([b[3] for b in batches])
-        lead = np.concatenate([b[0].reshape(-1, 3) for b in batches])
-        cost = np.concatenate([np.tile(b[1], len(b[3])) for b in batches])
-        vertices = np.concatenate([b[2] for b in batches])
-        sign = np.concatenate([np.full(len(b[3]), b[4]) for b in batches])
-        origin = np.concatenate([b[6] for b in batches])
-        rhs = np.ones((len(n_lead), ROWS))
-        rhs[:, :3] = np.concatenate([b[5] for b in batches]) - sign[:, None] * origin
-        start = np.concatenate([[0], np.cumsum(n_lead + n_vert)])
-        nnz = 3 * len(lead) + ROWS * len(vertices)
-        indptr, indices, data, c = np.empty(start[-1] + 1, dtype=np.int32), np.empty(nnz, dtype=np.int32), np.empty(nnz), np.empty(start[-1])
-        nnz = _assemble(n_lead, lead, cost, n_vert, vertices, sign, origin, start, indptr, indices, data, c)
-        indices, data = indices[:nnz], data[:nnz]
-        n_blocks, n_cols = len(n_lead), int(start[-1])
-        hint = None
-        if self.memory is not None:
-            keys = np.concatenate(self.keys)
-            colid = _column_ids(start, n_lead, np.concatenate(self.ids).astype(np.int64))
-            block_keys = np.repeat(keys, start[1:] - start[:-1])
-            hint = self.memory.basic(block_keys, colid)
-        limit = solver.max_columns or n_cols
-        x, y = np.empty(n_cols), np.empty((n_blocks, ROWS))
+    n_lead, n_vert = blocks.n_lead, blocks.n_vert
+    n_blocks = len(n_lead)
+    start = np.empty(n_blocks + 1, dtype=np.int64)
+    start[0] = 0
+    np.cumsum(n_lead + n_vert, out=start[1:])
+    n_cols = int(start[-1])
+    nnz = 3 * len(blocks.lead) + ROWS * len(blocks.ids)
+    indptr, indices, data = np.empty(n_cols + 1, dtype=np.int32), np.empty(nnz, dtype=np.int32), np.empty(nnz)
+    c, rhs, codes = np.empty(n_cols), np.empty((n_blocks, ROWS)), np.empty(n_cols, dtype=np.int64)
+    keys = np.zeros(n_blocks, dtype=np.int64) if blocks.keys is None else blocks.keys
+    nnz = _assemble(n_lead, blocks.lead, blocks.cost, n_vert, blocks.table, blocks.ids, blocks.sign, blocks.origin,
+                    blocks.rhs, keys, BasisMemory.SPAN, start, indptr, indices, data, c, rhs, codes)
+    hint = None if memory is None else memory.basic(codes)
+    limit = solver.max_columns or n_cols
+    if limit >= n_cols:
+        x, y, lp_solves = _solve_one(solver, c, CSC(indptr, indices[:nnz], data[:nnz], (ROWS * n_blocks, n_cols)),
+                                     rhs.ravel(), hint, what)
+        y = y.reshape(-1, ROWS)
+    else:
+        x, y, lp_solves = np.empty(n_cols), np.empty((n_blocks, ROWS)), 0
         first = 0
-        self.lp_solves = 0
-        while first < n_blocks:  # one LP for all blocks, or a few for a backend with a column limit
+        while first < n_blocks:  # a few LPs for a backend with a column limit
             last = first + max(1, int(np.searchsorted(start[first + 1:], start[first] + limit, side="right")))
             c0, c1 = int(start[first]), int(start[last])
             A = CSC(indptr[c0:c1 + 1] - indptr[c0], indices[indptr[c0]:indptr[c1]] - np.int32(ROWS * first),
                     data[indptr[c0]:indptr[c1]], (ROWS * (last - first), c1 - c0))
-            b = rhs[first:last].ravel()
-            if hint is None:
-                sol = solver.solve(c[c0:c1], A, b)
-            else:
-                sol = solver.solve(c[c0:c1], A, b, basic=hint[c0:c1])
-            self.lp_solves += 1
-            if not sol.optimal:
-                raise LPError(
-                    f"the {what} LP was not solved: backend {sol.backend!r} returned status "
-                    f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
-                )
-            x[c0:c1], y[first:last] = sol.x, sol.y.reshape(-1, ROWS)
+            x[c0:c1], part, _ = _solve_one(solver, c[c0:c1], A, rhs[first:last].ravel(),
+                                           None if hint is None else hint[c0:c1], what)
+            y[first:last] = part.reshape(-1, ROWS)
+            lp_solves += 1
             first = last
-        if not solver.vertex_solutions:  # a simplex's solution is already basic and exact
-            polish(indptr, indices, data, c, rhs, x, y, start)
-        if self.memory is not None:
-            self.memory.remember(block_keys, colid, x > 0.0)
-        degenerate, witness, lead_x = np.empty(n_blocks, dtype=bool), np.zeros((n_blocks, 3)), np.empty(len(lead))
-        _results(x, start, n_lead, vertices, DEGENERACY_TOL, degenerate, witness, lead_x)
-        out, first, lead_first = [], 0, 0
-        for b in batches:
-            B, L = len(b[3]), b[0].shape[1]
-            part = slice(first, first + B)
-            out.append((lead_x[lead_first:lead_first + B * L].reshape(B, L), witness[part], y[part, :3], degenerate[part]))
-            first, lead_first = first + B, lead_first + B * L
-        return out
+    if not solver.vertex_solutions:  # a simplex's solution is already basic and exact
+        polish(indptr, indices[:nnz], data[:nnz], c, rhs, x, y, start)
+    if memory is not None:
+        memory.remember(codes, x > 0.0)
+    degenerate, witness, lead_x = np.empty(n_blocks, dtype=bool), np.zeros((n_blocks, 3)), np.empty(len(blocks.lead))
+    _results(x, start, n_lead, blocks.table, blocks.ids, DEGENERACY_TOL, degenerate, witness, lead_x)
+    return BlockSolution(lead_x, witness, y[:, :3], degenerate, lp_solves)
+
+
+def _solve_one(solver, c, A, b, hint, what):
+    sol = solver.solve(c, A, b) if hint is None else solver.solve(c, A, b, basic=hint)
+    if not sol.optimal:
+        raise LPError(
+            f"the {what} LP was not solved: backend {sol.backend!r} returned status "
+            f"{sol.status!r} ({sol.message}). Try another backend (sg.lp.available_backends())."
+        )
+    return sol.x, sol.y, 1
 
 
 @kernel
-def _assemble(n_lead, lead, cost, n_vert, vertices, sign, origin, start, indptr, indices, data, c):
-    """The block-diagonal LP in compressed-column form, into ``indptr``, ``indices``, ``data`` and ``c``; returns nnz.
+def _assemble(n_lead, lead, cost, n_vert, table, ids, sign, origin, h, keys, span, start, indptr, indices, data, c,
+              rhs, codes):
+    """The block-diagonal LP in compressed-column form; returns the number of entries.
 
-    Block b (columns ``start[b] ... start[b+1] - 1``) has ``n_lead[b]`` lead
-    columns (entries ``lead`` in its coordinate rows, zeros left out, costs
-    ``cost``) then ``n_vert[b]`` vertex columns (entries
-    ``sign[b] * (v - origin[b])``, zeros left out, and 1 in its convexity
-    row; cost 0).
+    Fills ``indptr``, ``indices``, ``data`` (zeros left out), the costs
+    ``c``, the right-hand side ``rhs`` (B, 4) and each column's memory code
+    ``key * span + column id + 8`` (lead columns have ids -1, -2, ...,
+    vertex columns their row in ``table``).
     """
-    n_blocks = len(n_lead)
-    n_cols = start[n_blocks]
     col, nnz, li, vi = 0, 0, 0, 0
-    for b in range(n_blocks):
+    for b in range(len(n_lead)):
         row0 = ROWS * b
-        for _ in range(n_lead[b]):
+        s = sign[b]
+        for r in range(3):
+            rhs[b, r] = h[b, r] - s * origin[b, r]
+        rhs[b, 3] = 1.0
+        for j in range(n_lead[b]):
             indptr[col] = nnz
             c[col] = cost[li]
+            codes[col] = keys[b] * span + 7 - j
             for r in range(3):
                 if lead[li, r] != 0.0:
                     indices[nnz] = row0 + r
@@ -228,44 +254,32 @@ def _assemble(n_lead, lead, cost, n_vert, vertices, sign, origin, start, indptr,
                     nnz += 1
             li += 1
             col += 1
-        s = sign[b]
         for _ in range(n_vert[b]):
+            v = ids[vi]
             indptr[col] = nnz
+            c[col] = 0.0
+            codes[col] = keys[b] * span + v + 8
             for r in range(3):
-                value = s * (vertices[vi, r] - origin[b, r])
+                value = s * (table[v, r] - origin[b, r])
                 if value != 0.0:
                     indices[nnz] = row0 + r
                     data[nnz] = value
                     nnz += 1
             indices[nnz] = row0 + 3
             data[nnz] = 1.0
-            c[col] = 0.0
             nnz += 1
             vi += 1
             col += 1
-    indptr[n_cols] = nnz
+    indptr[col] = nnz
     return nnz
 
 
-def _column_ids(start, n_lead, vertex_ids):
-    """(n,) int64: each column's identity within its block: lead columns -1, -2, ..., vertex columns their vertex id."""
-    n_cols = int(start[-1])
-    block_of = np.repeat(np.arange(len(n_lead)), start[1:] - start[:-1])
-    offset = np.arange(n_cols) - start[block_of]
-    is_lead = offset < n_lead[block_of]
-    colid = np.empty(n_cols, dtype=np.int64)
-    colid[is_lead] = -offset[is_lead] - 1
-    colid[~is_lead] = vertex_ids
-    return colid
-
-
 @kernel
-def _results(x, start, n_lead, vertices, tol, degenerate, witness, lead_x):
+def _results(x, start, n_lead, table, ids, tol, degenerate, witness, lead_x):
     """Per block, into the last three (``witness`` zero on entry): degenerate (fewer than 4 clearly positive
     variables), the witness ``sum_v x_v v``, the lead variables."""
-    n_blocks = len(n_lead)
     li, vi = 0, 0
-    for b in range(n_blocks):
+    for b in range(len(n_lead)):
         c0, c1 = start[b], start[b + 1]
         xmax = 0.0
         for j in range(c0, c1):
@@ -280,8 +294,9 @@ def _results(x, start, n_lead, vertices, tol, degenerate, witness, lead_x):
             lead_x[li] = x[c0 + j]
             li += 1
         for j in range(c0 + n_lead[b], c1):
+            v = ids[vi]
             for r in range(3):
-                witness[b, r] += x[j] * vertices[vi, r]
+                witness[b, r] += x[j] * table[v, r]
             vi += 1
 
 
@@ -328,18 +343,20 @@ def polish(indptr, indices, data, c, rhs, x, y, start):
 
 
 class BasisMemory:
-    """The basic columns of LP blocks at their last optimum, by block key (warm starts of `BlockLP`).
+    """The basic columns of LP blocks at their last optimum, by block key (warm starts of `solve_blocks`).
 
-    Each (block key, column id) pair that was basic is kept as one integer
-    ``key * SPAN + column id + 8`` (lead columns have ids -1, -2, ...,
-    vertex columns their vertex index) in a sorted array, so that looking up
-    and updating the blocks of a whole LP is a few vectorised set operations.
+    A column is coded as one integer ``key * SPAN + column id + 8`` (lead
+    columns have ids -1, -2, ..., vertex columns their vertex index); the
+    codes of the columns that were basic are kept in a sorted array, so that
+    looking up and updating the blocks of a whole LP is a few vectorised set
+    operations.
 
     Examples
     --------
     >>> memory = BasisMemory()
-    >>> memory.remember(np.array([7, 7, 7]), np.array([-1, 4, 9]), np.array([True, False, True]))
-    >>> memory.basic(np.array([7, 7, 8]), np.array([-1, 4, -1])).tolist()
+    >>> span = BasisMemory.SPAN
+    >>> memory.remember(7 * span + np.array([7, 12, 17]), np.array([True, False, True]))
+    >>> memory.basic(np.array([7, 7, 8]) * span + np.array([7, 12, 7])).tolist()
     [True, False, False]
     """
 
@@ -352,15 +369,15 @@ class BasisMemory:
         """Number of (block, column) pairs kept."""
         return len(self.codes)
 
-    def basic(self, keys, colid):
-        """(n,) bool: the columns (block key ``keys`` (n,), id ``colid`` (n,)) basic at their block's last optimum."""
-        return _members(keys * self.SPAN + colid + 8, self.codes)
+    def basic(self, codes):
+        """(n,) bool: the columns (``codes`` (n,) int) basic at their block's last optimum."""
+        return _members(codes, self.codes)
 
-    def remember(self, keys, colid, basic):
-        """Replace what is kept of the blocks in ``keys`` (n,) by their columns ``basic`` (n,) bool."""
+    def remember(self, codes, basic):
+        """Replace what is kept of the blocks of ``codes`` (n,) by their columns ``basic`` (n,) bool."""
         old = self.codes if len(self.codes) <= 4 * MEMORY_SIZE else self.codes[:0]
-        stale = _members(old // self.SPAN, np.unique(keys))
-        self.codes = np.sort(np.concatenate([old[~stale], keys[basic] * self.SPAN + colid[basic] + 8]))
+        stale = _members(old // self.SPAN, np.unique(codes // self.SPAN))
+        self.codes = np.sort(np.concatenate([old[~stale], codes[basic]]))
 
 
 def _members(values, sorted_set):

@@ -109,6 +109,8 @@ class PieceIndex:
         The facet planes ``[n, o]`` of all pieces, piece by piece (F facets in all).
     plane_start : (J+1,) int64
         Piece j's planes are rows ``plane_start[j] ... plane_start[j+1] - 1``.
+    facet_counts : (J,) int64
+        Facets of each piece.
     vertices : (V, 3) float
         The vertices of all pieces, piece by piece.
     facet_vertices : (F, 3) int64
@@ -139,8 +141,8 @@ class PieceIndex:
     def __init__(self, pieces):
         self.pieces = tuple(pieces)
         self.planes = np.ascontiguousarray(np.vstack([p.planes for p in self.pieces]))
-        counts = np.array([len(p.planes) for p in self.pieces])
-        self.plane_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        self.facet_counts = np.array([len(p.planes) for p in self.pieces], dtype=np.int64)
+        self.plane_start = np.concatenate([[0], np.cumsum(self.facet_counts)]).astype(np.int64)
         self.vertices = np.ascontiguousarray(np.vstack([p.vertices for p in self.pieces]))
         offsets = np.cumsum([0] + [len(p.vertices) for p in self.pieces[:-1]])
         self.facet_vertices = np.ascontiguousarray(np.vstack([p.facets + o for p, o in zip(self.pieces, offsets)]),
@@ -157,7 +159,7 @@ class PieceIndex:
         self._members = np.ascontiguousarray(members)
         self._cluster_support = np.ascontiguousarray(members.max(axis=1))  # (C, 4)
         self.memory = BasisMemory()
-        for a in (self.planes, self.plane_start, self.vertices, self.facet_vertices, self.facet_q, self.facet_nq,
+        for a in (self.planes, self.plane_start, self.facet_counts, self.vertices, self.facet_vertices, self.facet_q, self.facet_nq,
                   self.facet_reach, self.facet_mq, self.support):
             a.setflags(write=False)
 
@@ -301,9 +303,10 @@ def _plane_bounds(P, planes, plane_start, out):
     for i in range(n):
         x, y, z = P[i, 0], P[i, 1], P[i, 2]
         for j in range(J):
+            sub = planes[plane_start[j]:plane_start[j + 1]]
             best = -np.inf
-            for f in range(plane_start[j], plane_start[j + 1]):
-                best = max(best, x * planes[f, 0] + y * planes[f, 1] + z * planes[f, 2] + planes[f, 3])
+            for f in range(len(sub)):
+                best = max(best, x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3])
             out[i, j] = best
 
 
@@ -347,10 +350,12 @@ def _probe(P, Q, members, cluster_support, support, planes, plane_start, reach, 
             if J > 1 and max(s, 0.0) > reach_bound:  # cannot be the minimiser, nor contain the point
                 continue
             x, y, z = P[i, 0], P[i, 1], P[i, 2]
+            f0, f1 = plane_start[j], plane_start[j + 1]
+            sub, rf = planes[f0:f1], reach[f0:f1]  # loops from 0 over slices compile to much faster code
             smax, gmax = -np.inf, -np.inf
-            for f in range(plane_start[j], plane_start[j + 1]):
-                v = x * planes[f, 0] + y * planes[f, 1] + z * planes[f, 2] + planes[f, 3]
+            for f in range(f1 - f0):
+                v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
                 smax = max(smax, v)
-                gmax = max(gmax, v * reach[f])
+                gmax = max(gmax, v * rf[f])
             S[i, j] = smax
             lower[i, j] = max(max(gmax, 0.0), s)

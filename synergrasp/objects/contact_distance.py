@@ -31,11 +31,10 @@ import numpy as np
 
 from .. import lp
 from .._checks import as_points
-from .._vectors import unit_rows
-from ..lp.blocks import BlockLP
-from ..tolerances import VALUE_TOL
+from ..lp.blocks import Blocks, solve_blocks
+from ..tolerances import DEGENERACY_TOL, VALUE_TOL
+from . import facets
 from .broad_phase import SIMPLEX, Probe
-from .facets import pick_rows, ray_exits, separation_blocks
 
 
 @dataclass(frozen=True)
@@ -227,74 +226,47 @@ def _solve(obj, probe: Probe, solver, ids=None) -> ContactDistance:
     last optimal bases (`synergrasp.lp.blocks.BasisMemory` of the object's index).
     """
     index = obj.index
-    P, PQ, S = probe.P, probe.PQ, probe.S
-    n, n_pieces = len(P), index.n_pieces
+    P, n, n_pieces = probe.P, len(probe.P), index.n_pieces
     cand, bound = index.candidates(probe)
     memory = index.memory if ids is not None and solver.basis_hints else None
-    blocks = BlockLP(memory)
-    batches = []  # (batch index, points, pieces, separation?)
-    done = []  # penetration rays in closed form: (points, piece, value, y, witness)
-
-    # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
-    pieces, rows = np.divmod(np.flatnonzero((cand & (S > 0.0)).T), n)  # pairs by piece, then point
-    if len(rows):
-        used, counts, vid = separation_blocks(index, P, PQ, bound, rows, pieces)
-        rows, pieces = rows[used], pieces[used]
-        keys = None if memory is None else (ids[rows] * n_pieces + pieces) * 5
-        lead = np.broadcast_to(SIMPLEX, (len(rows), 4, 3))
-        batch = blocks.add(lead, np.ones(4), index.vertices[vid], counts, -1.0, -P[rows], P[rows], keys, vid)
-        batches.append((batch, rows, pieces, True))
-    # penetration (Eq. 3) for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1
-    pieces, rows = np.divmod(np.flatnonzero((cand & (S <= 0.0)).T), n)
-    if len(rows):  # the optimum is where the ray p - rho q_k leaves the piece: one ray per pair and k, by piece, k, point
-        m = len(rows)
-        order = np.lexsort((np.tile(rows, 4), np.repeat(np.arange(4), m), np.tile(pieces, 4)))
-        rows, pieces, k = np.tile(rows, 4)[order], np.tile(pieces, 4)[order], np.repeat(np.arange(4), m)[order]
-        closed, t, y, counts, vid = ray_exits(index, P[rows], -SIMPLEX[k], pieces)
-        if closed.any():
-            r, tc = rows[closed], t[closed]
-            done.append((r, pieces[closed], -tc, -y[closed], P[r] - tc[:, None] * SIMPLEX[k[closed]]))
-        if not closed.all():
-            r, kr, pr = rows[~closed], k[~closed], pieces[~closed]
-            keys = None if memory is None else (ids[r] * n_pieces + pr) * 5 + 1 + kr
-            batch = blocks.add(SIMPLEX[kr, None], [-1.0], index.vertices[vid], counts, 1.0, P[r], P[r], keys, vid)
-            batches.append((batch, r, pr, False))
-    solved = blocks.solve(solver, "cP") if blocks.batches else []
-
-    # one row per (point, piece[, k]) LP, then penetration = max over k, cP = min over pieces
-    pts, pcs, vals, grads, wits, nrms, degs, sep = [], [], [], [], [], [], [], []
-    for b, rows, j, separation in batches:
-        lead_x, witness, y, deg = solved[b]
-        pts.append(rows)
-        pcs.append(j)
-        vals.append(lead_x.sum(axis=1) if separation else -lead_x[:, 0])
-        grads.append(-y if separation else y)
-        nrms.append(y if separation else -y)
-        wits.append(witness)
-        degs.append(deg)
-        sep.append(np.full(len(rows), separation))
-    for rows, j, value, y, witness in done:
-        pts.append(rows)
-        pcs.append(j)
-        vals.append(value)
-        grads.append(y)
-        nrms.append(-y)
-        wits.append(witness)
-        degs.append(np.zeros(len(rows), dtype=bool))
-        sep.append(np.zeros(len(rows), dtype=bool))
-    pts, pcs, vals = np.concatenate(pts), np.concatenate(pcs).astype(np.int64), np.concatenate(vals)
-    grads = np.ascontiguousarray(np.concatenate(grads))
-    chosen, degenerate = pick_rows(pts, pcs, vals, grads, np.concatenate(degs), n, n_pieces)
+    outside = cand & (probe.S > 0.0)
+    n_sep, n_pen = int(outside.sum()), int(cand.sum()) - int(outside.sum())
+    n_blocks = n_sep + 4 * n_pen
+    n_ids = 3 * int((cand @ index.facet_counts).sum()) * 4
+    n_lead, n_vert, sign, keys = (np.empty(n_blocks, dtype=np.int64), np.empty(n_blocks, dtype=np.int64),
+                                  np.empty(n_blocks), np.empty(n_blocks, dtype=np.int64))
+    lead, cost = np.empty((4 * n_blocks, 3)), np.empty(4 * n_blocks)
+    origin, rhs, vids = np.empty((n_blocks, 3)), np.empty((n_blocks, 3)), np.empty(n_ids, dtype=np.int64)
+    block_point, block_piece, block_sep = (np.empty(n_blocks, dtype=np.int64), np.empty(n_blocks, dtype=np.int64),
+                                           np.empty(n_blocks, dtype=bool))
+    closed_point, closed_piece = np.empty(4 * n_pen, dtype=np.int64), np.empty(4 * n_pen, dtype=np.int64)
+    closed_value, closed_grad, closed_witness = np.empty(4 * n_pen), np.empty((4 * n_pen, 3)), np.empty((4 * n_pen, 3))
+    counts = np.zeros(4, dtype=np.int64)
+    facets.cp_blocks(P, probe.PQ, probe.S, cand, bound, np.zeros(n, dtype=np.int64) if ids is None else ids, SIMPLEX,
+               index.planes, index.plane_start, index.facet_nq, index.facet_mq, index.facet_vertices, index.vertices,
+               VALUE_TOL, DEGENERACY_TOL, facets.CLOSED_FORM, np.zeros(n * n_pieces, dtype=np.int64),
+               np.zeros(n, dtype=np.int64), np.full(len(index.vertices), -1, dtype=np.int64), np.empty(3),
+               n_lead, lead, cost, n_vert, vids, sign, origin, rhs, keys, block_point, block_piece, block_sep,
+               closed_point, closed_piece, closed_value, closed_grad, closed_witness, counts)
+    nb, nl, nv, nc = counts
+    if nb:
+        blocks = Blocks(n_lead[:nb], lead[:nl], cost[:nl], n_vert[:nb], index.vertices, vids[:nv], sign[:nb],
+                        origin[:nb], rhs[:nb], keys[:nb])
+        sol = solve_blocks(solver, blocks, memory, "cP")
+        lead_x, witness, y, degenerate, lp_solves = sol
+    else:
+        lead_x, witness, y, degenerate, lp_solves = np.empty(0), np.empty((0, 3)), np.empty((0, 3)), np.empty(0, dtype=bool), 0
+    value, grad, nearest, normal = np.empty(n), np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    piece, inside, flagged = np.empty(n, dtype=np.int64), np.empty(n, dtype=bool), np.zeros(n, dtype=bool)
+    m = nb + nc
+    chosen = np.full(n, -1, dtype=np.int64)
+    facets.cp_pick(lead_x, witness, y, degenerate, block_point[:nb], block_piece[:nb], block_sep[:nb], closed_point[:nc],
+             closed_piece[:nc], closed_value[:nc], closed_grad[:nc], closed_witness[:nc], n_pieces, VALUE_TOL,
+             np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64), np.empty(m), np.empty((m, 3)), np.empty((m, 3)),
+             np.empty((m, 3)), np.empty(m, dtype=bool), np.full(n * n_pieces, -1, dtype=np.int64),
+             np.full(n * n_pieces, -np.inf), np.full(n, -1, dtype=np.int64), chosen, flagged,
+             value, grad, nearest, normal, piece, inside)
     if (chosen < 0).any():  # pragma: no cover - every point keeps at least one piece
         raise RuntimeError("cP: a hand point lost all its candidate pieces; please report this bug")
-    return ContactDistance(
-        value=vals[chosen],
-        grad=grads[chosen],
-        nearest=np.concatenate(wits)[chosen],
-        normal=unit_rows(np.concatenate(nrms)[chosen]),
-        piece=pcs[chosen],
-        inside=~np.concatenate(sep)[chosen],
-        degenerate=degenerate,
-        candidates=cand.sum(axis=1),
-        lp_solves=blocks.lp_solves,
-    )
+    return ContactDistance(value=value, grad=grad, nearest=nearest, normal=normal, piece=piece, inside=inside,
+                           degenerate=flagged, candidates=cand.sum(axis=1), lp_solves=lp_solves)

@@ -5,18 +5,23 @@ carry their optimum, so that they are tiny (4 rows, typically 4-30 columns
 per block) while their value is unchanged and, when the LP is not
 degenerate, so are their duals (fixed by the optimal basis):
 
-* separation (cP of a point outside a piece, `separation_blocks`): the
+* separation (cP of a point outside a piece, `separation_vertices`): the
   optimum lies on a facet facing the point p that the gauge ball
   ``p + v Q`` (v at most an upper bound of cP) can reach;
 * a ray ``x0 + r d`` from inside a piece (cP penetration rays ``p - rho q_k``
-  and the sQ rays ``c + t (p - c)``, `ray_exits`): the optimum is where the
+  and the sQ rays ``c + t (p - c)``, `ray_exit`): the optimum is where the
   ray leaves the piece, on the facets whose plane it crosses last. When it
   leaves through the inside of a single facet the optimum (the exit point)
   and the duals (the facet's plane) are in closed form and no LP is needed.
 
-Every selection uses valid bounds and tolerances on the safe side; a
-property test compares the values with brute force over all pieces and all
-vertices.
+Then `pick_rows` keeps, of the results of a point's pieces, the one that
+gives its value. The compiled loops of the two queries live here too, with
+the functions they call: `cp_blocks` and `cp_pick` (cP's LP blocks, its
+closed-form rays, and each point's result), `sq_rows` (sQ's rays);
+`synergrasp.objects.contact_distance` and `synergrasp.objects.scaled_contacts`
+call them and own the rest of each query. Every selection uses valid bounds
+and tolerances on the safe side (a property test compares the values with
+brute force over all pieces and all vertices).
 """
 
 from __future__ import annotations
@@ -24,106 +29,15 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import kernel
-from ..tolerances import DEGENERACY_TOL, VALUE_TOL
 
 #: Settle rays that leave a piece through the inside of one facet in closed form (False: every ray
 #: goes to the LP; the tests compare the two).
 CLOSED_FORM = True
 
 
-def separation_blocks(index, P, PQ, bound, rows, pieces):
-    """The vertex lists of the separation LP blocks of (point, piece) pairs.
-
-    A facet is kept when it faces p (``n . p + o > 0``) and the gauge ball
-    ``p + v Q`` with v <= ``bound`` can reach it: it does not lie beyond the
-    facet's plane, and no facet plane of the ball (normal ``-q_k``, offset
-    ``bound / 3``) separates them. A pair the ball reaches through no facet
-    is not the minimiser and gets no block; should round-off leave a point
-    with no facet at all, every facet facing it is kept.
-
-    Parameters
-    ----------
-    index : PieceIndex
-    P : (n, 3) float
-    PQ : (n, 4) float
-        ``q_k . p``.
-    bound : (n,) float
-        Upper bound of each point's cP.
-    rows, pieces : (m,) int
-        The (point, piece) pairs, each point outside its piece.
-
-    Returns
-    -------
-    used : (m,) bool
-        The pairs that get a block.
-    counts : (used.sum(),) int
-        Vertices of each block.
-    ids : (counts.sum(),) int
-        The blocks' vertices as rows of ``index.vertices``, ascending within each block.
-    """
-    rows, pieces = np.asarray(rows, dtype=np.int64), np.asarray(pieces, dtype=np.int64)
-    m = len(rows)
-    used, counts = np.empty(m, dtype=bool), np.empty(m, dtype=np.int64)
-    ids = np.empty(3 * int(np.diff(index.plane_start)[pieces].sum()), dtype=np.int64)
-    count = _separation_blocks(P, PQ, bound, rows, pieces, index.planes, index.plane_start, index.facet_nq,
-                               index.facet_mq, index.facet_vertices, VALUE_TOL, np.empty(m, dtype=np.int64),
-                               np.zeros(len(P), dtype=np.int64), np.full(len(index.vertices), -1, dtype=np.int64),
-                               used, counts, ids)
-    return used, counts[used], ids[:count]
-
-
-def ray_exits(index, origin, direction, pieces, closed=None):
-    """Where rays ``x0 + r d`` (r >= 0) leave pieces, in closed form where they leave through the inside of one facet.
-
-    The exit facets of a ray are those whose plane it crosses last (within
-    `VALUE_TOL`). With a single exit plane (outward normal n, offset o) the
-    exit is at ``r = -(n . x0 + o) / (n . d)``, and the duals of the
-    coordinate rows of the ray's LP (``max r s.t. x0 + r d = sum lambda_v v,
-    sum lambda = 1``) are ``-n / (n . d)``. Faces of a mesh are often split
-    into coplanar triangles (a quad into two, a cap into a fan), all of them
-    exit facets of the ray: when the exit point lies clearly inside one of
-    them (its barycentric weights all above ``10 * DEGENERACY_TOL``) the LP's
-    optimal basis is that triangle, unique, and this is the solution the LP
-    would give. The other rays need their LP over the exit facets' vertices.
-
-    Parameters
-    ----------
-    index : PieceIndex
-    origin : (m, 3) float
-        Ray origins, each inside (or on) its piece.
-    direction : (m, 3) float
-    pieces : (m,) int
-    closed : (m,) bool, optional
-        The rays that may be settled in closed form (default: all).
-
-    Returns
-    -------
-    closed : (m,) bool
-        The rays settled in closed form (all False unless `CLOSED_FORM`).
-    r : (m,) float
-        Exit parameters (meaningful where ``closed``).
-    y : (m, 3) float
-        Duals ``-n / (n . d)`` (meaningful where ``closed``).
-    counts : ((~closed).sum(),) int
-        Vertices of the LP block of each other ray.
-    ids : (counts.sum(),) int
-        Those blocks' vertices (the exit facets' vertices) as rows of ``index.vertices``, ascending within each block.
-    """
-    pieces = np.asarray(pieces, dtype=np.int64)
-    m = len(pieces)
-    allowed = np.full(m, CLOSED_FORM) if closed is None else np.asarray(closed, dtype=bool) & CLOSED_FORM
-    closed, r, y, counts = np.empty(m, dtype=bool), np.empty(m), np.empty((m, 3)), np.empty(m, dtype=np.int64)
-    ids = np.empty(3 * int(np.diff(index.plane_start)[pieces].sum()), dtype=np.int64)
-    count = _ray_exits(np.ascontiguousarray(origin, dtype=float), np.ascontiguousarray(direction, dtype=float),
-                       pieces, index.planes, index.plane_start, index.vertices, index.facet_vertices, VALUE_TOL,
-                       DEGENERACY_TOL, allowed, np.full(len(index.vertices), -1, dtype=np.int64), closed, r, y,
-                       counts, ids)
-    return closed, r, y, counts[~closed], ids[:count]
-
-
 @kernel
-def _add_vertices(facet_vertices, f, mark, tag, ids, begin, count):
-    """Insert facet f's vertices into the sorted block ``ids[begin:count]`` unless marked ``tag``; returns the new count."""
+def add_vertices(facet_vertices, f, mark, tag, ids, begin, count):
+    """Insert facet f's vertices into the ascending list ``ids[begin:count]`` unless marked ``tag``; returns the new count."""
     for a in range(3):
         v = facet_vertices[f, a]
         if mark[v] != tag:
@@ -138,164 +52,194 @@ def _add_vertices(facet_vertices, f, mark, tag, ids, begin, count):
 
 
 @kernel
-def _separation_blocks(P, PQ, bound, rows, pieces, planes, plane_start, facet_nq, facet_mq, facet_vertices, tol,
-                       kept, per_point, mark, used, counts, ids):
-    """`separation_blocks` into ``used``, ``counts`` and ``ids`` (``per_point`` zero, ``mark`` -1 on entry); returns the ids' length."""
-    m = len(rows)
-    # pass 1: the facets each pair keeps; a point that keeps none anywhere keeps every facet facing it
-    for e in range(m):
-        kept[e] = 0
-        i, j = rows[e], pieces[e]
-        b = bound[i]
-        t = tol * (1.0 + b)
-        reach = b / 3.0 + t
-        for f in range(plane_start[j], plane_start[j + 1]):
-            v = P[i, 0] * planes[f, 0] + P[i, 1] * planes[f, 1] + P[i, 2] * planes[f, 2] + planes[f, 3]
-            if v > 0.0 and v + b * facet_nq[f] <= t:
-                apart = False
-                for k in range(4):
-                    if facet_mq[k, f] + PQ[i, k] > reach:
-                        apart = True
-                if not apart:
-                    kept[e] += 1
-        per_point[i] += kept[e]
-    # pass 2: each used pair's vertex list (the vertices of its facets, ascending)
-    count = 0
-    for e in range(m):
-        i, j = rows[e], pieces[e]
-        lost = per_point[i] == 0
-        used[e] = False
-        counts[e] = 0
-        if kept[e] == 0 and not lost:
+def separation_facets(p, pq, bound, j, planes, plane_start, facet_nq, facet_mq, tol):
+    """How many facets of piece j can carry the separation optimum of the point p.
+
+    A facet is kept when it faces p (``n . p + o > 0``) and the gauge ball
+    ``p + v Q`` with v <= ``bound`` (an upper bound of p's cP) can reach it:
+    it does not lie beyond the facet's plane (``n . p + o <= -bound min_k
+    n . q_k``), and no facet plane of the ball (normal ``-q_k``, offset
+    ``bound / 3``) separates them (``min_t -q_k . t + q_k . p <= bound / 3``
+    over the facet's vertices t). A piece the ball reaches through no facet
+    is not the point's minimiser.
+
+    Parameters
+    ----------
+    p : (3,) float
+    pq : (4,) float
+        ``q_k . p``.
+    bound : float
+    j : int
+    planes, plane_start, facet_nq, facet_mq : arrays of `PieceIndex`
+    tol : float
+        `VALUE_TOL`.
+    """
+    t = tol * (1.0 + bound)
+    reach = bound / 3.0 + t
+    f0, f1 = plane_start[j], plane_start[j + 1]
+    sub, nq = planes[f0:f1], facet_nq[f0:f1]  # loops from 0 over slices compile to much faster code
+    x, y, z = p[0], p[1], p[2]
+    kept = 0
+    for f in range(f1 - f0):
+        v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
+        if v > 0.0 and v + bound * nq[f] <= t:
+            apart = False
+            for k in range(4):
+                if facet_mq[k, f0 + f] + pq[k] > reach:
+                    apart = True
+            if not apart:
+                kept += 1
+    return kept
+
+
+@kernel
+def separation_vertices(p, pq, bound, j, facing_only, planes, plane_start, facet_nq, facet_mq, facet_vertices, tol,
+                        mark, tag, ids, begin):
+    """Append to ``ids`` (ascending, from ``begin``) the vertices of the facets `separation_facets` keeps; returns the new length.
+
+    With ``facing_only`` every facet facing p is kept instead (for a point
+    that round-off left with no facet in any of its pieces).
+    """
+    t = tol * (1.0 + bound)
+    reach = bound / 3.0 + t
+    f0, f1 = plane_start[j], plane_start[j + 1]
+    sub, nq = planes[f0:f1], facet_nq[f0:f1]
+    x, y, z = p[0], p[1], p[2]
+    count = begin
+    for f in range(f1 - f0):
+        v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
+        if not v > 0.0:
             continue
-        b = bound[i]
-        t = tol * (1.0 + b)
-        reach = b / 3.0 + t
-        begin = count
-        for f in range(plane_start[j], plane_start[j + 1]):
-            v = P[i, 0] * planes[f, 0] + P[i, 1] * planes[f, 1] + P[i, 2] * planes[f, 2] + planes[f, 3]
-            if not v > 0.0:
-                continue
-            keep = lost
-            if not keep and v + b * facet_nq[f] <= t:
-                keep = True
-                for k in range(4):
-                    if facet_mq[k, f] + PQ[i, k] > reach:
-                        keep = False
-            if keep:
-                count = _add_vertices(facet_vertices, f, mark, e, ids, begin, count)
-        used[e] = count > begin
-        counts[e] = count - begin
+        keep = facing_only
+        if not keep and v + bound * nq[f] <= t:
+            keep = True
+            for k in range(4):
+                if facet_mq[k, f0 + f] + pq[k] > reach:
+                    keep = False
+        if keep:
+            count = add_vertices(facet_vertices, f0 + f, mark, tag, ids, begin, count)
     return count
 
 
 @kernel
-def _ray_exits(origin, direction, pieces, planes, plane_start, vertices, facet_vertices, tol, degeneracy, allowed,
-               mark, closed, r_out, y, counts, ids):
-    """`ray_exits` into ``closed``, ``r_out``, ``y``, ``counts`` and ``ids`` (``mark`` -1 on entry); returns the ids' length."""
-    m = len(origin)
-    count = 0
-    for e in range(m):
-        closed[e] = False
-        r_out[e] = 0.0
-        counts[e] = 0
-        y[e, 0] = y[e, 1] = y[e, 2] = 0.0
-        j = pieces[e]
-        x0, x1, x2 = origin[e, 0], origin[e, 1], origin[e, 2]
-        d0, d1, d2 = direction[e, 0], direction[e, 1], direction[e, 2]
-        f0, f1 = plane_start[j], plane_start[j + 1]
-        r_exit = np.inf
-        for f in range(f0, f1):
-            a = planes[f, 0] * d0 + planes[f, 1] * d1 + planes[f, 2] * d2
-            if a > 0.0:
-                r_exit = min(r_exit, -(planes[f, 0] * x0 + planes[f, 1] * x1 + planes[f, 2] * x2 + planes[f, 3]) / a)
-        level = r_exit * (1.0 + tol) + tol
-        # the exit facets (their vertices make the LP block); the closed form from the first one's plane
-        begin = count
-        first = -1
-        a_first, t = 0.0, 0.0
-        coplanar = True
-        inner_best = -np.inf
-        area0 = area1 = area2 = 0.0
-        for f in range(f0, f1):
-            a = planes[f, 0] * d0 + planes[f, 1] * d1 + planes[f, 2] * d2
-            if not a > 0.0:
-                continue
-            r = -(planes[f, 0] * x0 + planes[f, 1] * x1 + planes[f, 2] * x2 + planes[f, 3]) / a
-            if r > level:
-                continue
-            if first < 0:
-                first, a_first, t = f, a, r
-            for c in range(4):
-                if abs(planes[f, c] - planes[first, c]) > tol * (1.0 + abs(planes[f, 3])):
-                    coplanar = False
-            # barycentric weights of the exit point in the facet (signed areas against its normal)
-            p0, p1, p2 = x0 + t * d0, x1 + t * d1, x2 + t * d2
-            for c in range(3):
-                u, w = facet_vertices[f, (c + 1) % 3], facet_vertices[f, (c + 2) % 3]
-                u0, u1, u2 = vertices[u, 0] - p0, vertices[u, 1] - p1, vertices[u, 2] - p2
-                w0, w1, w2 = vertices[w, 0] - p0, vertices[w, 1] - p1, vertices[w, 2] - p2
-                area = ((u1 * w2 - u2 * w1) * planes[f, 0] + (u2 * w0 - u0 * w2) * planes[f, 1]
-                        + (u0 * w1 - u1 * w0) * planes[f, 2])
-                if c == 0:
-                    area0 = area
-                elif c == 1:
-                    area1 = area
-                else:
-                    area2 = area
-            whole = area0 + area1 + area2
-            inner_best = max(inner_best, min(area0 / whole, min(area1 / whole, area2 / whole)))
-            count = _add_vertices(facet_vertices, f, mark, e, ids, begin, count)
-        if allowed[e] and first >= 0 and coplanar and inner_best > 10.0 * degeneracy * max(1.0, t):
-            closed[e] = True
-            r_out[e] = t
-            for c in range(3):
-                y[e, c] = -planes[first, c] / a_first
-            count = begin
-        else:
-            counts[e] = count - begin
-    return count
+def ray_exit(x0, d, j, allowed, planes, plane_start, vertices, facet_vertices, tol, degeneracy, mark, tag, ids, begin,
+             y):
+    """Where the ray ``x0 + r d`` (r >= 0, x0 inside or on piece j) leaves the piece.
+
+    The exit facets are those whose plane the ray crosses last (within
+    ``tol``). With a single exit plane (outward normal n, offset o) the exit
+    is at ``r = -(n . x0 + o) / (n . d)``, and the duals of the coordinate
+    rows of the ray's LP (``max r s.t. x0 + r d = sum lambda_v v, sum lambda
+    = 1``) are ``-n / (n . d)``. Faces of a mesh are often split into
+    coplanar triangles (a quad into two, a cap into a fan), all of them exit
+    facets of the ray: when the exit point lies clearly inside one of them
+    (its barycentric weights all above ``10 * degeneracy``) the LP's optimal
+    basis is that triangle, unique, and this is the solution the LP would
+    give.
+
+    Parameters
+    ----------
+    x0, d : (3,) float
+    j : int
+    allowed : bool
+        The ray may be settled in closed form.
+    planes, plane_start, vertices, facet_vertices : arrays of `PieceIndex`
+    tol, degeneracy : float
+        `VALUE_TOL`, `DEGENERACY_TOL`.
+    mark, tag, ids, begin
+        As `add_vertices`: the exit facets' vertices are appended to ``ids``.
+    y : (3,) float
+        Receives the duals when settled in closed form.
+
+    Returns
+    -------
+    r : float
+        The exit parameter if settled in closed form, else NaN (then
+        ``ids[begin:count]`` is the vertex list of the ray's LP).
+    count : int
+        ``begin`` if settled in closed form, else the new length of ``ids``.
+    """
+    f0, f1 = plane_start[j], plane_start[j + 1]
+    sub = planes[f0:f1]
+    x0_, x1_, x2_, d0, d1, d2 = x0[0], x0[1], x0[2], d[0], d[1], d[2]
+    r_exit = np.inf
+    for f in range(f1 - f0):
+        a = sub[f, 0] * d0 + sub[f, 1] * d1 + sub[f, 2] * d2
+        if a > 0.0:
+            r_exit = min(r_exit, -(sub[f, 0] * x0_ + sub[f, 1] * x1_ + sub[f, 2] * x2_ + sub[f, 3]) / a)
+    level = r_exit * (1.0 + tol) + tol
+    count = begin
+    first = -1
+    a_first, t = 0.0, 0.0
+    coplanar = True
+    inner_best = -np.inf
+    area0 = area1 = area2 = 0.0
+    for f in range(f1 - f0):
+        a = sub[f, 0] * d0 + sub[f, 1] * d1 + sub[f, 2] * d2
+        if not a > 0.0:
+            continue
+        r = -(sub[f, 0] * x0_ + sub[f, 1] * x1_ + sub[f, 2] * x2_ + sub[f, 3]) / a
+        if r > level:
+            continue
+        if first < 0:
+            first, a_first, t = f, a, r
+        for c in range(4):
+            if abs(sub[f, c] - sub[first, c]) > tol * (1.0 + abs(sub[f, 3])):
+                coplanar = False
+        # barycentric weights of the exit point in the facet (signed areas against its normal)
+        p0, p1, p2 = x0_ + t * d0, x1_ + t * d1, x2_ + t * d2
+        for c in range(3):
+            u, w = facet_vertices[f0 + f, (c + 1) % 3], facet_vertices[f0 + f, (c + 2) % 3]
+            u0, u1, u2 = vertices[u, 0] - p0, vertices[u, 1] - p1, vertices[u, 2] - p2
+            w0, w1, w2 = vertices[w, 0] - p0, vertices[w, 1] - p1, vertices[w, 2] - p2
+            area = ((u1 * w2 - u2 * w1) * sub[f, 0] + (u2 * w0 - u0 * w2) * sub[f, 1]
+                    + (u0 * w1 - u1 * w0) * sub[f, 2])
+            if c == 0:
+                area0 = area
+            elif c == 1:
+                area1 = area
+            else:
+                area2 = area
+        whole = area0 + area1 + area2
+        inner_best = max(inner_best, min(area0 / whole, min(area1 / whole, area2 / whole)))
+        count = add_vertices(facet_vertices, f0 + f, mark, tag, ids, begin, count)
+    if allowed and first >= 0 and coplanar and inner_best > 10.0 * degeneracy * max(1.0, t):
+        for c in range(3):
+            y[c] = -sub[first, c] / a_first
+        return t, begin
+    return np.nan, count
 
 
-def pick_rows(points, pieces, values, grads, degenerate, n, n_pieces):
+@kernel
+def pick_rows(pts, pcs, vals, grads, degs, n_pieces, tol, best, second, runner, chosen, flagged):
     """Each point's row among (point, piece[, k]) results: the max over k of a piece, then the min over pieces.
 
     cP takes the penetration of a piece as the largest value over the
     directions k and the smallest value over the pieces; sQ (one row per
-    piece, ``values`` = -t) the piece the ray leaves last. A tie between
-    directions k (the two largest values within `VALUE_TOL`) or between
-    pieces with different gradients (the two smallest) makes the derivative
-    one-sided: the point is flagged degenerate. Ties are broken by row
-    order, then by piece.
+    piece, values -t) the piece the ray leaves last. A tie between
+    directions k (the two largest values within ``tol``) or between pieces
+    with different gradients (the two smallest) makes the derivative
+    one-sided: the point is flagged. Ties are broken by row order, then by
+    piece.
 
     Parameters
     ----------
-    points, pieces : (m,) int
+    pts, pcs : (m,) int
         Point and piece of each row.
-    values : (m,) float
+    vals : (m,) float
     grads : (m, 3) float
-    degenerate : (m,) bool
+    degs : (m,) bool
         Rows whose own LP is degenerate.
-    n, n_pieces : int
-
-    Returns
-    -------
-    chosen : (n,) int64
-        The row of each point (-1 if it has none).
-    degenerate : (n,) bool
+    n_pieces : int
+    tol : float
+        `VALUE_TOL`.
+    best, second, runner : scratch
+        (n * n_pieces,) int -1, (n * n_pieces,) float -inf and (n,) int -1 on entry.
+    chosen : (n,) int
+        Receives each point's row (-1 on entry; stays -1 for a point with no row).
+    flagged : (n,) bool
+        Receives the degeneracy of each point (False on entry).
     """
-    chosen, flagged = np.full(n, -1, dtype=np.int64), np.zeros(n, dtype=bool)
-    _pick_rows(np.asarray(points, dtype=np.int64), np.asarray(pieces, dtype=np.int64), np.ascontiguousarray(values),
-               np.ascontiguousarray(grads), np.asarray(degenerate, dtype=bool), n_pieces, VALUE_TOL,
-               np.full(n * n_pieces, -1, dtype=np.int64), np.full(n * n_pieces, -np.inf), np.full(n, -1, dtype=np.int64),
-               chosen, flagged)
-    return chosen, flagged
-
-
-@kernel
-def _pick_rows(pts, pcs, vals, grads, degs, n_pieces, tol, best, second, runner, chosen, flagged):
-    """`pick_rows` into ``chosen`` and ``flagged``; ``best`` (per (point, piece): the row of the largest value,
-    -1 on entry), ``second`` (the second largest value, -inf) and ``runner`` (the second smallest pair's row, -1)."""
     n = len(chosen)
     for r in range(len(pts)):
         g = pts[r] * n_pieces + pcs[r]
@@ -326,3 +270,180 @@ def _pick_rows(pts, pcs, vals, grads, degs, n_pieces, tol, best, second, runner,
             differ = max(abs(grads[a, 0] - grads[r, 0]), max(abs(grads[a, 1] - grads[r, 1]), abs(grads[a, 2] - grads[r, 2])))
             if differ > tol * (1.0 + scale):
                 flagged[i] = True
+
+
+@kernel
+def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, facet_mq, facet_vertices, vertices, tol,
+               degeneracy, closed_form, kept, per_point, mark, y3, n_lead, lead, cost, n_vert, vids, sign, origin, rhs,
+               keys, block_point, block_piece, block_sep, closed_point, closed_piece, closed_value, closed_grad,
+               closed_witness, counts):
+    """The LP blocks of cP (the separation pairs by piece then point, then the penetration rays by piece, k,
+    point) and the penetration rays settled in closed form; ``counts`` receives (blocks, lead columns, vertex
+    ids, closed rays). Block keys are ``(pid * J + piece) * 5`` (separation) and ``... + 1 + k`` (ray k)."""
+    n, J = S.shape
+    nb = nl = nv = nc = 0
+    tag = 0
+    # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
+    for j in range(J):
+        for i in range(n):
+            if cand[i, j] and S[i, j] > 0.0:
+                kept[i * J + j] = separation_facets(P[i], PQ[i], bound[i], j, planes, plane_start, facet_nq, facet_mq, tol)
+                per_point[i] += kept[i * J + j]
+    for j in range(J):
+        for i in range(n):
+            if not (cand[i, j] and S[i, j] > 0.0):
+                continue
+            lost = per_point[i] == 0  # round-off left the point with no facet: keep every facet facing it
+            if kept[i * J + j] == 0 and not lost:
+                continue  # the gauge ball reaches no facet: not the minimiser
+            end = separation_vertices(P[i], PQ[i], bound[i], j, lost, planes, plane_start, facet_nq, facet_mq,
+                                      facet_vertices, tol, mark, tag, vids, nv)
+            tag += 1
+            if end == nv:
+                continue
+            n_lead[nb], n_vert[nb], sign[nb], keys[nb] = 4, end - nv, -1.0, (pid[i] * J + j) * 5
+            for k in range(4):
+                for c in range(3):
+                    lead[nl + k, c] = Q[k, c]
+                cost[nl + k] = 1.0
+            for c in range(3):
+                origin[nb, c] = P[i, c]
+                rhs[nb, c] = -P[i, c]
+            block_point[nb], block_piece[nb], block_sep[nb] = i, j, True
+            nb += 1
+            nl += 4
+            nv = end
+    # penetration (Eq. 3) for each k: min -rho  s.t.  rho q_k + V^T beta = p,  sum beta = 1: where p - rho q_k leaves
+    d = np.empty(3)
+    for j in range(J):
+        for k in range(4):
+            for c in range(3):
+                d[c] = -Q[k, c]
+            for i in range(n):
+                if not (cand[i, j] and S[i, j] <= 0.0):
+                    continue
+                r, end = ray_exit(P[i], d, j, closed_form, planes, plane_start, vertices, facet_vertices, tol,
+                                  degeneracy, mark, tag, vids, nv, y3)
+                tag += 1
+                if r == r:  # closed form: value -r, gradient -y, witness p - r q_k
+                    closed_point[nc], closed_piece[nc], closed_value[nc] = i, j, -r
+                    for c in range(3):
+                        closed_grad[nc, c] = -y3[c]
+                        closed_witness[nc, c] = P[i, c] - r * Q[k, c]
+                    nc += 1
+                    continue
+                n_lead[nb], n_vert[nb], sign[nb], keys[nb] = 1, end - nv, 1.0, (pid[i] * J + j) * 5 + 1 + k
+                for c in range(3):
+                    lead[nl, c] = Q[k, c]
+                    origin[nb, c] = P[i, c]
+                    rhs[nb, c] = P[i, c]
+                cost[nl] = -1.0
+                block_point[nb], block_piece[nb], block_sep[nb] = i, j, False
+                nb += 1
+                nl += 1
+                nv = end
+    counts[0], counts[1], counts[2], counts[3] = nb, nl, nv, nc
+
+
+@kernel
+def cp_pick(lead_x, witness, y, degenerate, block_point, block_piece, block_sep, closed_point, closed_piece,
+             closed_value, closed_grad, closed_witness, n_pieces, tol, pts, pcs, vals, grads, wits, nrms, degs, best,
+             second, runner, chosen, flagged, value, grad, nearest, normal, piece, inside):
+    """Each point's cP from the rows of its (point, piece[, k]) LP blocks and closed-form rays (`pick_rows`).
+
+    A separation block's value is the sum of its lead variables, its
+    gradient -y and its normal y; a penetration block's value is minus its
+    lead variable, its gradient y and its normal -y (y its coordinate duals).
+    """
+    li = 0
+    nb = len(block_point)
+    for b in range(nb):
+        pts[b], pcs[b], degs[b] = block_point[b], block_piece[b], degenerate[b]
+        s = -1.0 if block_sep[b] else 1.0
+        if block_sep[b]:
+            vals[b] = lead_x[li] + lead_x[li + 1] + lead_x[li + 2] + lead_x[li + 3]
+            li += 4
+        else:
+            vals[b] = -lead_x[li]
+            li += 1
+        for c in range(3):
+            grads[b, c] = s * y[b, c]
+            nrms[b, c] = -s * y[b, c]
+            wits[b, c] = witness[b, c]
+    for e in range(len(closed_point)):
+        r = nb + e
+        pts[r], pcs[r], degs[r], vals[r] = closed_point[e], closed_piece[e], False, closed_value[e]
+        for c in range(3):
+            grads[r, c] = closed_grad[e, c]
+            nrms[r, c] = -closed_grad[e, c]
+            wits[r, c] = closed_witness[e, c]
+    pick_rows(pts, pcs, vals, grads, degs, n_pieces, tol, best, second, runner, chosen, flagged)
+    for i in range(len(chosen)):
+        r = chosen[i]
+        if r < 0:
+            continue
+        value[i], piece[i] = vals[r], pcs[r]
+        inside[i] = not (r < nb and block_sep[r])
+        length = np.sqrt(nrms[r, 0] * nrms[r, 0] + nrms[r, 1] * nrms[r, 1] + nrms[r, 2] * nrms[r, 2])
+        for c in range(3):
+            grad[i, c] = grads[r, c]
+            nearest[i, c] = wits[r, c]
+            normal[i, c] = nrms[r, c] / length if length > 0.0 else 0.0
+
+
+@kernel
+def sq_rows(c, U, planes, plane_start, vertices, facet_vertices, candidate_tol, tol, degeneracy, closed_form, depth,
+             T, mark, missed, pts, pcs, ts, ys, closed, n_vert, vids, counts):
+    """The rows of sQ: one per (point, piece) the ray c + t u leaves last (within ``candidate_tol``).
+
+    A row is settled in closed form (``closed``, ``ts``, ``ys``) when its
+    point has a single such piece and the ray leaves it through the inside
+    of one facet (`ray_exit`); otherwise its LP's vertex list (``n_vert``
+    entries of ``vids``) is given. ``missed`` flags the rays that miss the
+    object; ``counts`` receives (rows, vertex ids). ``depth`` (F,) and
+    ``T`` (J,) are scratch.
+    """
+    n, J = len(U), len(plane_start) - 1
+    for f in range(len(planes)):  # how far c lies behind each facet plane (< 0: in front)
+        depth[f] = -(planes[f, 0] * c[0] + planes[f, 1] * c[1] + planes[f, 2] * c[2] + planes[f, 3])
+    rows = nv = 0
+    y = np.empty(3)
+    for i in range(n):
+        best = -np.inf
+        u0, u1, u2 = U[i, 0], U[i, 1], U[i, 2]
+        for j in range(J):  # the largest t with c + t u in piece j, -inf when the ray misses it
+            f0, f1 = plane_start[j], plane_start[j + 1]
+            sub, dep = planes[f0:f1], depth[f0:f1]  # loops from 0 over slices compile to much faster code
+            t_hi, t_lo, blocked = np.inf, 0.0, False
+            for f in range(f1 - f0):
+                a = sub[f, 0] * u0 + sub[f, 1] * u1 + sub[f, 2] * u2
+                if a > 0.0:
+                    t_hi = min(t_hi, dep[f] / a)
+                elif a < 0.0:
+                    t_lo = max(t_lo, dep[f] / a)
+                elif dep[f] < 0.0:
+                    blocked = True  # parallel to the plane, on its outer side
+            T[j] = -np.inf if blocked or t_lo > t_hi * (1 + 1e-12) + 1e-12 else t_hi
+            best = max(best, T[j])
+        missed[i] = not np.isfinite(best)
+        if missed[i]:
+            continue
+        level = best * (1 - candidate_tol) - tol
+        alone = 0
+        for j in range(J):
+            if T[j] >= level:
+                alone += 1
+        for j in range(J):
+            if T[j] < level:
+                continue
+            pts[rows], pcs[rows] = i, j
+            t, end = ray_exit(c, U[i], j, closed_form and alone == 1, planes, plane_start, vertices, facet_vertices,
+                              tol, degeneracy, mark, rows, vids, nv, y)
+            closed[rows] = t == t
+            ts[rows] = t
+            for k in range(3):
+                ys[rows, k] = y[k]
+            n_vert[rows] = end - nv
+            nv = end
+            rows += 1
+    counts[0], counts[1] = rows, nv

@@ -6,7 +6,7 @@ piece}``: the contact carried back to the object's own scale is the point
 ``c + t (p - c)`` where the ray leaves the object, and its inward normal is
 the supporting plane there (the dual of the LP ``max t s.t. c + t (p - c) =
 sum lambda_v v, sum lambda = 1``). A ray that leaves a single piece through
-the inside of a single facet needs no LP (`synergrasp.objects.facets.ray_exits`);
+the inside of a single facet needs no LP (`synergrasp.objects.facets.ray_exit`);
 only rays at ties (edges, vertices, several pieces) are solved, stacked into
 one LP.
 """
@@ -18,12 +18,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import lp
-from .._jit import kernel
 from .._vectors import unit_rows
-from ..lp.blocks import BlockLP
-from ..tolerances import VALUE_TOL
+from ..lp.blocks import Blocks, solve_blocks
+from ..tolerances import DEGENERACY_TOL, VALUE_TOL
+from . import facets
 from .contact_distance import check_points
-from .facets import pick_rows, ray_exits
 
 #: Pieces whose exit parameter is within this relative distance of the largest are candidates
 #: for the ray's last exit (their exits are then compared within `VALUE_TOL`).
@@ -104,29 +103,34 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
             f"points rows {np.nonzero(at_centre)[0].tolist()} coincide with the object's centre "
             f"{c0.tolist()}: the ray from the centre through the point, and so the sQ scale, is undefined"
         )
-    T = np.empty((len(P), index.n_pieces))
-    _piece_exits(c0, U, index.planes, index.plane_start, np.empty(len(index.planes)), T)
-    best = T.max(axis=1)
-    missed = ~np.isfinite(best)
+    n, n_pieces = len(P), index.n_pieces
+    m = n * n_pieces  # at most one row per (point, piece)
+    missed = np.empty(n, dtype=bool)
+    pts, pcs, ts, ys = np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64), np.empty(m), np.empty((m, 3))
+    closed, n_vert = np.empty(m, dtype=bool), np.empty(m, dtype=np.int64)
+    vids, counts = np.empty(3 * n * len(index.planes), dtype=np.int64), np.zeros(2, dtype=np.int64)
+    facets.sq_rows(c0, U, index.planes, index.plane_start, index.vertices, index.facet_vertices, CANDIDATE_TOL, VALUE_TOL,
+             DEGENERACY_TOL, facets.CLOSED_FORM, np.empty(len(index.planes)), np.empty(n_pieces),
+             np.full(len(index.vertices), -1, dtype=np.int64), missed, pts, pcs, ts, ys, closed, n_vert, vids, counts)
     if missed.any():
         raise ValueError(
             f"the rays from the object's centre {c0.tolist()} through points rows "
             f"{np.nonzero(missed)[0].tolist()} miss the object; the centre must lie inside the object"
         )
-    # the pieces the ray leaves last (within a tolerance): one entry per (point, piece) pair, by piece, then point
-    cand = T >= (best * (1 - CANDIDATE_TOL) - VALUE_TOL)[:, None]
-    alone = cand.sum(axis=1) == 1
-    n = len(P)
-    pcs, pts = np.divmod(np.flatnonzero(cand.T), n)
-    closed, ts, ys, counts, vid = ray_exits(index, np.broadcast_to(c0, (len(pts), 3)), U[pts], pcs, alone[pts])
-    degs = np.zeros(len(pts), dtype=bool)
-    blocks = BlockLP()
+    rows, nv = counts
+    pts, pcs, ts, ys, closed = pts[:rows], pcs[:rows], ts[:rows], ys[:rows], closed[:rows]
+    degs = np.zeros(rows, dtype=bool)
+    lp_solves = 0
     if not closed.all():  # min -t  s.t.  t (p - c) - V^T lambda = -c,  sum lambda = 1
-        rows = pts[~closed]
-        blocks.add(U[rows, None, :], [-1.0], index.vertices[vid], counts, -1.0, np.broadcast_to(-c0, (len(rows), 3)), c0)
-        lead_x, _, y, deg = blocks.solve(solver, "sQ ray")[0]
-        ts[~closed], ys[~closed], degs[~closed] = lead_x[:, 0], y, deg
-    chosen, degenerate = pick_rows(pts, pcs, -ts, ys, degs, n, index.n_pieces)
+        lp_rows = ~closed
+        r = pts[lp_rows]
+        blocks = Blocks.uniform(U[r, None, :], [-1.0], index.vertices, vids[:nv], n_vert[:rows][lp_rows], -1.0,
+                                np.broadcast_to(-c0, (len(r), 3)), c0)
+        sol = solve_blocks(solver, blocks, what="sQ ray")
+        ts[lp_rows], ys[lp_rows], degs[lp_rows], lp_solves = sol.lead_x, sol.y, sol.degenerate, sol.lp_solves
+    chosen, flagged = np.full(n, -1, dtype=np.int64), np.zeros(n, dtype=bool)
+    facets.pick_rows(pts, pcs, -ts, ys, degs, n_pieces, VALUE_TOL, np.full(n * n_pieces, -1, dtype=np.int64),
+              np.full(n * n_pieces, -np.inf), np.full(n, -1, dtype=np.int64), chosen, flagged)
     t, y = ts[chosen], ys[chosen]
     dt = t[:, None] * y  # d t / d p
     return ScaledContacts(
@@ -139,29 +143,6 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
         jac_normal=np.zeros((n, 3, 3)),
         piece=pcs[chosen],
         inside=t > 1.0,
-        degenerate=degenerate,
-        lp_solves=blocks.lp_solves,
+        degenerate=flagged,
+        lp_solves=lp_solves,
     )
-
-
-@kernel
-def _piece_exits(c, U, planes, plane_start, depth, T):
-    """Into ``T`` (n, J): the largest t with ``c + t u`` in piece j (the ray leaves it there), -inf when it misses it.
-
-    ``depth`` (F,) is scratch: how far c lies behind each facet plane (< 0: in front).
-    """
-    n, J = len(U), len(plane_start) - 1
-    for f in range(len(planes)):
-        depth[f] = -(planes[f, 0] * c[0] + planes[f, 1] * c[1] + planes[f, 2] * c[2] + planes[f, 3])
-    for i in range(n):
-        for j in range(J):
-            t_hi, t_lo, blocked = np.inf, 0.0, False
-            for f in range(plane_start[j], plane_start[j + 1]):
-                a = planes[f, 0] * U[i, 0] + planes[f, 1] * U[i, 1] + planes[f, 2] * U[i, 2]
-                if a > 0.0:
-                    t_hi = min(t_hi, depth[f] / a)
-                elif a < 0.0:
-                    t_lo = max(t_lo, depth[f] / a)
-                elif depth[f] < 0.0:
-                    blocked = True  # parallel to the plane, on its outer side
-            T[i, j] = -np.inf if blocked or t_lo > t_hi * (1 + 1e-12) + 1e-12 else t_hi

@@ -15,8 +15,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._vectors import unit_rows
-from ..objects.contact_distance import group_contact_distance
+from ..objects.contact_distance import contact_distance, group_contact_distance
 from ..quality import q_distance
+
+
+#: The identities of the precision points in the object's memory of LP bases (the power grasp's skin
+#: points are 0, 1, ...): each fingertip's cP blocks start from their last optimal bases.
+PRECISION_IDS = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -278,7 +283,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
         cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)
     else:
         points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
-        cp = obj.contact_distance(points, backend=backend)
+        cp = contact_distance(obj, points, backend, ids=PRECISION_IDS + np.arange(len(points)))
         cp = PadDistance(cp.value, np.einsum("ia,iab->ib", cp.grad, jac), cp.nearest, cp.normal, cp.lp_solves)
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:
