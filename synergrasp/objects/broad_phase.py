@@ -171,15 +171,6 @@ class PieceIndex:
         manager.setup()
         return manager
 
-    @cached_property
-    def normal_moments(self) -> list[np.ndarray]:
-        """Per piece, (f, 12) float: each facet's outward normal n_f, then ``n_f n_f^T`` row by row."""
-        out = []
-        for p in self.pieces:
-            a = p.planes[:, :3]
-            out.append(np.hstack([a, (a[:, :, None] * a[:, None, :]).reshape(-1, 9)]))
-        return out
-
     @property
     def n_pieces(self) -> int:
         """Number of pieces J."""

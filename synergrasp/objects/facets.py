@@ -122,8 +122,8 @@ def separation_vertices(p, pq, bound, j, facing_only, planes, plane_start, facet
 
 
 @kernel
-def ray_exit(x0, d, j, allowed, planes, plane_start, vertices, facet_vertices, tol, degeneracy, mark, tag, ids, begin,
-             y):
+def ray_exit(x0, d, j, r_exit, allowed, planes, plane_start, vertices, facet_vertices, tol, degeneracy, mark, tag, ids,
+             begin, y):
     """Where the ray ``x0 + r d`` (r >= 0, x0 inside or on piece j) leaves the piece.
 
     The exit facets are those whose plane the ray crosses last (within
@@ -141,6 +141,9 @@ def ray_exit(x0, d, j, allowed, planes, plane_start, vertices, facet_vertices, t
     ----------
     x0, d : (3,) float
     j : int
+    r_exit : float
+        The smallest ``-(n . x0 + o) / (n . d)`` over the facets with
+        ``n . d > 0`` if the caller has it, else NaN.
     allowed : bool
         The ray may be settled in closed form.
     planes, plane_start, vertices, facet_vertices : arrays of `PieceIndex`
@@ -162,11 +165,12 @@ def ray_exit(x0, d, j, allowed, planes, plane_start, vertices, facet_vertices, t
     f0, f1 = plane_start[j], plane_start[j + 1]
     sub = planes[f0:f1]
     x0_, x1_, x2_, d0, d1, d2 = x0[0], x0[1], x0[2], d[0], d[1], d[2]
-    r_exit = np.inf
-    for f in range(f1 - f0):
-        a = sub[f, 0] * d0 + sub[f, 1] * d1 + sub[f, 2] * d2
-        if a > 0.0:
-            r_exit = min(r_exit, -(sub[f, 0] * x0_ + sub[f, 1] * x1_ + sub[f, 2] * x2_ + sub[f, 3]) / a)
+    if r_exit != r_exit:
+        r_exit = np.inf
+        for f in range(f1 - f0):
+            a = sub[f, 0] * d0 + sub[f, 1] * d1 + sub[f, 2] * d2
+            if a > 0.0:
+                r_exit = min(r_exit, -(sub[f, 0] * x0_ + sub[f, 1] * x1_ + sub[f, 2] * x2_ + sub[f, 3]) / a)
     level = r_exit * (1.0 + tol) + tol
     count = begin
     first = -1
@@ -322,7 +326,7 @@ def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, face
             for i in range(n):
                 if not (cand[i, j] and S[i, j] <= 0.0):
                     continue
-                r, end = ray_exit(P[i], d, j, closed_form, planes, plane_start, vertices, facet_vertices, tol,
+                r, end = ray_exit(P[i], d, j, np.nan, closed_form, planes, plane_start, vertices, facet_vertices, tol,
                                   degeneracy, mark, tag, vids, nv, y3)
                 tag += 1
                 if r == r:  # closed form: value -r, gradient -y, witness p - r q_k
@@ -437,7 +441,7 @@ def sq_rows(c, U, planes, plane_start, vertices, facet_vertices, candidate_tol, 
             if T[j] < level:
                 continue
             pts[rows], pcs[rows] = i, j
-            t, end = ray_exit(c, U[i], j, closed_form and alone == 1, planes, plane_start, vertices, facet_vertices,
+            t, end = ray_exit(c, U[i], j, T[j], closed_form and alone == 1, planes, plane_start, vertices, facet_vertices,
                               tol, degeneracy, mark, rows, vids, nv, y)
             closed[rows] = t == t
             ts[rows] = t
