@@ -220,6 +220,39 @@ class PieceIndex:
                self.facet_reach, GAUGE_RATIO, VALUE_TOL, planes, np.empty(len(self._members)), PQ, upper, S, lower)
         return Probe(P, PQ, S, lower, upper)
 
+    def group_probe(self, points, groups) -> tuple[np.ndarray, Probe]:
+        """The points that can attain their group's smallest cP, and their `Probe`.
+
+        A point whose lower bound of cP exceeds the upper bound of another
+        point of its group cannot attain the group's minimum (valid bounds, so
+        the minima are unchanged). The support bound of every point comes
+        first (no facet plane evaluated), then the facet-plane bounds of the
+        points it leaves.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+        groups : (n,) int
+            Group of each point, ``0 ... G-1``.
+
+        Returns
+        -------
+        rows : (m,) int
+            The points kept, ascending.
+        probe : Probe
+            Their probe (with the facet planes).
+        """
+        P = np.ascontiguousarray(points, dtype=float)
+        groups = np.asarray(groups, dtype=np.int64)
+        n = len(P)
+        PQ, upper, keep = np.empty((n, 4)), np.empty(n), np.empty(n, dtype=bool)
+        S, lower = np.full((n, self.n_pieces), np.inf), np.full((n, self.n_pieces), np.inf)
+        _group_probe(P, groups, SIMPLEX, self._members, self._cluster_support, self.support, self.planes,
+                     self.plane_start, self.facet_reach, GAUGE_RATIO, VALUE_TOL, np.empty(len(self._members)), PQ,
+                     upper, S, lower, np.full(groups.max() + 1, np.inf), np.empty(n), keep)
+        rows = np.flatnonzero(keep)
+        return rows, Probe(P[rows], PQ[rows], S[rows], lower[rows], upper[rows])
+
     def candidates(self, probe: Probe) -> tuple[np.ndarray, np.ndarray]:
         """(n, J) bool: the pieces that can be each point's cP minimiser, and an upper bound of each cP.
 
@@ -302,51 +335,124 @@ def _plane_bounds(P, planes, plane_start, out):
 
 
 @kernel
+def _vertex_gauge(pq, members, cluster_support, low):
+    """``min_v max_k (q_k . p - q_k . v)`` over the vertices (the nearest vertex in the gauge, over 3).
+
+    The cluster with the smallest bound ``max_k (q_k . p - max_v q_k . v)``
+    first, then only the clusters whose bound can beat the best so far: the
+    minimum over the same rounded differences, exact. ``low`` is scratch.
+    """
+    first = 0
+    for c in range(len(members)):
+        g = pq[0] - cluster_support[c, 0]
+        for k in range(1, 4):
+            g = max(g, pq[k] - cluster_support[c, k])
+        low[c] = g
+        if g < low[first]:
+            first = c
+    best = np.inf
+    for step in range(len(members) + 1):
+        c = first if step == 0 else step - 1
+        if (step > 0 and c == first) or low[c] >= best:
+            continue
+        for m in range(members.shape[1]):
+            g = pq[0] - members[c, m, 0]
+            for k in range(1, 4):
+                g = max(g, pq[k] - members[c, m, k])
+            best = min(best, g)
+    return best
+
+
+@kernel
+def _support_bound(pq, support, j, ratio):
+    """``3 max_k (q_k . p - h_j(q_k))``: a lower bound of piece j's value (inside it too)."""
+    s = pq[0] - support[j, 0]
+    for k in range(1, 4):
+        s = max(s, pq[k] - support[j, k])
+    return s * ratio
+
+
+@kernel
+def _plane_probe(p, j, planes, plane_start, reach):
+    """``max_f n_f . p + o_f`` and ``max_f (n_f . p + o_f) reach_f`` over piece j's facets."""
+    f0, f1 = plane_start[j], plane_start[j + 1]
+    sub, rf = planes[f0:f1], reach[f0:f1]  # loops from 0 over slices compile to much faster code
+    x, y, z = p[0], p[1], p[2]
+    smax, gmax = -np.inf, -np.inf
+    for f in range(f1 - f0):
+        v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
+        smax = max(smax, v)
+        gmax = max(gmax, v * rf[f])
+    return smax, gmax
+
+
+@kernel
+def _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
+                 PQ, upper, S, lower):
+    """Row i of the `Probe` arrays (``S`` and ``lower`` inf on entry)."""
+    J = len(support)
+    for k in range(4):
+        PQ[i, k] = P[i, 0] * Q[k, 0] + P[i, 1] * Q[k, 1] + P[i, 2] * Q[k, 2]
+    upper[i] = ratio * _vertex_gauge(PQ[i], members, cluster_support, low)
+    reach_bound = upper[i] + tol * (1.0 + abs(upper[i]))
+    for j in range(J):
+        s = _support_bound(PQ[i], support, j, ratio)
+        if not with_planes:
+            lower[i, j] = s
+        elif J == 1 or max(s, 0.0) <= reach_bound:  # else it can be neither the minimiser nor contain the point
+            smax, gmax = _plane_probe(P[i], j, planes, plane_start, reach)
+            S[i, j] = smax
+            lower[i, j] = max(max(gmax, 0.0), s)
+
+
+@kernel
 def _probe(P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
            PQ, upper, S, lower):
     """The arrays of `Probe` (see `PieceIndex.probe`), into ``PQ``, ``upper``, ``S`` and ``lower`` (inf on entry)."""
-    n, J, C = len(P), len(support), len(members)
+    for i in range(len(P)):
+        _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes,
+                     low, PQ, upper, S, lower)
+
+
+@kernel
+def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, low, PQ,
+                 upper, S, lower, smallest, cheap, keep):
+    """`PieceIndex.group_probe` into the `Probe` arrays and ``keep`` (``S``, ``lower``, ``smallest`` inf on entry).
+
+    Stage 1, every point: the nearest-vertex upper bound and the support
+    lower bound; a point whose lower bound exceeds its group's smallest upper
+    bound (within round-off; the point attaining it is always kept) is
+    dropped. Stage 2, the others: the facet planes too (inside a piece the
+    bounds are ``(-inf, 0)``), and the same test against the group's
+    smallest upper bound, now also over the points inside a piece.
+    """
+    n, J = len(P), len(support)
     for i in range(n):
-        for k in range(4):
-            PQ[i, k] = P[i, 0] * Q[k, 0] + P[i, 1] * Q[k, 1] + P[i, 2] * Q[k, 2]
-        # nearest vertex in the gauge: the cluster with the smallest bound first, then those that can beat it
-        first = 0
-        for c in range(C):
-            g = PQ[i, 0] - cluster_support[c, 0]
-            for k in range(1, 4):
-                g = max(g, PQ[i, k] - cluster_support[c, k])
-            low[c] = g
-            if g < low[first]:
-                first = c
-        best = np.inf
-        for step in range(C + 1):
-            c = first if step == 0 else step - 1
-            if (step > 0 and c == first) or low[c] >= best:
-                continue
-            for m in range(members.shape[1]):
-                g = PQ[i, 0] - members[c, m, 0]
-                for k in range(1, 4):
-                    g = max(g, PQ[i, k] - members[c, m, k])
-                best = min(best, g)
-        upper[i] = ratio * best
-        reach_bound = upper[i] + tol * (1.0 + abs(upper[i]))
+        _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, False, low,
+                     PQ, upper, S, lower)
+        cheap[i] = np.inf
         for j in range(J):
-            s = PQ[i, 0] - support[j, 0]
-            for k in range(1, 4):
-                s = max(s, PQ[i, k] - support[j, k])
-            s *= ratio
-            if not with_planes:
-                lower[i, j] = s
-                continue
-            if J > 1 and max(s, 0.0) > reach_bound:  # cannot be the minimiser, nor contain the point
-                continue
-            x, y, z = P[i, 0], P[i, 1], P[i, 2]
-            f0, f1 = plane_start[j], plane_start[j + 1]
-            sub, rf = planes[f0:f1], reach[f0:f1]  # loops from 0 over slices compile to much faster code
-            smax, gmax = -np.inf, -np.inf
-            for f in range(f1 - f0):
-                v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
-                smax = max(smax, v)
-                gmax = max(gmax, v * rf[f])
-            S[i, j] = smax
-            lower[i, j] = max(max(gmax, 0.0), s)
+            cheap[i] = min(cheap[i], lower[i, j])
+            lower[i, j] = np.inf
+        smallest[groups[i]] = min(smallest[groups[i]], upper[i])
+    for i in range(n):
+        s = smallest[groups[i]]
+        keep[i] = cheap[i] <= s * (1 + tol) + tol or upper[i] == s
+    for i in range(n):
+        if keep[i]:
+            _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, True, low,
+                         PQ, upper, S, lower)
+            for j in range(J):
+                if S[i, j] <= 0.0:
+                    smallest[groups[i]] = min(smallest[groups[i]], 0.0)
+    for i in range(n):
+        if not keep[i]:
+            continue
+        inside = False
+        low_i = np.inf
+        for j in range(J):
+            inside = inside or S[i, j] <= 0.0
+            low_i = min(low_i, lower[i, j])
+        up_i = 0.0 if inside else upper[i]
+        s = smallest[groups[i]]
+        keep[i] = inside or low_i <= s * (1 + tol) + tol or up_i == s

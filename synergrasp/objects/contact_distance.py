@@ -148,9 +148,8 @@ def group_contact_distance(obj, points, groups, backend="highs", *, ids=None) ->
 
     A point whose lower bound of cP exceeds the upper bound of another point
     of its group cannot attain the group's minimum and gets no LP (valid
-    bounds, so the minima are unchanged). The support bound of every point
-    comes first (no facet plane evaluated), then the facet-plane bounds
-    (`cp_bounds`) of the points it leaves, which are reused by the LPs.
+    bounds, so the minima are unchanged; `PieceIndex.group_probe`); the
+    bounds of the others are reused by one call of `contact_distance`.
 
     Parameters
     ----------
@@ -184,38 +183,15 @@ def group_contact_distance(obj, points, groups, backend="highs", *, ids=None) ->
     """
     P = check_points(points)
     solver = lp.get_backend(backend)
-    groups = np.asarray(groups)
+    groups = np.asarray(groups, dtype=np.int64)
     ids = np.arange(len(P)) if ids is None else np.asarray(ids, dtype=np.int64)
-    index = obj.index
-    n_groups = groups.max() + 1
-    cheap = index.probe(P, planes=False)
-    upper = cheap.upper
-    keep = _group_candidates(groups, cheap.lower.min(axis=1), upper, n_groups)
-    probe = index.probe(P[keep])
-    lower2, upper2 = probe.bounds()
-    smallest = np.full(n_groups, np.inf)
-    np.minimum.at(smallest, groups, upper)
-    np.minimum.at(smallest, groups[keep], upper2)
-    rows = _group_candidates(groups[keep], lower2, upper2, n_groups, smallest)
-    keep = keep[rows]
-    cp = _solve(obj, probe.take(rows), solver, ids[keep])
+    keep, probe = obj.index.group_probe(P, groups)
+    cp = _solve(obj, probe, solver, ids[keep])
     order = np.lexsort((cp.value, groups[keep]))
-    first = np.r_[True, groups[keep][order][1:] != groups[keep][order][:-1]]
-    picked = order[first]
+    ordered = groups[keep][order]
+    picked = order[np.r_[True, ordered[1:] != ordered[:-1]]]
     taken = {f.name: getattr(cp, f.name)[picked] for f in fields(cp) if f.name != "lp_solves"}
     return ContactDistance(**taken, lp_solves=cp.lp_solves), keep[picked]
-
-
-def _group_candidates(groups, lower, upper, n_groups, smallest=None):
-    """Rows whose lower bound does not exceed the smallest upper bound of their group (within round-off).
-
-    The row with a group's smallest upper bound is kept whatever the round-off.
-    """
-    if smallest is None:
-        smallest = np.full(n_groups, np.inf)
-        np.minimum.at(smallest, groups, upper)
-    s = smallest[groups]
-    return np.flatnonzero((lower <= s * (1 + VALUE_TOL) + VALUE_TOL) | (upper == s))
 
 
 def _solve(obj, probe: Probe, solver, ids=None) -> ContactDistance:

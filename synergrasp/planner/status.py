@@ -89,43 +89,61 @@ def smoothed_normals(obj, x, pieces, length):
     (True, (1, 3, 3))
     """
     x = np.ascontiguousarray(x, dtype=float)
-    normals, jac = np.empty((len(x), 3)), np.empty((len(x), 3, 3))
+    pieces = np.asarray(pieces, dtype=np.int64)
     index = obj.index
-    _smoothed_normals(x, np.asarray(pieces, dtype=np.int64), index.planes, index.plane_start, float(length), normals, jac)
+    start = np.zeros(len(x) + 1, dtype=np.int64)
+    np.cumsum(index.facet_counts[pieces], out=start[1:])
+    w = np.empty(start[-1])
+    _smoothing_exponents(x, pieces, index.planes, index.plane_start, float(length), start, w)
+    np.exp(w, out=w)  # numpy's vectorised exp: several times faster than a compiled loop's
+    normals, jac = np.empty((len(x), 3)), np.empty((len(x), 3, 3))
+    _smoothed_normals(pieces, index.planes, index.plane_start, float(length), start, w, normals, jac)
     return normals, jac
 
 
 @kernel
-def _smoothed_normals(x, pieces, planes, plane_start, h, normals, jac):
-    """`smoothed_normals` into ``normals`` (n, 3) and ``jac`` (n, 3, 3).
+def _smoothing_exponents(x, pieces, planes, plane_start, h, start, s):
+    """``(n_f . x + o_f) / h`` minus its max over the facets of x's piece, into ``s[start[i]:start[i+1]]``."""
+    for i in range(len(x)):
+        j = pieces[i]
+        sub = planes[plane_start[j]:plane_start[j + 1]]
+        out = s[start[i]:start[i + 1]]
+        x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
+        smax = -np.inf
+        for f in range(len(sub)):
+            out[f] = (x0 * sub[f, 0] + x1 * sub[f, 1] + x2 * sub[f, 2] + sub[f, 3]) / h
+            smax = max(smax, out[f])
+        for f in range(len(sub)):
+            out[f] -= smax
+
+
+@kernel
+def _smoothed_normals(pieces, planes, plane_start, h, start, w, normals, jac):
+    """`smoothed_normals` into ``normals`` (n, 3) and ``jac`` (n, 3, 3), from the softmax weights' numerators ``w``.
 
     With the softmax weights w_f of ``(n_f . x + o_f) / h``, the gradient of
     the smoothed surface is ``m = sum w_f n_f``, its derivative
     ``dm = (sum w_f n_f n_f^T - m m^T) / h``; the inward unit normal is
     ``-m / |m|`` with derivative ``-(I - n n^T) dm / |m|``.
     """
-    for i in range(len(x)):
+    for i in range(len(pieces)):
         j = pieces[i]
         sub = planes[plane_start[j]:plane_start[j + 1]]
-        x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
-        smax = -np.inf
-        for f in range(len(sub)):
-            smax = max(smax, (x0 * sub[f, 0] + x1 * sub[f, 1] + x2 * sub[f, 2] + sub[f, 3]) / h)
+        wi = w[start[i]:start[i + 1]]
         total = m0 = m1 = m2 = 0.0
         s00 = s01 = s02 = s11 = s12 = s22 = 0.0
         for f in range(len(sub)):
-            w = np.exp((x0 * sub[f, 0] + x1 * sub[f, 1] + x2 * sub[f, 2] + sub[f, 3]) / h - smax)
-            a0, a1, a2 = sub[f, 0], sub[f, 1], sub[f, 2]
-            total += w
-            m0 += w * a0
-            m1 += w * a1
-            m2 += w * a2
-            s00 += w * a0 * a0
-            s01 += w * a0 * a1
-            s02 += w * a0 * a2
-            s11 += w * a1 * a1
-            s12 += w * a1 * a2
-            s22 += w * a2 * a2
+            a0, a1, a2, wf = sub[f, 0], sub[f, 1], sub[f, 2], wi[f]
+            total += wf
+            m0 += wf * a0
+            m1 += wf * a1
+            m2 += wf * a2
+            s00 += wf * a0 * a0
+            s01 += wf * a0 * a1
+            s02 += wf * a0 * a2
+            s11 += wf * a1 * a1
+            s12 += wf * a1 * a2
+            s22 += wf * a2 * a2
         m0, m1, m2 = m0 / total, m1 / total, m2 / total
         d00, d01, d02 = (s00 / total - m0 * m0) / h, (s01 / total - m0 * m1) / h, (s02 / total - m0 * m2) / h
         d11, d12, d22 = (s11 / total - m1 * m1) / h, (s12 / total - m1 * m2) / h, (s22 / total - m2 * m2) / h
