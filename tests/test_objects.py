@@ -321,6 +321,30 @@ def test_cp_bounds_bracket_the_value(seed):
     assert np.all(np.isfinite(upper)) and np.isfinite(lower).any()
 
 
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_group_pruning_keeps_every_group_minimiser(seed):
+    """`PieceIndex.group_probe` drops only points that cannot attain their group's smallest cP."""
+    obj, rng = _random_object(seed)
+    pts = _probe_points(obj, rng, 12)
+    groups = rng.integers(0, 4, size=len(pts))
+    groups[:4] = np.arange(4)  # every group has a point
+    value = obj.contact_distance(pts).value
+    rows, probe = obj.index.group_probe(pts, groups)
+    assert (probe.P == pts[rows]).all()
+    for g in range(4):
+        members = np.flatnonzero(groups == g)
+        best = value[members].min()
+        kept = np.intersect1d(members, rows)
+        assert len(kept) and value[kept].min() == pytest.approx(best, abs=1e-7 * (1 + abs(best)))
+
+
+def test_plane_bounds_are_each_pieces_signed_distance_bound(goblet):
+    pts = goblet.center + np.random.default_rng(2).normal(size=(20, 3)) * 40.0
+    expected = np.column_stack([p.signed_distance_bound(pts) for p in goblet.convex])
+    assert goblet.index.plane_bounds(pts) == pytest.approx(expected, abs=1e-9)
+
+
 def test_broad_phase_prunes_far_pieces(goblet):
     # beside the bowl the foot is far: only the bowl is solved
     r = goblet.contact_distance([[45.0, 0.0, 120.0]])

@@ -14,6 +14,7 @@ import fcl
 import numpy as np
 
 from .._checks import positive_scalar
+from .._vectors import cross
 
 
 @dataclass(frozen=True)
@@ -59,13 +60,11 @@ class Penetration:
         return self.index >= 0
 
 
-def _frame(direction):
-    """Rotation whose z axis is the unit ``direction``."""
-    z = direction
-    a = np.eye(3)[int(np.argmin(np.abs(z)))]
-    x = np.cross(a, z)
-    x /= np.linalg.norm(x)
-    return np.column_stack([x, np.cross(z, x), z])
+def _frames(z):
+    """(k, 3, 3) rotations whose z axes are the unit rows of ``z`` (k, 3); x is normal to the axis least aligned with z."""
+    x = cross(np.eye(3)[np.argmin(np.abs(z), axis=1)], z)
+    x /= np.sqrt(np.einsum("ij,ij->i", x, x))[:, None]
+    return np.stack([x, cross(z, x), z], axis=2)
 
 
 def penetration(obj, segments, radius) -> Penetration:
@@ -91,15 +90,17 @@ def penetration(obj, segments, radius) -> Penetration:
     deepest_piece = np.full(k, -1)
     witnesses = np.full((k, 2, 3), np.nan)
     manager = obj.index.fcl_manager
+    axes = seg[:, 1] - seg[:, 0]
+    lengths = np.sqrt(np.einsum("ij,ij->i", axes, axes))
+    point = lengths <= 1e-12
+    rotations = _frames(axes / np.where(point, 1.0, lengths)[:, None] + point[:, None] * [0.0, 0.0, 1.0])
+    centres = 0.5 * (seg[:, 0] + seg[:, 1])
     for i in range(k):
-        a, b = seg[i]
-        axis = b - a
-        length = float(np.linalg.norm(axis))
-        if length <= 1e-12:
+        if point[i]:
             geom, rot = fcl.Sphere(float(r[i])), np.eye(3)
         else:
-            geom, rot = fcl.Capsule(float(r[i]), length), _frame(axis / length)
-        capsule = fcl.CollisionObject(geom, fcl.Transform(rot, 0.5 * (a + b)))
+            geom, rot = fcl.Capsule(float(r[i]), float(lengths[i])), rotations[i]
+        capsule = fcl.CollisionObject(geom, fcl.Transform(rot, centres[i]))
         data = fcl.DistanceData(request=request)
         manager.distance(capsule, data, fcl.defaultDistanceCallback)
         distances[i] = data.result.min_distance
