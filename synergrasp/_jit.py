@@ -26,3 +26,6 @@ from __future__ import annotations
 import numba
 
 kernel = numba.njit(cache=True, error_model="numpy")
+#: For the kernels called only from other kernels: no wrapper to call them from Python (its code,
+#: which unpacks every argument, is a good part of the compilation time).
+helper = numba.njit(cache=True, error_model="numpy", no_cpython_wrapper=True)

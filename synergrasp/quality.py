@@ -17,6 +17,7 @@ normals follow from the LP duals through ``w_ij(p_i, n_i)``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -95,13 +96,6 @@ def _wrenches(nhat, arm, L, mu, edges):
 
 
 @kernel
-def _cross_into(a0, a1, a2, b0, b1, b2, out, i):
-    out[i, 0] = a1 * b2 - a2 * b1
-    out[i, 1] = a2 * b0 - a0 * b2
-    out[i, 2] = a0 * b1 - a1 * b0
-
-
-@kernel
 def _wrench_kernel(nhat, arm, L, M, W, basis, axis, vnorm):
     """See `_wrenches`: fills ``W``, ``basis``, ``axis`` and ``vnorm``."""
     m = M.shape[1]
@@ -119,12 +113,12 @@ def _wrench_kernel(nhat, arm, L, M, W, basis, axis, vnorm):
             v0, v1, v2 = n2, 0.0, -n0
         else:
             v0, v1, v2 = -n1, n0, 0.0
-        vn = np.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+        vn = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
         vnorm[i] = vn
         e0, e1, e2 = v0 / vn, v1 / vn, v2 / vn
         basis[0, i, 0], basis[0, i, 1], basis[0, i, 2] = n0, n1, n2
         basis[1, i, 0], basis[1, i, 1], basis[1, i, 2] = e0, e1, e2
-        _cross_into(n0, n1, n2, e0, e1, e2, basis[2], i)
+        basis[2, i, 0], basis[2, i, 1], basis[2, i, 2] = n1 * e2 - n2 * e1, n2 * e0 - n0 * e2, n0 * e1 - n1 * e0
         r0, r1, r2 = arm[i, 0] / L, arm[i, 1] / L, arm[i, 2] / L
         for j in range(m):
             for c in range(3):

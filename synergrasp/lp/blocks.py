@@ -213,7 +213,7 @@ def solve_blocks(solver, blocks: Blocks, memory: BasisMemory | None = None, what
         memory.remember(codes, x > 0.0)
     degenerate, witness, lead_x = np.empty(n_blocks, dtype=bool), np.zeros((n_blocks, 3)), np.empty(len(blocks.lead))
     _results(x, start, n_lead, blocks.table, blocks.ids, DEGENERACY_TOL, degenerate, witness, lead_x)
-    return BlockSolution(lead_x, witness, y[:, :3], degenerate, lp_solves)
+    return BlockSolution(lead_x, witness, np.ascontiguousarray(y[:, :3]), degenerate, lp_solves)
 
 
 def _solve_one(solver, c, A, b, hint, what):

@@ -29,7 +29,7 @@ from functools import cached_property
 import fcl
 import numpy as np
 
-from .._jit import kernel
+from .._jit import helper, kernel
 from ..lp.blocks import BasisMemory
 from ..pseudo_distance import regular_simplex
 from ..tolerances import VALUE_TOL
@@ -334,75 +334,56 @@ def _plane_bounds(P, planes, plane_start, out):
             out[i, j] = best
 
 
-@kernel
-def _vertex_gauge(pq, members, cluster_support, low):
-    """``min_v max_k (q_k . p - q_k . v)`` over the vertices (the nearest vertex in the gauge, over 3).
+@helper
+def _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
+                 PQ, upper, S, lower):
+    """Row i of the `Probe` arrays (``S`` and ``lower`` inf on entry; ``low`` scratch).
 
-    The cluster with the smallest bound ``max_k (q_k . p - max_v q_k . v)``
-    first, then only the clusters whose bound can beat the best so far: the
-    minimum over the same rounded differences, exact. ``low`` is scratch.
+    The nearest vertex in the gauge, ``min_v max_k (q_k . p - q_k . v)``:
+    the cluster with the smallest bound ``max_k (q_k . p - max_v q_k . v)``
+    first, then only the clusters whose bound can beat the best so far (the
+    minimum over the same rounded differences: exact). Then, per piece, the
+    support bound ``3 max_k (q_k . p - h_j(q_k))`` (valid inside the piece
+    too) and, with ``with_planes``, for the pieces it leaves within reach,
+    the facet planes' maximum and gauge bound.
     """
+    J, C = len(support), len(members)
+    x, y, z = P[i, 0], P[i, 1], P[i, 2]
+    for k in range(4):
+        PQ[i, k] = x * Q[k, 0] + y * Q[k, 1] + z * Q[k, 2]
+    pq0, pq1, pq2, pq3 = PQ[i, 0], PQ[i, 1], PQ[i, 2], PQ[i, 3]
     first = 0
-    for c in range(len(members)):
-        g = pq[0] - cluster_support[c, 0]
-        for k in range(1, 4):
-            g = max(g, pq[k] - cluster_support[c, k])
-        low[c] = g
-        if g < low[first]:
+    for c in range(C):
+        low[c] = max(max(pq0 - cluster_support[c, 0], pq1 - cluster_support[c, 1]),
+                     max(pq2 - cluster_support[c, 2], pq3 - cluster_support[c, 3]))
+        if low[c] < low[first]:
             first = c
     best = np.inf
-    for step in range(len(members) + 1):
+    for step in range(C + 1):
         c = first if step == 0 else step - 1
         if (step > 0 and c == first) or low[c] >= best:
             continue
-        for m in range(members.shape[1]):
-            g = pq[0] - members[c, m, 0]
-            for k in range(1, 4):
-                g = max(g, pq[k] - members[c, m, k])
-            best = min(best, g)
-    return best
-
-
-@kernel
-def _support_bound(pq, support, j, ratio):
-    """``3 max_k (q_k . p - h_j(q_k))``: a lower bound of piece j's value (inside it too)."""
-    s = pq[0] - support[j, 0]
-    for k in range(1, 4):
-        s = max(s, pq[k] - support[j, k])
-    return s * ratio
-
-
-@kernel
-def _plane_probe(p, j, planes, plane_start, reach):
-    """``max_f n_f . p + o_f`` and ``max_f (n_f . p + o_f) reach_f`` over piece j's facets."""
-    f0, f1 = plane_start[j], plane_start[j + 1]
-    sub, rf = planes[f0:f1], reach[f0:f1]  # loops from 0 over slices compile to much faster code
-    x, y, z = p[0], p[1], p[2]
-    smax, gmax = -np.inf, -np.inf
-    for f in range(f1 - f0):
-        v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
-        smax = max(smax, v)
-        gmax = max(gmax, v * rf[f])
-    return smax, gmax
-
-
-@kernel
-def _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
-                 PQ, upper, S, lower):
-    """Row i of the `Probe` arrays (``S`` and ``lower`` inf on entry)."""
-    J = len(support)
-    for k in range(4):
-        PQ[i, k] = P[i, 0] * Q[k, 0] + P[i, 1] * Q[k, 1] + P[i, 2] * Q[k, 2]
-    upper[i] = ratio * _vertex_gauge(PQ[i], members, cluster_support, low)
+        cluster = members[c]
+        for m in range(len(cluster)):
+            best = min(best, max(max(pq0 - cluster[m, 0], pq1 - cluster[m, 1]), max(pq2 - cluster[m, 2], pq3 - cluster[m, 3])))
+    upper[i] = ratio * best
     reach_bound = upper[i] + tol * (1.0 + abs(upper[i]))
     for j in range(J):
-        s = _support_bound(PQ[i], support, j, ratio)
+        s = ratio * max(max(pq0 - support[j, 0], pq1 - support[j, 1]), max(pq2 - support[j, 2], pq3 - support[j, 3]))
         if not with_planes:
             lower[i, j] = s
-        elif J == 1 or max(s, 0.0) <= reach_bound:  # else it can be neither the minimiser nor contain the point
-            smax, gmax = _plane_probe(P[i], j, planes, plane_start, reach)
-            S[i, j] = smax
-            lower[i, j] = max(max(gmax, 0.0), s)
+            continue
+        if J > 1 and max(s, 0.0) > reach_bound:  # it can be neither the minimiser nor contain the point
+            continue
+        f0, f1 = plane_start[j], plane_start[j + 1]
+        sub, rf = planes[f0:f1], reach[f0:f1]  # loops from 0 over slices compile to much faster code
+        smax, gmax = -np.inf, -np.inf
+        for f in range(f1 - f0):
+            v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
+            smax = max(smax, v)
+            gmax = max(gmax, v * rf[f])
+        S[i, j] = smax
+        lower[i, j] = max(max(gmax, 0.0), s)
 
 
 @kernel

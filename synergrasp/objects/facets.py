@@ -28,14 +28,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import kernel
+from .._jit import helper, kernel
 
 #: Settle rays that leave a piece through the inside of one facet in closed form (False: every ray
 #: goes to the LP; the tests compare the two).
 CLOSED_FORM = True
 
 
-@kernel
+@helper
 def add_vertices(facet_vertices, f, mark, tag, ids, begin, count):
     """Insert facet f's vertices into the ascending list ``ids[begin:count]`` unless marked ``tag``; returns the new count."""
     for a in range(3):
@@ -51,9 +51,10 @@ def add_vertices(facet_vertices, f, mark, tag, ids, begin, count):
     return count
 
 
-@kernel
-def separation_facets(p, pq, bound, j, planes, plane_start, facet_nq, facet_mq, tol):
-    """How many facets of piece j can carry the separation optimum of the point p.
+@helper
+def separation_vertices(p, pq, bound, j, facing_only, emit, planes, plane_start, facet_nq, facet_mq, facet_vertices,
+                        tol, mark, tag, ids, begin):
+    """The facets of piece j that can carry the separation optimum of the point p.
 
     A facet is kept when it faces p (``n . p + o > 0``) and the gauge ball
     ``p + v Q`` with v <= ``bound`` (an upper bound of p's cP) can reach it:
@@ -61,7 +62,9 @@ def separation_facets(p, pq, bound, j, planes, plane_start, facet_nq, facet_mq, 
     n . q_k``), and no facet plane of the ball (normal ``-q_k``, offset
     ``bound / 3``) separates them (``min_t -q_k . t + q_k . p <= bound / 3``
     over the facet's vertices t). A piece the ball reaches through no facet
-    is not the point's minimiser.
+    is not the point's minimiser. With ``facing_only`` every facet facing p
+    is kept instead (for a point that round-off left with no facet in any
+    of its pieces).
 
     Parameters
     ----------
@@ -70,42 +73,27 @@ def separation_facets(p, pq, bound, j, planes, plane_start, facet_nq, facet_mq, 
         ``q_k . p``.
     bound : float
     j : int
-    planes, plane_start, facet_nq, facet_mq : arrays of `PieceIndex`
+    facing_only : bool
+    emit : bool
+        Append the kept facets' vertices to ``ids`` (ascending, from
+        ``begin``; `add_vertices`); else only count the facets.
+    planes, plane_start, facet_nq, facet_mq, facet_vertices : arrays of `PieceIndex`
     tol : float
         `VALUE_TOL`.
+    mark, tag, ids, begin
+        As `add_vertices`.
+
+    Returns
+    -------
+    int
+        The new length of ``ids`` if ``emit``, else the number of facets kept.
     """
     t = tol * (1.0 + bound)
     reach = bound / 3.0 + t
     f0, f1 = plane_start[j], plane_start[j + 1]
     sub, nq = planes[f0:f1], facet_nq[f0:f1]  # loops from 0 over slices compile to much faster code
     x, y, z = p[0], p[1], p[2]
-    kept = 0
-    for f in range(f1 - f0):
-        v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
-        if v > 0.0 and v + bound * nq[f] <= t:
-            apart = False
-            for k in range(4):
-                if facet_mq[k, f0 + f] + pq[k] > reach:
-                    apart = True
-            if not apart:
-                kept += 1
-    return kept
-
-
-@kernel
-def separation_vertices(p, pq, bound, j, facing_only, planes, plane_start, facet_nq, facet_mq, facet_vertices, tol,
-                        mark, tag, ids, begin):
-    """Append to ``ids`` (ascending, from ``begin``) the vertices of the facets `separation_facets` keeps; returns the new length.
-
-    With ``facing_only`` every facet facing p is kept instead (for a point
-    that round-off left with no facet in any of its pieces).
-    """
-    t = tol * (1.0 + bound)
-    reach = bound / 3.0 + t
-    f0, f1 = plane_start[j], plane_start[j + 1]
-    sub, nq = planes[f0:f1], facet_nq[f0:f1]
-    x, y, z = p[0], p[1], p[2]
-    count = begin
+    count = begin if emit else 0
     for f in range(f1 - f0):
         v = x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3]
         if not v > 0.0:
@@ -117,11 +105,14 @@ def separation_vertices(p, pq, bound, j, facing_only, planes, plane_start, facet
                 if facet_mq[k, f0 + f] + pq[k] > reach:
                     keep = False
         if keep:
-            count = add_vertices(facet_vertices, f0 + f, mark, tag, ids, begin, count)
+            if emit:
+                count = add_vertices(facet_vertices, f0 + f, mark, tag, ids, begin, count)
+            else:
+                count += 1
     return count
 
 
-@kernel
+@helper
 def ray_exit(x0, d, j, r_exit, allowed, planes, plane_start, vertices, facet_vertices, tol, degeneracy, mark, tag, ids,
              begin, y):
     """Where the ray ``x0 + r d`` (r >= 0, x0 inside or on piece j) leaves the piece.
@@ -291,7 +282,8 @@ def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, face
     for j in range(J):
         for i in range(n):
             if cand[i, j] and S[i, j] > 0.0:
-                kept[i * J + j] = separation_facets(P[i], PQ[i], bound[i], j, planes, plane_start, facet_nq, facet_mq, tol)
+                kept[i * J + j] = separation_vertices(P[i], PQ[i], bound[i], j, False, False, planes, plane_start,
+                                                      facet_nq, facet_mq, facet_vertices, tol, mark, tag, vids, nv)
                 per_point[i] += kept[i * J + j]
     for j in range(J):
         for i in range(n):
@@ -300,7 +292,7 @@ def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, face
             lost = per_point[i] == 0  # round-off left the point with no facet: keep every facet facing it
             if kept[i * J + j] == 0 and not lost:
                 continue  # the gauge ball reaches no facet: not the minimiser
-            end = separation_vertices(P[i], PQ[i], bound[i], j, lost, planes, plane_start, facet_nq, facet_mq,
+            end = separation_vertices(P[i], PQ[i], bound[i], j, lost, True, planes, plane_start, facet_nq, facet_mq,
                                       facet_vertices, tol, mark, tag, vids, nv)
             tag += 1
             if end == nv:

@@ -109,7 +109,7 @@ def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
     pts, pcs, ts, ys = np.empty(m, dtype=np.int64), np.empty(m, dtype=np.int64), np.empty(m), np.empty((m, 3))
     closed, n_vert = np.empty(m, dtype=bool), np.empty(m, dtype=np.int64)
     vids, counts = np.empty(3 * n * len(index.planes), dtype=np.int64), np.zeros(2, dtype=np.int64)
-    facets.sq_rows(c0, U, index.planes, index.plane_start, index.vertices, index.facet_vertices, CANDIDATE_TOL, VALUE_TOL,
+    facets.sq_rows(c0.copy(), U, index.planes, index.plane_start, index.vertices, index.facet_vertices, CANDIDATE_TOL, VALUE_TOL,
              DEGENERACY_TOL, facets.CLOSED_FORM, np.empty(len(index.planes)), np.empty(n_pieces),
              np.full(len(index.vertices), -1, dtype=np.int64), missed, pts, pcs, ts, ys, closed, n_vert, vids, counts)
     if missed.any():
