@@ -25,7 +25,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from ._checks import as_points, as_vector, positive_scalar
-from ._jit import kernel
+from ._jit import helper, kernel
 from .pseudo_distance import optimum, regular_simplex
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
@@ -95,6 +95,16 @@ def _wrenches(nhat, arm, L, mu, edges):
     return W, M, basis, axis, vnorm
 
 
+@helper
+def _axis_cross(k, v0, v1, v2):
+    """``e_k x v`` for the coordinate axis e_k."""
+    if k == 0:
+        return 0.0, -v2, v1
+    if k == 1:
+        return v2, 0.0, -v0
+    return -v1, v0, 0.0
+
+
 @kernel
 def _wrench_kernel(nhat, arm, L, M, W, basis, axis, vnorm):
     """See `_wrenches`: fills ``W``, ``basis``, ``axis`` and ``vnorm``."""
@@ -107,12 +117,7 @@ def _wrench_kernel(nhat, arm, L, M, W, basis, axis, vnorm):
         if abs(n2) < min(abs(n0), abs(n1)):
             k = 2
         axis[i] = k
-        if k == 0:  # a x n for a = e_k
-            v0, v1, v2 = 0.0, -n2, n1
-        elif k == 1:
-            v0, v1, v2 = n2, 0.0, -n0
-        else:
-            v0, v1, v2 = -n1, n0, 0.0
+        v0, v1, v2 = _axis_cross(k, n0, n1, n2)
         vn = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
         vnorm[i] = vn
         e0, e1, e2 = v0 / vn, v1 / vn, v2 / vn
@@ -171,13 +176,7 @@ def _gradient_kernel(alpha, dual, M, basis, axis, vnorm, arm, L, nhat, length, g
         w2 = s1 * h2 - (n0 * u1 - n1 * u0)
         ew = e0 * w0 + e1 * w1 + e2 * w2
         w0, w1, w2 = w0 - e0 * ew, w1 - e1 * ew, w2 - e2 * ew
-        k = axis[i]
-        if k == 0:  # a x w for a = e_k
-            c0, c1, c2 = 0.0, -w2, w1
-        elif k == 1:
-            c0, c1, c2 = w2, 0.0, -w0
-        else:
-            c0, c1, c2 = -w1, w0, 0.0
+        c0, c1, c2 = _axis_cross(axis[i], w0, w1, w2)  # a x w
         vn = vnorm[i]
         q0 = s0 * h0 + (e1 * u2 - e2 * u1) - c0 / vn
         q1 = s0 * h1 + (e2 * u0 - e0 * u2) - c1 / vn

@@ -408,8 +408,9 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
     smallest upper bound, now also over the points inside a piece.
     """
     n, J = len(P), len(support)
+    support_only, with_planes = tol != tol, tol == tol  # not literals: numba would compile _probe_point once more
     for i in range(n):
-        _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, False, low,
+        _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, support_only, low,
                      PQ, upper, S, lower)
         cheap[i] = np.inf
         for j in range(J):
@@ -421,7 +422,7 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
         keep[i] = cheap[i] <= s * (1 + tol) + tol or upper[i] == s
     for i in range(n):
         if keep[i]:
-            _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, True, low,
+            _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
                          PQ, upper, S, lower)
             for j in range(J):
                 if S[i, j] <= 0.0:

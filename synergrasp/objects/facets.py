@@ -276,13 +276,16 @@ def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, face
     point) and the penetration rays settled in closed form; ``counts`` receives (blocks, lead columns, vertex
     ids, closed rays). Block keys are ``(pid * J + piece) * 5`` (separation) and ``... + 1 + k`` (ray k)."""
     n, J = S.shape
-    nb = nl = nv = nc = 0
-    tag = 0
+    # counters from the zeroed ``counts`` and flags from a comparison, never literals: a literal argument
+    # makes numba compile a helper once more for its literal type
+    nb, nl, nv, nc = counts[0], counts[1], counts[2], counts[3]
+    tag = counts[0]
+    count_only, emit = tol != tol, tol == tol
     # separation (Eq. 1): min sum rho  s.t.  Q^T rho - V^T beta = -p,  sum beta = 1
     for j in range(J):
         for i in range(n):
             if cand[i, j] and S[i, j] > 0.0:
-                kept[i * J + j] = separation_vertices(P[i], PQ[i], bound[i], j, False, False, planes, plane_start,
+                kept[i * J + j] = separation_vertices(P[i], PQ[i], bound[i], j, count_only, count_only, planes, plane_start,
                                                       facet_nq, facet_mq, facet_vertices, tol, mark, tag, vids, nv)
                 per_point[i] += kept[i * J + j]
     for j in range(J):
@@ -292,7 +295,7 @@ def cp_blocks(P, PQ, S, cand, bound, pid, Q, planes, plane_start, facet_nq, face
             lost = per_point[i] == 0  # round-off left the point with no facet: keep every facet facing it
             if kept[i * J + j] == 0 and not lost:
                 continue  # the gauge ball reaches no facet: not the minimiser
-            end = separation_vertices(P[i], PQ[i], bound[i], j, lost, True, planes, plane_start, facet_nq, facet_mq,
+            end = separation_vertices(P[i], PQ[i], bound[i], j, lost, emit, planes, plane_start, facet_nq, facet_mq,
                                       facet_vertices, tol, mark, tag, vids, nv)
             tag += 1
             if end == nv:
@@ -402,7 +405,7 @@ def sq_rows(c, U, planes, plane_start, vertices, facet_vertices, candidate_tol, 
     n, J = len(U), len(plane_start) - 1
     for f in range(len(planes)):  # how far c lies behind each facet plane (< 0: in front)
         depth[f] = -(planes[f, 0] * c[0] + planes[f, 1] * c[1] + planes[f, 2] * c[2] + planes[f, 3])
-    rows = nv = 0
+    rows, nv = counts[0], counts[1]  # from the zeroed counts, not literals (see cp_blocks)
     y = np.empty(3)
     for i in range(n):
         best = -np.inf
