@@ -14,11 +14,13 @@ with HiGHS, each package in its own subprocess:
 
 The two are measured ``--rounds`` times, alternating (load from other
 processes hits both alike), and the medians kept. For each case: the wall
-time of the plan (median of ``--repeats``), its iterations over all attempts,
-its LP solves, and the time inside the LP solver measured two ways: the sum
-of ``LPSolution.solve_time`` (the library's own timer around the backend's
-``_solve``) and an independent timer around every ``Backend.solve`` call
-(validation of the LP data included). Then the medians over the 8 cases of
+time and CPU time of the plan (the repeat with the least CPU time of
+``--repeats``), its iterations over all attempts, its LP solves, and the
+time inside the LP solver measured two ways: an independent CPU timer
+around every ``Backend.solve`` call (validation of the LP data included),
+and the sum of ``LPSolution.solve_time`` (the library's own wall-clock timer
+around the backend's ``_solve``); and the trajectory, compared between the
+two packages. Then the medians over the 8 cases of
 the time per iteration and of the solver's share, the time of one
 ``q_distance`` (5 contacts, value + gradients) and of one ``contact_distance``
 call, and cProfile's cumulative times of the main functions in the ellipsoid
@@ -51,7 +53,7 @@ FUNCTIONS = (
     ("plan (total)", ("planner/core.py",), "plan"),
     ("grasp_status (cP, sQ, g_sQ, Jacobian)", ("planner/status.py",), "grasp_status"),
     ("check_grasp (g_Q of the real contacts)", ("planner/stop.py",), "check_grasp"),
-    ("contact_distance (cP)", ("objects/proximity.py", "objects/contact_distance.py"), ("contact_distance", "_solve")),
+    ("contact_distance (cP)", ("objects/proximity.py", "objects/contact_distance.py"), "contact_distance"),
     ("scaled_contacts (sQ contacts)", ("objects/proximity.py", "objects/scaled_contacts.py"), "scaled_contacts"),
     ("smoothed_normals", ("planner/status.py",), "smoothed_normals"),
     ("q_distance", ("synergrasp/quality.py",), "q_distance"),
@@ -75,16 +77,16 @@ CASES = json.loads(sys.argv[4])
 
 
 class Timed(HighsBackend):
-    """HiGHS with an outside timer around every solve, beside the library's own solve_time."""
+    """HiGHS with an outside CPU timer around every solve, beside the library's own (wall) solve_time."""
 
     def reset(self):
         self.own = self.outside = 0.0
         self.n = 0
 
     def solve(self, *args, **kwargs):
-        start = time.perf_counter()
+        start = time.process_time()
         sol = super().solve(*args, **kwargs)
-        self.outside += time.perf_counter() - start
+        self.outside += time.process_time() - start
         self.own += sol.solve_time
         self.n += 1
         return sol
@@ -97,15 +99,15 @@ for name, grasp in CASES:
     for i in range(repeats + 1):  # the first run warms up (imports, compiled code, caches)
         be = Timed()
         be.reset()
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         r = sg.plan(obj, grasp, backend=be)
-        wall = time.perf_counter() - start
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         if i:
-            runs.append((wall, be.own, be.outside, be.n))
-    wall, own, outside, n = runs[int(np.argsort([w for w, *_ in runs])[len(runs) // 2])]  # the median run
+            runs.append((cpu, wall, be.own, be.outside, be.n))
+    cpu, wall, own, outside, n = min(runs)  # the run least disturbed by other processes
     out["cases"][name + " " + grasp] = dict(
-        wall_s=wall, iterations=int(r.total_iterations), success=bool(r.success), lp_solves=n,
-        lp_time_s=own, lp_time_outside_s=outside)
+        cpu_s=cpu, wall_s=wall, iterations=int(r.total_iterations), success=bool(r.success), lp_solves=n,
+        lp_time_s=own, lp_cpu_s=outside, attempts=len(r.attempts), trajectory=np.asarray(r.trajectory).tolist())
 be = HighsBackend()
 grasps = grasp_sequence(5, 31 if quick else 301)
 sg.q_distance(*grasps[0], backend=be)
@@ -158,25 +160,32 @@ def combine(results: list) -> dict:
     for key in ("q5_ms", "cp_ms"):
         out[key] = float(np.median([r[key] for r in results]))
     out["cases"] = {case: dict(values, **{k: float(np.median([r["cases"][case][k] for r in results]))
-                                          for k in ("wall_s", "lp_time_s", "lp_time_outside_s")})
-                    for case, values in results[0]["cases"].items()}
+                                          for k in ("cpu_s", "wall_s", "lp_time_s", "lp_cpu_s")})
+                    for case, values in results[0]["cases"].items()}  # the trajectories are those of the first round
     return out
 
 
 def per_case(result: dict) -> dict:
-    """Per case: ms per iteration, the solver's share (both timers), µs per LP."""
+    """Per case: CPU ms per iteration, the solver's share (CPU, and by the library's wall-clock timer), µs per LP."""
     rows = {}
     for case, c in result["cases"].items():
-        rows[case] = dict(ms_per_iteration=1e3 * c["wall_s"] / max(c["iterations"], 1),
-                          lp_share=c["lp_time_s"] / c["wall_s"], lp_share_outside=c["lp_time_outside_s"] / c["wall_s"],
-                          us_per_lp=1e6 * c["lp_time_s"] / max(c["lp_solves"], 1))
+        rows[case] = dict(ms_per_iteration=1e3 * c["cpu_s"] / max(c["iterations"], 1),
+                          lp_share=c["lp_cpu_s"] / c["cpu_s"], lp_share_wall=c["lp_time_s"] / c["wall_s"],
+                          us_per_lp=1e6 * c["lp_cpu_s"] / max(c["lp_solves"], 1))
     return rows
 
 
 def summary(result: dict) -> dict:
     """Medians over the cases of the time per iteration and of the solver's share."""
     rows = per_case(result).values()
-    return {key: float(np.median([r[key] for r in rows])) for key in ("ms_per_iteration", "lp_share", "lp_share_outside")}
+    return {key: float(np.median([r[key] for r in rows])) for key in ("ms_per_iteration", "lp_share", "lp_share_wall")}
+
+
+def trajectory_change(before: dict, after: dict, case: str) -> float:
+    """Largest |u_after - u_before| over the common length of the returned trajectories (mm, rad)."""
+    a, b = np.asarray(after["cases"][case]["trajectory"]), np.asarray(before["cases"][case]["trajectory"])
+    n = min(len(a), len(b))
+    return float(np.abs(a[:n] - b[:n]).max()) if n else float("nan")
 
 
 def cumulative(result: dict, suffixes, name):
@@ -201,9 +210,10 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
         return [label, fmt(b, spec), fmt(a, spec), speed]
 
     rows = [
-        row("time per iteration, median over the cases (ms)", sb and sb["ms_per_iteration"], sa["ms_per_iteration"], ".3g"),
-        row("share of the plan inside the LP solver (solve_time), median", sb and sb["lp_share"], sa["lp_share"], ".0%", False),
-        row("the same, timed outside Backend.solve, median", sb and sb["lp_share_outside"], sa["lp_share_outside"], ".0%", False),
+        row("CPU time per iteration, median over the cases (ms)", sb and sb["ms_per_iteration"], sa["ms_per_iteration"], ".3g"),
+        row("share of the plan's CPU time inside Backend.solve, median", sb and sb["lp_share"], sa["lp_share"], ".0%", False),
+        row("share of its wall time in the backends' solve_time, median", sb and sb["lp_share_wall"], sa["lp_share_wall"],
+            ".0%", False),
         row("q_distance, 5 contacts, value + gradients (ms)", before and before["q5_ms"], after["q5_ms"], ".3g"),
         row("contact_distance, one point (ms)", before and before["cp_ms"], after["cp_ms"], ".3g"),
     ]
@@ -213,19 +223,21 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
         "",
         f"`python -m solvers.profile_plan`: the paper's {len(cases)} cases planned with HiGHS, *before* = the "
         f"`synergrasp` package as of commit `{ref}`, *after* = now, each in its own process, alternating; "
-        "medians over the rounds. The solver's share is measured two ways: the library's own timer "
-        "(`LPSolution.solve_time`, around the backend's `_solve`) and an outside timer around every "
-        "`Backend.solve` call." if before else
+        "per case the repeat with the least CPU time, then the median over the rounds. The solver's share is "
+        "measured two ways: CPU time inside every `Backend.solve` call over the plan's CPU time (an outside "
+        "timer), and the sum of the backend's own wall-clock timer (`LPSolution.solve_time`, around its "
+        "`_solve`) over the plan's wall time." if before else
         f"`python -m solvers.profile_plan`: {len(cases)} case(s) planned with HiGHS (no baseline).",
         "",
         "| measure | before | after | speed-up |",
         "|---|---|---|---|",
     ] + ["| " + " | ".join(r) + " |" for r in rows]
     csv_rows = [dict(measure=r[0], before=r[1], after=r[2], speedup=r[3]) for r in rows]
-    lines += ["", "Per case (HiGHS; iterations over all attempts; wall time is the median run's):", "",
-              "| plan | iterations before / after | LP solves before / after | wall s before / after | ms per iteration "
-              "before / after | LP share before / after | µs per LP before / after |",
-              "|---|---|---|---|---|---|---|"]
+    lines += ["", "Per case (HiGHS; iterations over all attempts):", "",
+              "| plan | iterations before / after | LP solves before / after | CPU s before / after | ms per iteration "
+              "before / after | LP share (CPU) before / after | µs per LP before / after | success, attempts before / after | "
+              "max abs du |",
+              "|---|---|---|---|---|---|---|---|---|"]
     pa, pb = per_case(after), per_case(before) if before else {}
     for case in cases:
         a, ca = pa[case], after["cases"][case]
@@ -233,13 +245,20 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
         pair = lambda x, y, spec: f"{fmt(x, spec)} / {fmt(y, spec)}"  # noqa: E731
         lines.append(
             f"| {case} | {pair(cb and cb['iterations'], ca['iterations'], 'd')} | "
-            f"{pair(cb and cb['lp_solves'], ca['lp_solves'], 'd')} | {pair(cb and cb['wall_s'], ca['wall_s'], '.3g')} | "
+            f"{pair(cb and cb['lp_solves'], ca['lp_solves'], 'd')} | {pair(cb and cb['cpu_s'], ca['cpu_s'], '.3g')} | "
             f"{pair(b and b['ms_per_iteration'], a['ms_per_iteration'], '.3g')} | {pair(b and b['lp_share'], a['lp_share'], '.0%')} | "
-            f"{pair(b and b['us_per_lp'], a['us_per_lp'], '.0f')} |")
+            f"{pair(b and b['us_per_lp'], a['us_per_lp'], '.0f')} | "
+            f"{'-' if cb is None else ('yes' if cb['success'] else 'no') + ', ' + str(cb['attempts'])} / "
+            f"{'yes' if ca['success'] else 'no'}, {ca['attempts']} | "
+            f"{'-' if cb is None else format(trajectory_change(before, after, case), '.2g')} |")
         csv_rows.append(dict(measure=f"{case} ms per iteration", before=fmt(b and b["ms_per_iteration"], ".4g"),
                              after=f"{a['ms_per_iteration']:.4g}", speedup=""))
         csv_rows.append(dict(measure=f"{case} LP share", before=fmt(b and b["lp_share"], ".3f"),
                              after=f"{a['lp_share']:.3f}", speedup=""))
+    if before:
+        lines += ["", "max abs du: the largest difference of the returned trajectories (u: mm and rad) over their "
+                  "common length; round-off in the LP data and in the compiled loops' order of operations, where "
+                  "the iterations and attempts are the same."]
     lines += ["", "Cumulative time of the main functions in one profiled ellipsoid precision plan (cProfile inflates "
               "every time; the shares are what matter):", "",
               "| function | calls (after) | before s | after s | share of the plan (after) |", "|---|---|---|---|---|"]
