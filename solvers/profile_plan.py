@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m solvers.profile_plan [--out solvers/results] [--baseline-ref 251b907] [--repeats 3] [--rounds 2]
+    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref 251b907] [--repeats 3] [--rounds 2]
     python -m solvers.profile_plan --quick     # one case, one repeat, no baseline (the test suite runs it)
 
 Plans the paper's 8 cases (ellipsoid, cup, bell, goblet x precision, power)
@@ -24,8 +24,10 @@ two packages. Then the medians over the 8 cases of
 the time per iteration and of the solver's share, the time of one
 ``q_distance`` (5 contacts, value + gradients) and of one ``contact_distance``
 call, and cProfile's cumulative times of the main functions in the ellipsoid
-precision plan. Writes ``profile.md`` and ``profile.csv`` to ``--out``;
-``python -m solvers.compare`` includes ``profile.md`` in its results.
+precision plan. Writes ``profile.md`` and ``profile.csv`` to ``--out``
+(default ``./bench-out/profile``, with ``--quick`` ``./bench-out/profile-quick``),
+or with ``--docs`` to the committed ``solvers/results``, whose ``profile.md``
+``python -m solvers.compare`` includes in its results.
 """
 
 from __future__ import annotations
@@ -42,7 +44,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_OUT = ROOT / "solvers" / "results"
+#: The committed results (written with --docs).
+COMMITTED = ROOT / "solvers" / "results"
+#: Output folder of a run without --docs (relative to the working directory).
+DEFAULT_OUT = Path("bench-out") / "profile"
 #: The commit before the geometry layer's redesign (module split, compiled loops, HiGHS models updated in place).
 BASELINE_REF = "251b907"
 CASES = tuple((o, g) for g in ("precision", "power") for o in ("ellipsoid", "cup", "bell", "goblet"))
@@ -221,7 +226,7 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
     lines = [
         "### Profile: where a plan's time goes",
         "",
-        f"`python -m solvers.profile_plan`: the paper's {len(cases)} cases planned with HiGHS, *before* = the "
+        f"`python -m solvers.profile_plan --docs`: the paper's {len(cases)} cases planned with HiGHS, *before* = the "
         f"`synergrasp` package as of commit `{ref}`, *after* = now, each in its own process, alternating; "
         "per case the repeat with the least CPU time, then the median over the rounds. The solver's share is "
         "measured two ways: CPU time inside every `Backend.solve` call over the plan's CPU time (an outside "
@@ -273,13 +278,15 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", type=Path, default=None,
-                        help="output folder (default solvers/results; with --quick solvers/results/quick)")
+                        help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick)")
+    parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
     parser.add_argument("--repeats", type=int, default=3, help="timed plans per case and round")
     parser.add_argument("--rounds", type=int, default=2, help="before/after measurement rounds, alternating")
     parser.add_argument("--quick", action="store_true", help="one case, one repeat, one round, no baseline")
     args = parser.parse_args(argv)
-    out = args.out if args.out is not None else DEFAULT_OUT / "quick" if args.quick else DEFAULT_OUT
+    quick_out = DEFAULT_OUT.with_name(DEFAULT_OUT.name + "-quick")
+    out = args.out if args.out is not None else COMMITTED if args.docs else quick_out if args.quick else DEFAULT_OUT
     cases = [list(c) for c in (QUICK_CASES if args.quick else CASES)]
     repeats, rounds = (1, 1) if args.quick else (args.repeats, args.rounds)
     befores, afters = [], []

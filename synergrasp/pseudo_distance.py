@@ -34,6 +34,15 @@ from . import lp
 from ._checks import as_points
 from .tolerances import DEGENERACY_TOL, VALUE_TOL
 
+#: Largest dimension d accepted (the penetration LP has (d+1)(d+2) rows).
+MAX_DIM = 1000
+#: Point sets whose spread (half the largest side of their common bounding box) or offset (the
+#: largest coordinate of the box's centre) fall outside this range are solved translated to
+#: the box's centre and divided by their spread, so that the LPs' tolerances fit them; the
+#: value is scaled back (the pseudo-distance is translation invariant and scales with the
+#: data, its gradients do not change). Data within it (mm at hand size) are solved as given.
+SCALE_RANGE = (1e-3, 1e6)
+
 
 @lru_cache(maxsize=None)
 def _regular_simplex(d: int) -> np.ndarray:
@@ -67,8 +76,8 @@ def regular_simplex(d: int) -> np.ndarray:
     >>> Q.shape, bool(np.allclose(np.linalg.norm(Q, axis=1), 1.0))
     ((4, 3), True)
     """
-    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 2:
-        raise ValueError(f"d must be an integer >= 2, got {d!r}")
+    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or not 2 <= d <= MAX_DIM:
+        raise ValueError(f"d must be an integer from 2 to {MAX_DIM}, got {d!r}")
     return _regular_simplex(int(d)).copy()
 
 
@@ -317,8 +326,24 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     """
     A = as_points(A, "A", min_dim=2)
     B = as_points(B, "B", dim=A.shape[1])
-    Q = _regular_simplex(A.shape[1]) if simplex is None else check_simplex(simplex, A.shape[1])
-    opt = optimum(A, B, simplex=None if simplex is None else Q, backend=backend, checked=True)
+    d = A.shape[1]
+    if d > MAX_DIM:
+        raise ValueError(f"A and B have points of dimension {d}; at most {MAX_DIM} is supported")
+    Q = _regular_simplex(d) if simplex is None else check_simplex(simplex, d)
+    given = None if simplex is None else Q  # optimum's own default needs no check
+    lo, hi = np.minimum(A.min(axis=0), B.min(axis=0)), np.maximum(A.max(axis=0), B.max(axis=0))
+    centre = 0.5 * lo + 0.5 * hi  # the bounding box's centre (no overflow near the largest floats)
+    spread = float(np.max(0.5 * hi - 0.5 * lo))
+    low, high = SCALE_RANGE
+    if spread > high or float(np.abs(centre).max()) > high or 0.0 < spread < low:
+        unit = spread if spread > 0 else 1.0  # all points in one place: translated only
+        opt = optimum((A - centre) / unit, (B - centre) / unit, simplex=given, backend=backend, checked=True)
+        opt = opt._replace(value=opt.value * unit)
+        if not np.isfinite(opt.value):
+            raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
+                             f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}); rescale the data")
+    else:
+        opt = optimum(A, B, simplex=given, backend=backend, checked=True)
     alpha, beta, dual = opt.alpha, opt.beta, opt.dual
     return PseudoDistance(
         value=opt.value,
@@ -364,6 +389,11 @@ def optimum(A, B, *, simplex=None, backend="highs", checked=False) -> Optimum:
     ValueError, synergrasp.lp.LPError
         As :func:`pseudo_distance`.
 
+    Notes
+    -----
+    The data are solved as given: :func:`pseudo_distance` first rescales
+    point sets whose size or offset fall outside ``SCALE_RANGE``.
+
     Examples
     --------
     >>> opt = optimum([[0.0, 0.0]], [[0.0, -3.0]])
@@ -373,6 +403,8 @@ def optimum(A, B, *, simplex=None, backend="highs", checked=False) -> Optimum:
     if not checked:
         A = as_points(A, "A", min_dim=2)
         B = as_points(B, "B", dim=A.shape[1])
+        if A.shape[1] > MAX_DIM:
+            raise ValueError(f"A and B have points of dimension {A.shape[1]}; at most {MAX_DIM} is supported")
     d = A.shape[1]
     if simplex is None:
         Q, qmin = _regular_simplex(d), _min_vertex_norm(d)

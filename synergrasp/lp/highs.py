@@ -18,7 +18,9 @@ HiGHS completes them to a basis.
 
 from __future__ import annotations
 
+import ctypes
 import os
+import sys
 from collections import OrderedDict
 
 import highspy
@@ -49,6 +51,40 @@ MODEL_CACHE_SIZE = 8
 #: which costs about a tenth of a solve this small. Naming the same count keeps HiGHS's global
 #: scheduler as it would be (an instance of another count fails to run; see ``_run``).
 THREADS = max(1, ((os.cpu_count() or 1) + 1) // 2)
+
+
+def _flush_c_streams() -> None:
+    """``fflush(NULL)``: write out what the C library buffered (where the C library can be reached)."""
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, TypeError, AttributeError):
+        pass
+
+
+def _new_highs() -> highspy.Highs:
+    """A ``highspy.Highs`` instance, without the banner HiGHS prints on the process's stdout.
+
+    HiGHS writes its banner ("Running HiGHS ...") from C++ straight to file
+    descriptor 1 when the first instance is made, before any option can turn
+    output off; descriptor 1 is pointed at the null device meanwhile (the C
+    streams flushed before it is restored, so nothing buffered leaks out later).
+    """
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):  # no usable stdout: nothing to hide
+        return highspy.Highs()
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        try:
+            return highspy.Highs()
+        finally:
+            _flush_c_streams()
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
 
 
 class _Model:
@@ -94,8 +130,8 @@ class HighsBackend(Backend):
         self._bounds_cache = {}
         self.in_place = 0  # solves done in place (a model of the same structure updated)
 
-    def _new_highs(self):
-        h = highspy.Highs()
+    def _make_highs(self):
+        h = _new_highs()
         for key, value in self._options.items():
             h.setOptionValue(key, value)
         return h
@@ -108,7 +144,7 @@ class HighsBackend(Backend):
                 model = self._models.popitem(last=False)[1]
                 model.rhs = model.basis = None
             else:
-                model = _Model(self._new_highs())
+                model = _Model(self._make_highs())
         self._models[key] = model
         return model
 
