@@ -45,6 +45,9 @@ _DEFAULT_FILE = "paper_hand.json"
 #: Skin points of a segment: fractions along its axis, and angles round it from the palmar side.
 SKIN_ALONG = (0.0, 0.5, 1.0)
 SKIN_AROUND = (-math.pi / 2, 0.0, math.pi / 2)
+#: Palm skin points besides the palm point P: the corners and edge midpoints of the palm box's
+#: front face, as fractions of its half extents along the palm frame's x and y.
+PALM_SKIN = tuple((sx, sy) for sx in (-1.0, 0.0, 1.0) for sy in (-1.0, 0.0, 1.0) if (sx, sy) != (0.0, 0.0))
 
 
 def rotation_xyz(phi):
@@ -243,6 +246,9 @@ class SynergyHand:
         if np.any(self.palm_half_extents <= 0):
             spec.fail("palm.size", "must be positive")
         self.palm_point = spec.array(palm, "point", "palm.point", (3,))
+        face = self._palm_center[2] + self.palm_half_extents[2]
+        self._palm_skin = np.array([[self._palm_center[0] + sx * self.palm_half_extents[0],
+                                     self._palm_center[1] + sy * self.palm_half_extents[1], face] for sx, sy in PALM_SKIN])
         self._load_chains(spec, spec.items(data, "fingers", "fingers"))
         self._precompute()
 
@@ -314,23 +320,24 @@ class SynergyHand:
         self._q_z = self._coupling @ self.synergies
         self._q_0 = self._coupling @ self.mean_pose + self._offset
 
-        # Nodes: each chain's base and the end of each of its links, then the palm point.
-        n_nodes = n_c * (n_j + 1) + 1
-        node = np.arange(n_nodes - 1).reshape(n_c, n_j + 1)
+        # Nodes: each chain's base and the end of each of its links, then the palm point and the palm skin.
+        palm = n_c * (n_j + 1)  # the palm point's node, then the palm skin's
+        self._palm_nodes = np.vstack([self.palm_point, self._palm_skin])  # in the palm frame
+        node = np.arange(palm).reshape(n_c, n_j + 1)
         segments = [(c, k + 1, j) for c in range(n_c) for k, j in enumerate(np.flatnonzero(self._lengths[c] > 0))]
         self._segment_nodes = np.array([[node[c, j], node[c, j + 1]] for c, _, j in segments])
         points = {  # kind -> (label, {node: weight}, chain, number of joints upstream)
             "precision": [(f"{f}0", {node[c, -1]: 1.0}, c, n_j) for c, f in enumerate(self.finger_names)],
             "power": [(f"{self.finger_names[c]}{k}", {node[c, j]: 0.5, node[c, j + 1]: 0.5}, c, j + 1)
                       for c, k, j in segments]
-                     + [("P", {n_nodes - 1: 1.0}, 0, 0)],
+                     + [("P", {palm: 1.0}, 0, 0)],
             # the two ends of every capsule (on the axis), for collision avoidance
             "_capsules": [(f"{self.finger_names[c]}{k}{end}", {node[c, j + e]: 1.0}, c, j + 1)
                           for c, k, j in segments for e, end in ((0, "a"), (1, "b"))],
-            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then the palm point
+            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then of the palm
             "_skin": [(f"{self.finger_names[c]}{k}", {node[c, j]: 1.0 - t, node[c, j + 1]: t}, c, j + 1)
                       for c, k, j in segments for t in SKIN_ALONG for _ in SKIN_AROUND]
-                     + [("P", {n_nodes - 1: 1.0}, 0, 0)],
+                     + [("P", {palm + i: 1.0}, 0, 0) for i in range(1 + len(PALM_SKIN))],
         }
         # the palmar side of link j: where its far end moves when joint j flexes, axis_j x e_y
         palmar = np.cross(self._axes, [0.0, 1.0, 0.0])
@@ -340,7 +347,8 @@ class SynergyHand:
             "precision": [(c, last[c]) for c in range(n_c)],
             "power": [(c, j) for c, _, j in segments] + [None],
             "_capsules": [None] * (2 * len(segments)),
-            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND] + [None],
+            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND]
+                     + [None] * (1 + len(PALM_SKIN)),
         }
         self._kinds = {}
         for kind, rows in points.items():
@@ -558,7 +566,7 @@ class SynergyHand:
         n = len(nodes)
         points = np.empty((n, 3))
         jac = np.empty((n, 3, self.n_u)) if jacobian else np.empty((0, 3, self.n_u))
-        _hand_points(u, rotation_xyz(u[3:6]), rot, pos, self.palm_point, self._axes, self._q_z, nodes, weights,
+        _hand_points(u, rotation_xyz(u[3:6]), rot, pos, self._palm_nodes, self._axes, self._q_z, nodes, weights,
                      upstream, frame, offset, points, jac)
         return points, (jac if jacobian else None)
 
@@ -655,14 +663,15 @@ class SynergyHand:
         return points.reshape(-1, 2, 3), jac.reshape(-1, 2, 3, self.n_u)
 
     def skin_and_jacobian(self, u):
-        """Points on the skin of every segment and the palm point, with their Jacobians.
+        """Points on the skin of every segment and of the palm, with their Jacobians.
 
         Each segment carries ``len(SKIN_ALONG) * len(SKIN_AROUND)`` points:
         at the fractions `SKIN_ALONG` of its axis, ``contact_offset`` mm from
         the axis towards the angles `SKIN_AROUND` (0: the palmar side, where
         the power point sits; +-pi/2: the two lateral sides, along the joint
         axis). With ``contact_offset`` equal to the finger radius they lie on
-        the phalanx capsule's surface.
+        the phalanx capsule's surface. The palm carries the palm point P and
+        the corners and edge midpoints of the palm box's front face (`PALM_SKIN`).
 
         Parameters
         ----------
@@ -672,11 +681,11 @@ class SynergyHand:
         -------
         skin : (k, m, 3) float
             The k segments' m skin points, segments in the order of the power points.
-        palm : (3,) float
-            The palm point P.
+        palm : (p, 3) float
+            The palm's skin points, the palm point P first (p = 9).
         jacobian : (k, m, 3, 6 + n_syn) float
             ``d skin / d u``.
-        palm_jacobian : (3, 6 + n_syn) float
+        palm_jacobian : (p, 3, 6 + n_syn) float
             ``d palm / d u``.
 
         Examples
@@ -705,7 +714,7 @@ class SynergyHand:
         -------
         points, jacobian : (n, 3), (n, 3, 6 + n_syn) float
             As ``points_and_jacobian(u, "power")``.
-        skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (3,), (k, m, 3, 6 + n_syn), (3, 6 + n_syn) float
+        skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (p, 3), (k, m, 3, 6 + n_syn), (p, 3, 6 + n_syn) float
             As `skin_and_jacobian`.
 
         Examples
@@ -723,9 +732,9 @@ class SynergyHand:
 
     def _split_skin(self, points, jac):
         """`skin_and_jacobian`'s arrays from the rows of the ``"_skin"`` points and their Jacobian."""
-        m = len(SKIN_ALONG) * len(SKIN_AROUND)
-        k = (len(points) - 1) // m
-        return points[:-1].reshape(k, m, 3), points[-1], jac[:-1].reshape(k, m, 3, self.n_u), jac[-1]
+        m, p = len(SKIN_ALONG) * len(SKIN_AROUND), 1 + len(PALM_SKIN)
+        k = (len(points) - p) // m
+        return points[:-p].reshape(k, m, 3), points[-p:], jac[:-p].reshape(k, m, 3, self.n_u), jac[-p:]
 
     def segments(self, u):
         """Capsules of the phalanges and the palm box, in the world frame.
@@ -795,11 +804,12 @@ def _chain_kinematics(z, q_z, q_0, k1, k2, base_rot, base_pos, lengths, rot, pos
 
 
 @kernel
-def _hand_points(u, R, rot, pos, palm, axes, q_z, nodes, weights, upstream, frame, offset, points, jac):
+def _hand_points(u, R, rot, pos, palm_nodes, axes, q_z, nodes, weights, upstream, frame, offset, points, jac):
     """Hand points in the world frame (``points``) and, when ``jac`` has rows, their Jacobian.
 
     A point is ``p + R x`` with x in the palm frame the weighted sum of its
-    nodes plus its offset in its link's frame. Its Jacobian: the identity for
+    nodes (chain nodes from ``pos``, numbered chain by chain; after them the
+    palm's, ``palm_nodes``) plus its offset in its link's frame. Its Jacobian: the identity for
     p; ``w_k x (R x)`` for the Euler angles (``w_k`` = x, ``Rx y``, ``Rx Ry z``);
     ``R sum_j (dq_j/dz) a_j x (x - o_j)`` for the synergies, over the joints
     upstream of it (axis ``a_j`` through ``o_j``, the start of link j).
@@ -814,8 +824,9 @@ def _hand_points(u, R, rot, pos, palm, axes, q_z, nodes, weights, upstream, fram
             node, w = nodes[i, e], weights[i, e]
             if w == 0.0:
                 continue
-            if node == n_c * n_j1:  # the palm point
-                x0, x1, x2 = x0 + w * palm[0], x1 + w * palm[1], x2 + w * palm[2]
+            if node >= n_c * n_j1:  # the palm point or a palm skin point
+                k = node - n_c * n_j1
+                x0, x1, x2 = x0 + w * palm_nodes[k, 0], x1 + w * palm_nodes[k, 1], x2 + w * palm_nodes[k, 2]
             else:
                 nc, nj = node // n_j1, node % n_j1
                 x0, x1, x2 = x0 + w * pos[nc, nj, 0], x1 + w * pos[nc, nj, 1], x2 + w * pos[nc, nj, 2]
