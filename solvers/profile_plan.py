@@ -2,14 +2,14 @@
 
 Usage::
 
-    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref 251b907] [--repeats 3] [--rounds 2]
+    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref 427770f] [--repeats 3] [--rounds 2]
     python -m solvers.profile_plan --quick     # one case, one repeat, no baseline (the test suite runs it)
 
 Plans the paper's 8 cases (ellipsoid, cup, bell, goblet x precision, power)
 with HiGHS, each package in its own subprocess:
 
 * ``before``: the ``synergrasp`` package as of ``--baseline-ref`` (by default
-  the commit before the geometry layer's redesign and its compiled loops);
+  main as it was without the geometry layer's redesign and its compiled loops);
 * ``after``: the package of this checkout.
 
 The two are measured ``--rounds`` times, alternating (load from other
@@ -48,17 +48,22 @@ ROOT = Path(__file__).resolve().parents[1]
 COMMITTED = ROOT / "solvers" / "results"
 #: Output folder of a run without --docs (relative to the working directory).
 DEFAULT_OUT = Path("bench-out") / "profile"
-#: The commit before the geometry layer's redesign (module split, compiled loops, HiGHS models updated in place).
-BASELINE_REF = "251b907"
+#: main without the geometry layer's redesign (module split, compiled loops, HiGHS models updated in
+#: place): its last commit before that work was merged, the planner of issue 16 included. (The work
+#: itself started from 251b907, whose planner differs.)
+BASELINE_REF = "427770f"
 CASES = tuple((o, g) for g in ("precision", "power") for o in ("ellipsoid", "cup", "bell", "goblet"))
 QUICK_CASES = (("ellipsoid", "precision"),)
 
 #: Functions whose cumulative time is reported: (label, file suffixes, function name or names).
 FUNCTIONS = (
     ("plan (total)", ("planner/core.py",), "plan"),
+    ("starts (the attempts' start configurations)", ("planner/starts.py",), "starts"),
+    ("executable_reach (the path to the grasp)", ("planner/reach.py",), "executable_reach"),
     ("grasp_status (cP, sQ, g_sQ, Jacobian)", ("planner/status.py",), "grasp_status"),
     ("check_grasp (g_Q of the real contacts)", ("planner/stop.py",), "check_grasp"),
-    ("contact_distance (cP)", ("objects/proximity.py", "objects/contact_distance.py"), "contact_distance"),
+    ("group_contact_distance (the cP rows)", ("objects/proximity.py", "objects/contact_distance.py"),
+     "group_contact_distance"),
     ("scaled_contacts (sQ contacts)", ("objects/proximity.py", "objects/scaled_contacts.py"), "scaled_contacts"),
     ("smoothed_normals", ("planner/status.py",), "smoothed_normals"),
     ("q_distance", ("synergrasp/quality.py",), "q_distance"),
