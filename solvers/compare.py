@@ -41,13 +41,15 @@ rows, labelled as such: they come from another machine and another code.
 
 Outputs in ``--out`` (default ``./bench-out/solver-comparison``, with
 ``--quick`` ``./bench-out/solver-comparison-quick``): ``lp_level.csv``,
-``plan_level.csv``, ``summary.csv``, ``ratios.csv``, ``environment.json``,
-``README.md`` (the tables) and ``solver_comparison.png`` (log-scale bars).
-``--docs`` writes the committed results instead (``solvers/results``, unless
-``--out`` is given), rewrites ``docs/solver-comparison.md`` and copies the
-figure to ``docs/figures/``. The profile section comes from ``profile.md`` in
-the output folder, else from the committed ``solvers/results/profile.md``
-(``python -m solvers.profile_plan --docs`` writes it).
+``plan_level.csv``, ``summary.csv``, ``ratios.csv``, ``solver_ratios.csv``
+(every backend's whole-call and in-solver ratio to HiGHS, per workload and
+plan), ``environment.json``, ``README.md`` (the tables) and
+``solver_comparison.png`` (log-scale bars). ``--docs`` writes the committed
+results instead (``solvers/results``, unless ``--out`` is given), rewrites
+``docs/solver-comparison.md`` and copies the figure to ``docs/figures/``. The
+profile section comes from ``profile.md`` in the output folder, else from the
+committed ``solvers/results/profile.md`` (``python -m solvers.profile_plan
+--docs`` writes it).
 """
 
 from __future__ import annotations
@@ -259,6 +261,7 @@ def run_lp_level(backends, settings, log):
                 p95_ms=float(np.percentile(r["times"], 95) * 1e3),
                 lps_per_call=r["lp_calls"] / n,
                 solver_share=r["lp_time"] / float(r["times"].sum()),
+                solver_ms=1e3 * r["lp_time"] / n,
                 value_diff=value_diff,
                 grad_diff=grad_diff,
                 grad_compared=int(ok.sum()),
@@ -407,6 +410,35 @@ def ratios(lp_rows, plan_rows, quick=False):
     return out
 
 
+def solver_ratios(lp_rows, plan_rows):
+    """Every backend against HiGHS, per workload and per plan: the whole-call ratio and the in-solver ratio.
+
+    The whole-call ratio divides the median times per call (LP level) or the
+    plan times; the in-solver ratio divides the time inside the LP solver per
+    call (LP level) or per plan. The gap between the two is the time both pay
+    alike outside the solver.
+    """
+    rows = []
+    for row in lp_rows:
+        ref = next((r for r in lp_rows if r["workload"] == row["workload"] and r["backend"] == REFERENCE), None)
+        if row["backend"] == REFERENCE or ref is None:
+            continue
+        rows.append(dict(workload=row["workload"], backend=row["backend"], whole=row["median_ms"] / ref["median_ms"],
+                         in_solver=row["solver_ms"] / ref["solver_ms"] if ref["solver_ms"] > 0 else float("nan"),
+                         unit="per call"))
+    for row in plan_rows:
+        if row["source"] != "measured" or row["backend"] == REFERENCE:
+            continue
+        ref = _plan(plan_rows, REFERENCE, (row["object"], row["grasp"]))
+        if ref is None:
+            continue
+        rows.append(dict(workload=f"plan {row['object']} {row['grasp']}", backend=row["backend"],
+                         whole=row["time_s"] / ref["time_s"],
+                         in_solver=row["lp_time_s"] / ref["lp_time_s"] if ref["lp_time_s"] > 0 else float("nan"),
+                         unit="per plan"))
+    return rows
+
+
 def allowed_rest(slow_solver, fast_solver, target):
     """The most time outside the LP solver at which a slow/fast wall-time ratio still reaches ``target``.
 
@@ -522,7 +554,7 @@ def _table(headers, rows):
     return "\n".join(lines)
 
 
-def markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, figure_link, profile_text=""):
+def markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, figure_link, profile_text="", solver_rows=()):
     """The results as markdown (used for results/README.md and the docs page)."""
     agree, bad = verdict_check(plan_rows)
     slow = ", ".join(f"{o} {g}" for o, g in SLOW_PLAN_CASES)
@@ -559,6 +591,15 @@ def markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, figure_link
         "share of time inside the solver); *at most* is the largest such time at which "
         "the ratio would still reach its target with this run's solver times (see `allowed_rest`; negative: not "
         "even with none).",
+        "",
+        "### Whole-call and in-solver ratios to HiGHS",
+        "",
+        "For every workload and plan: the backend's time over HiGHS's, for the whole call (median time per call, or "
+        "the plan's time) and inside the LP solver only (solver time per call, or per plan). Where the two differ, "
+        "the time both backends spend alike outside the solver holds the whole-call ratio down.",
+        "",
+        _table(["workload", "backend", "whole call", "inside the solver", "unit"],
+               [[r["workload"], r["backend"], r["whole"], r["in_solver"], r["unit"]] for r in solver_rows]),
         "",
         f"All backends reach HiGHS's verdict (success or not) on every plan they ran: "
         f"{'yes' if agree else 'no: ' + '; '.join(bad)}.",
@@ -686,12 +727,14 @@ The time of a plan is not all LP solving: the share spent inside the solver is i
 and the profile section at the end shows where the rest goes.
 
 What a speed ratio between two backends can reach is set by the time both spend alike outside the
-solver (the library's Python around the LPs: geometry, wrenches, gradients, the planner). The
+solver (the library's code around the LPs: geometry, wrenches, gradients, the planner). The
 target-ratio table shows that time as measured and the most it could be for each target with the
-solver times of the same run. Where the HiGHS solves take a small share, the ratio to a slower
-backend stays far below the ratio of their solver times: for the whole plan the outside time would
-have to shrink several-fold, which only a compiled per-iteration pipeline (not the numpy one) would
-give.
+solver times of the same run; the table of whole-call and in-solver ratios shows, for every workload
+and plan, how far the first falls below the second. The loops that run on every planner iteration
+(the cP and sQ geometry, the LP block assembly, the contact wrenches and their gradients, the
+smoothed normals, the hand's kinematics) are compiled (numba, cached on disk), so that time is a
+fraction of what the numpy version took; the profile section at the end measures it before and
+after.
 
 """
 
@@ -733,6 +776,7 @@ def main(argv=None) -> dict:
     plan_rows = run_plans(backends, settings, log) + paper_rows()
     summary = summarise(backends, lp_rows, plan_rows)
     ratio_rows = ratios(lp_rows, plan_rows, settings.quick)
+    solver_rows = solver_ratios(lp_rows, plan_rows)
     env = environment(backends)
     env["run_seconds"] = time.perf_counter() - started
     env["mode"] = "quick" if settings.quick else "full"
@@ -741,15 +785,17 @@ def main(argv=None) -> dict:
     write_csv(out / "plan_level.csv", plan_rows)
     write_csv(out / "summary.csv", summary)
     write_csv(out / "ratios.csv", ratio_rows)
+    write_csv(out / "solver_ratios.csv", solver_rows)
     (out / "environment.json").write_text(json.dumps(env, indent=1))
     figure(out / FIGURE, lp_rows, plan_rows, backends)
     profile_path = out / "profile.md" if (out / "profile.md").exists() else COMMITTED / "profile.md"
     profile_text = profile_path.read_text() if profile_path.exists() else ""
-    text = markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, FIGURE, profile_text)
+    text = markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, FIGURE, profile_text, solver_rows)
     (out / "README.md").write_text("# Solver comparison results\n\nWritten by `python -m solvers.compare"
                                    + (" --quick" if settings.quick else "") + "`.\n\n" + text)
     if args.docs:
-        write_docs(markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, f"figures/{FIGURE}", profile_text),
+        write_docs(markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, f"figures/{FIGURE}", profile_text,
+                            solver_rows),
                    out / FIGURE)
 
     log("\nRatios (same run):")
@@ -758,7 +804,8 @@ def main(argv=None) -> dict:
     agree, bad = verdict_check(plan_rows)
     log(f"  all backends reach HiGHS's verdict on the plans they ran: {'yes' if agree else 'no: ' + '; '.join(bad)}")
     log(f"done in {env['run_seconds']:.0f} s; results in {out}")
-    return dict(lp=lp_rows, plan=plan_rows, summary=summary, ratios=ratio_rows, environment=env, out=out)
+    return dict(lp=lp_rows, plan=plan_rows, summary=summary, ratios=ratio_rows, solver_ratios=solver_rows,
+                environment=env, out=out)
 
 
 if __name__ == "__main__":

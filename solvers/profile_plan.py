@@ -1,29 +1,32 @@
-"""Where a plan's time goes, and what the overhead work around the LP solver changed.
+"""Where a plan's time goes: the LP solver's share and the time per iteration, before and after a change.
 
 Usage::
 
-    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref e9c86e9] [--repeats 5]
+    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref 427770f] [--repeats 3] [--rounds 2]
+    python -m solvers.profile_plan --quick     # one case, one repeat, no baseline (the test suite runs it)
 
-Profiles ``sg.plan(sg.objects.ellipsoid(), "precision")`` on HiGHS twice, each in
-its own subprocess:
+Plans the paper's 8 cases (ellipsoid, cup, bell, goblet x precision, power)
+with HiGHS, each package in its own subprocess:
 
-* ``before``: the current package with the files of the overhead work (the LP
-  layer ``synergrasp/lp/*.py``, ``pseudo_distance.py``, ``quality.py``, the
-  geometry around the LPs ``objects/proximity.py``, ``objects/grasp_object.py``,
-  ``planner/status.py`` and the hand kinematics ``hand.py``) taken from
-  ``--baseline-ref`` (the commit before that work), everything else (the
-  planner's loop and step, the objects' loading) as it is now, so that only
-  those files differ;
-* ``after``: the current package.
+* ``before``: the ``synergrasp`` package as of ``--baseline-ref`` (by default
+  main as it was without the geometry layer's redesign and its compiled loops);
+* ``after``: the package of this checkout.
 
-Both are measured ``--rounds`` times, alternating, and the medians kept. For
-each: the median wall time of the plan over ``--repeats`` runs, its
-iterations and LP solves, the time inside the LP solver (sum of
-``LPSolution.solve_time``), the median time of one ``q_distance`` (5 contacts,
-value + gradients) and of one ``contact_distance`` call, and the cumulative
-times of the main functions under cProfile. Writes ``profile.md`` and
-``profile.csv`` to ``--out`` (default ``./bench-out/profile``), or with
-``--docs`` to the committed ``solvers/results``, whose ``profile.md``
+The two are measured ``--rounds`` times, alternating (load from other
+processes hits both alike), and the medians kept. For each case: the wall
+time and CPU time of the plan (the repeat with the least CPU time of
+``--repeats``), its iterations over all attempts, its LP solves, and the
+time inside the LP solver measured two ways: an independent CPU timer
+around every ``Backend.solve`` call (validation of the LP data included),
+and the sum of ``LPSolution.solve_time`` (the library's own wall-clock timer
+around the backend's ``_solve``); and the trajectory, compared between the
+two packages. Then the medians over the 8 cases of
+the time per iteration and of the solver's share, the time of one
+``q_distance`` (5 contacts, value + gradients) and of one ``contact_distance``
+call, and cProfile's cumulative times of the main functions in the ellipsoid
+precision plan. Writes ``profile.md`` and ``profile.csv`` to ``--out``
+(default ``./bench-out/profile``, with ``--quick`` ``./bench-out/profile-quick``),
+or with ``--docs`` to the committed ``solvers/results``, whose ``profile.md``
 ``python -m solvers.compare`` includes in its results.
 """
 
@@ -33,7 +36,6 @@ import argparse
 import csv
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -46,66 +48,85 @@ ROOT = Path(__file__).resolve().parents[1]
 COMMITTED = ROOT / "solvers" / "results"
 #: Output folder of a run without --docs (relative to the working directory).
 DEFAULT_OUT = Path("bench-out") / "profile"
-#: The commit before the overhead work on the Q distance and the geometry around the LPs. (The earlier
-#: work on the LP layer started from 079b621, whose files no longer fit the rest of the package.)
-BASELINE_REF = "e9c86e9"
-#: The files the overhead work may change (relative to the repository root).
-TOUCHED = ("synergrasp/lp/__init__.py", "synergrasp/lp/base.py", "synergrasp/lp/highs.py",
-           "synergrasp/lp/clarabel.py", "synergrasp/lp/cvxpy.py", "synergrasp/pseudo_distance.py",
-           "synergrasp/quality.py", "synergrasp/objects/proximity.py", "synergrasp/objects/grasp_object.py",
-           "synergrasp/planner/status.py", "synergrasp/hand.py")
+#: main without the geometry layer's redesign (module split, compiled loops, HiGHS models updated in
+#: place): its last commit before that work was merged, the planner of issue 16 included. (The work
+#: itself started from 251b907, whose planner differs.)
+BASELINE_REF = "427770f"
+CASES = tuple((o, g) for g in ("precision", "power") for o in ("ellipsoid", "cup", "bell", "goblet"))
+QUICK_CASES = (("ellipsoid", "precision"),)
 
-#: Functions whose cumulative time is reported: (label, file suffix, function name or names).
+#: Functions whose cumulative time is reported: (label, file suffixes, function name or names).
 FUNCTIONS = (
-    ("plan (total)", "planner/core.py", "plan"),
-    ("grasp_status (cP, sQ, g_sQ, Jacobian)", "planner/status.py", "grasp_status"),
-    ("check_grasp (g_Q of the real contacts)", "planner/stop.py", "check_grasp"),
-    ("contact_distance (cP)", "objects/proximity.py", "contact_distance"),
-    ("scaled_contacts (sQ contacts)", "objects/proximity.py", "scaled_contacts"),
-    ("smoothed_normals", "planner/status.py", "smoothed_normals"),
-    ("q_distance", "synergrasp/quality.py", "q_distance"),
-    ("pseudo_distance (its LP optimum)", "synergrasp/pseudo_distance.py", ("pseudo_distance", "_pseudo_distance")),
-    ("Backend.solve (LP layer)", "lp/base.py", "solve"),
-    ("HiGHS run (solver itself)", "~", "<built-in method highspy._core.run>"),
-    ("hand points and Jacobians", "synergrasp/hand.py", "points_and_jacobian"),
-    ("step (Eq. 16, task priority)", "planner/step.py", "limited_step"),
+    ("plan (total)", ("planner/core.py",), "plan"),
+    ("starts (the attempts' start configurations)", ("planner/starts.py",), "starts"),
+    ("executable_reach (the path to the grasp)", ("planner/reach.py",), "executable_reach"),
+    ("grasp_status (cP, sQ, g_sQ, Jacobian)", ("planner/status.py",), "grasp_status"),
+    ("check_grasp (g_Q of the real contacts)", ("planner/stop.py",), "check_grasp"),
+    ("group_contact_distance (the cP rows)", ("objects/proximity.py", "objects/contact_distance.py"),
+     "group_contact_distance"),
+    ("scaled_contacts (sQ contacts)", ("objects/proximity.py", "objects/scaled_contacts.py"), "scaled_contacts"),
+    ("smoothed_normals", ("planner/status.py",), "smoothed_normals"),
+    ("q_distance", ("synergrasp/quality.py",), "q_distance"),
+    ("Backend.solve (LP layer)", ("lp/base.py",), "solve"),
+    ("HiGHS run (solver itself)", ("~",), "<built-in method highspy._core.run>"),
+    ("hand points and Jacobians", ("synergrasp/hand.py",), "points_and_jacobian"),
+    ("step (Eq. 16, task priority)", ("planner/step.py",), "limited_step"),
 )
 
 MEASURE = r'''
-CASES = (("ellipsoid", "precision"), ("ellipsoid", "power"), ("cup", "precision"))
 import cProfile, json, pstats, sys, time
 import numpy as np
 import synergrasp as sg
-sys.path.insert(0, sys.argv[2])
-from solvers.references import TimedBackend
-from solvers.compare import grasp_sequence, point_sequence
 from synergrasp.lp.highs import HighsBackend
 
-repeats = int(sys.argv[1])
-obj = sg.objects.ellipsoid()
+repeats, root, quick = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "1"
+sys.path.insert(0, root)
+from solvers.compare import grasp_sequence, point_sequence
+
+CASES = json.loads(sys.argv[4])
+
+
+class Timed(HighsBackend):
+    """HiGHS with an outside CPU timer around every solve, beside the library's own (wall) solve_time."""
+
+    def reset(self):
+        self.own = self.outside = 0.0
+        self.n = 0
+
+    def solve(self, *args, **kwargs):
+        start = time.process_time()
+        sol = super().solve(*args, **kwargs)
+        self.outside += time.process_time() - start
+        self.own += sol.solve_time
+        self.n += 1
+        return sol
+
+
 out = {"synergrasp": sg.__file__, "cases": {}}
 for name, grasp in CASES:
-    target = obj if name == "ellipsoid" else sg.objects.get(name)
-    walls = []
-    for i in range(repeats + 1):
-        be = TimedBackend(HighsBackend())
-        start = time.perf_counter()
-        r = sg.plan(target, grasp, backend=be)
-        wall = time.perf_counter() - start
+    obj = sg.objects.get(name)
+    runs = []
+    for i in range(repeats + 1):  # the first run warms up (imports, compiled code, caches)
+        be = Timed()
+        be.reset()
+        start, cpu = time.perf_counter(), time.process_time()
+        r = sg.plan(obj, grasp, backend=be)
+        wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         if i:
-            walls.append(wall)
+            runs.append((cpu, wall, be.own, be.outside, be.n))
+    cpu, wall, own, outside, n = min(runs)  # the run least disturbed by other processes
     out["cases"][name + " " + grasp] = dict(
-        wall_s=float(np.median(walls)), iterations=int(getattr(r, "total_iterations", r.iterations)),
-        success=bool(r.success), lp_solves=be.lp_calls, lp_time_s=be.lp_time)
-out.update(out["cases"]["ellipsoid precision"])
+        cpu_s=cpu, wall_s=wall, iterations=int(r.total_iterations), success=bool(r.success), lp_solves=n,
+        lp_time_s=own, lp_cpu_s=outside, attempts=len(r.attempts), trajectory=np.asarray(r.trajectory).tolist())
 be = HighsBackend()
-grasps = grasp_sequence(5, 301)
+grasps = grasp_sequence(5, 31 if quick else 301)
 sg.q_distance(*grasps[0], backend=be)
 t = []
-for p, n in grasps[1:]:
-    s = time.perf_counter(); sg.q_distance(p, n, backend=be); t.append(time.perf_counter() - s)
+for p, nrm in grasps[1:]:
+    s = time.perf_counter(); sg.q_distance(p, nrm, backend=be); t.append(time.perf_counter() - s)
 out["q5_ms"] = float(np.median(t) * 1e3)
-points = point_sequence(obj, 301)
+obj = sg.objects.ellipsoid()
+points = point_sequence(obj, 31 if quick else 301)
 obj.contact_distance(points[0][None], backend=be)
 t = []
 for p in points[1:]:
@@ -115,165 +136,173 @@ profile = cProfile.Profile()
 profile.enable()
 sg.plan(obj, "precision", backend=HighsBackend())
 profile.disable()
-stats = pstats.Stats(profile).stats
 cum = {}
-for (path, line, name), (cc, nc, tt, ct, callers) in stats.items():
-    key = path + "::" + name
+for (path, line, func), (cc, nc, tt, ct, callers) in pstats.Stats(profile).stats.items():
+    key = path + "::" + func
     cum[key] = cum.get(key, [0, 0.0])
     cum[key][0] += nc
     cum[key][1] += ct
 out["profile"] = cum
-out["profile_total_s"] = sum(v[2] for v in stats.values())
 print(json.dumps(out))
 '''
 
 
 def baseline_tree(ref: str, where: Path) -> Path:
-    """A copy of the current package with the TOUCHED files as they were at ``ref``."""
-    shutil.copytree(ROOT / "synergrasp", where / "synergrasp", ignore=shutil.ignore_patterns("__pycache__"))
-    for rel in TOUCHED:
-        try:
-            text = subprocess.run(["git", "show", f"{ref}:{rel}"], cwd=ROOT, check=True, capture_output=True, text=True).stdout
-        except subprocess.CalledProcessError:
-            continue  # the file did not exist at ref: keep the current one
-        (where / rel).write_text(text)
+    """The ``synergrasp`` package as of commit ``ref``, unpacked under ``where``."""
+    archive = subprocess.run(["git", "archive", ref, "synergrasp"], cwd=ROOT, check=True, capture_output=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(where)], input=archive, check=True)
     return where
 
 
-def measure(tree: Path | None, repeats: int) -> dict:
+def measure(tree: Path | None, repeats: int, cases, quick: bool) -> dict:
     env = dict(os.environ)  # the package of this checkout (not an installed copy) unless a tree is given
     env["PYTHONPATH"] = str(tree if tree is not None else ROOT) + os.pathsep + env.get("PYTHONPATH", "")
-    proc = subprocess.run([sys.executable, "-c", MEASURE, str(repeats), str(ROOT)], cwd=tempfile.gettempdir(),
-                          env=env, capture_output=True, text=True, check=True)
+    proc = subprocess.run([sys.executable, "-c", MEASURE, str(repeats), str(ROOT), "1" if quick else "0",
+                           json.dumps(cases)], cwd=tempfile.gettempdir(), env=env, capture_output=True, text=True)
+    if proc.returncode:
+        raise RuntimeError(f"the measurement failed:\n{proc.stderr[-3000:]}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
 def combine(results: list) -> dict:
     """Medians over rounds of every timing (counts and the profile from the first round)."""
     out = dict(results[0])
-    for key in ("wall_s", "lp_time_s", "q5_ms", "cp_ms"):
+    for key in ("q5_ms", "cp_ms"):
         out[key] = float(np.median([r[key] for r in results]))
-    out["cases"] = {case: dict(values, wall_s=float(np.median([r["cases"][case]["wall_s"] for r in results])),
-                               lp_time_s=float(np.median([r["cases"][case]["lp_time_s"] for r in results])))
-                    for case, values in results[0]["cases"].items()}
+    out["cases"] = {case: dict(values, **{k: float(np.median([r["cases"][case][k] for r in results]))
+                                          for k in ("cpu_s", "wall_s", "lp_time_s", "lp_cpu_s")})
+                    for case, values in results[0]["cases"].items()}  # the trajectories are those of the first round
     return out
 
 
-def cumulative(result: dict, suffix: str, name: str):
+def per_case(result: dict) -> dict:
+    """Per case: CPU ms per iteration, the solver's share (CPU, and by the library's wall-clock timer), µs per LP."""
+    rows = {}
+    for case, c in result["cases"].items():
+        rows[case] = dict(ms_per_iteration=1e3 * c["cpu_s"] / max(c["iterations"], 1),
+                          lp_share=c["lp_cpu_s"] / c["cpu_s"], lp_share_wall=c["lp_time_s"] / c["wall_s"],
+                          us_per_lp=1e6 * c["lp_cpu_s"] / max(c["lp_solves"], 1))
+    return rows
+
+
+def summary(result: dict) -> dict:
+    """Medians over the cases of the time per iteration and of the solver's share."""
+    rows = per_case(result).values()
+    return {key: float(np.median([r[key] for r in rows])) for key in ("ms_per_iteration", "lp_share", "lp_share_wall")}
+
+
+def trajectory_change(before: dict, after: dict, case: str) -> float:
+    """Largest |u_after - u_before| over the common length of the returned trajectories (mm, rad)."""
+    a, b = np.asarray(after["cases"][case]["trajectory"]), np.asarray(before["cases"][case]["trajectory"])
+    n = min(len(a), len(b))
+    return float(np.abs(a[:n] - b[:n]).max()) if n else float("nan")
+
+
+def cumulative(result: dict, suffixes, name):
     calls, total = 0, 0.0
+    names = (name,) if isinstance(name, str) else name
     for key, (n, t) in result["profile"].items():
         path, func = key.split("::", 1)
-        if func in ((name,) if isinstance(name, str) else name) and (suffix == "~" or path.endswith(suffix)):
+        if func in names and any(s == "~" or path.endswith(s) for s in suffixes):
             calls += n
             total += t
     return calls, total
 
 
-def report(before: dict, after: dict, ref: str) -> tuple[str, list]:
-    def row(label, key, scale=1.0, fmt="{:.3g}"):
-        b, a = before[key] * scale, after[key] * scale
-        return [label, fmt.format(b), fmt.format(a), f"{b / a:.2f}x" if a else "-"]
+def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
+    """The markdown section and CSV rows (``before`` None: the current package only)."""
+    sa = summary(after)
+    sb = summary(before) if before else None
+    fmt = lambda v, spec: "-" if v is None else format(v, spec)  # noqa: E731
 
-    per_iter = lambda r: 1e3 * r["wall_s"] / max(r["iterations"], 1)
-    before["ms_per_iteration"], after["ms_per_iteration"] = per_iter(before), per_iter(after)
-    before["lp_share"] = before["lp_time_s"] / before["wall_s"]
-    after["lp_share"] = after["lp_time_s"] / after["wall_s"]
-    before["ms_per_lp"] = 1e3 * before["lp_time_s"] / before["lp_solves"]
-    after["ms_per_lp"] = 1e3 * after["lp_time_s"] / after["lp_solves"]
+    def row(label, b, a, spec, ratio=True):
+        speed = f"{b / a:.2f}x" if ratio and b and a else "-"
+        return [label, fmt(b, spec), fmt(a, spec), speed]
+
     rows = [
-        row("plan wall time, median (s)", "wall_s"),
-        ["iterations", str(before["iterations"]), str(after["iterations"]), "-"],
-        ["LP solves", str(before["lp_solves"]), str(after["lp_solves"]), "-"],
-        row("time inside the LP solver (s)", "lp_time_s"),
-        row("LP solver time per LP (ms)", "ms_per_lp"),
-        ["share of the plan inside the LP solver", f"{before['lp_share']:.0%}", f"{after['lp_share']:.0%}", "-"],
-        row("time per iteration (ms)", "ms_per_iteration"),
-        row("q_distance, 5 contacts, value + gradients (ms)", "q5_ms"),
-        row("contact_distance, one point (ms)", "cp_ms"),
+        row("CPU time per iteration, median over the cases (ms)", sb and sb["ms_per_iteration"], sa["ms_per_iteration"], ".3g"),
+        row("share of the plan's CPU time inside Backend.solve, median", sb and sb["lp_share"], sa["lp_share"], ".0%", False),
+        row("share of its wall time in the backends' solve_time, median", sb and sb["lp_share_wall"], sa["lp_share_wall"],
+            ".0%", False),
+        row("q_distance, 5 contacts, value + gradients (ms)", before and before["q5_ms"], after["q5_ms"], ".3g"),
+        row("contact_distance, one point (ms)", before and before["cp_ms"], after["cp_ms"], ".3g"),
     ]
+    cases = list(after["cases"])
     lines = [
         "### Profile: where a plan's time goes",
         "",
-        "`python -m solvers.profile_plan`: `sg.plan(sg.objects.ellipsoid(), \"precision\")` on HiGHS. *Before* = "
-        f"the LP layer, `pseudo_distance.py`, `quality.py`, the cP/sQ geometry (`objects/proximity.py`, "
-        f"`objects/grasp_object.py`), `planner/status.py` and `hand.py` as of commit `{ref}`, *after* = now; "
-        "the rest of the planner and of the objects is the current one in both, so only the overhead work differs.",
+        f"`python -m solvers.profile_plan --docs`: the paper's {len(cases)} cases planned with HiGHS, *before* = the "
+        f"`synergrasp` package as of commit `{ref}`, *after* = now, each in its own process, alternating; "
+        "per case the repeat with the least CPU time, then the median over the rounds. The solver's share is "
+        "measured two ways: CPU time inside every `Backend.solve` call over the plan's CPU time (an outside "
+        "timer), and the sum of the backend's own wall-clock timer (`LPSolution.solve_time`, around its "
+        "`_solve`) over the plan's wall time." if before else
+        f"`python -m solvers.profile_plan`: {len(cases)} case(s) planned with HiGHS (no baseline).",
         "",
         "| measure | before | after | speed-up |",
         "|---|---|---|---|",
     ] + ["| " + " | ".join(r) + " |" for r in rows]
     csv_rows = [dict(measure=r[0], before=r[1], after=r[2], speedup=r[3]) for r in rows]
-    lines += [
-        "",
-        "Other plans (HiGHS, median wall time; iterations over all attempts):",
-        "",
-        "| plan | before s | after s | speed-up | iterations | LP solves | LP solver s before / after |",
-        "|---|---|---|---|---|---|---|",
-    ]
-    for case, a in after["cases"].items():
-        b = before["cases"].get(case)
-        if b is None:
-            continue
-        lines.append(f"| {case} | {b['wall_s']:.3g} | {a['wall_s']:.3g} | {b['wall_s'] / a['wall_s']:.2f}x | "
-                     f"{b['iterations']} / {a['iterations']} | {b['lp_solves']} / {a['lp_solves']} | "
-                     f"{b['lp_time_s']:.3g} / {a['lp_time_s']:.3g} |")
-        csv_rows.append(dict(measure=f"plan {case} wall s", before=f"{b['wall_s']:.4g}", after=f"{a['wall_s']:.4g}",
-                             speedup=f"{b['wall_s'] / a['wall_s']:.2f}x"))
-    lines += [
-        "",
-        "Cumulative time of the main functions in one profiled plan (cProfile inflates every time, "
-        "the shares are what matter):",
-        "",
-        "| function | calls | before s | after s | share of the plan (after) |",
-        "|---|---|---|---|---|",
-    ]
-    total_after = cumulative(after, "planner/core.py", "plan")[1] or 1.0
-    for label, suffix, name in FUNCTIONS:
-        nb, tb = cumulative(before, suffix, name)
-        na, ta = cumulative(after, suffix, name)
-        lines.append(f"| {label} | {na} | {tb:.3f} | {ta:.3f} | {ta / total_after:.0%} |")
-        csv_rows.append(dict(measure=f"cProfile cumulative: {label}", before=f"{tb:.4f}", after=f"{ta:.4f}", speedup=""))
-    lines += [
-        "",
-        "What changed (earlier, from commit `079b621`, in the LP layer and `pseudo_distance.py`, already in "
-        "*before*): HiGHS starts from the last optimal basis of an LP with the same structure (shape and "
-        "sparsity pattern), else of the same shape; `pseudo_distance` builds its LPs from per-shape cached "
-        "index arrays; the LP layer checks for NaN/inf with one sum; Clarabel's `[A; -I]` is assembled "
-        "directly in compressed-column form. Since *before*: `q_distance` works on the pseudo-distance "
-        "optimum itself (no derived arrays), sums its gradients over the cone edges through the rank-one "
-        "structure of the duals and computes every cross product with one `einsum` (shared with the hand "
-        "kinematics); an sQ ray that leaves one piece through the inside of one facet is settled in closed "
-        "form (exit point, barycentric weights, the facet's plane as the dual; the LP only at ties), its "
-        "exit facets taken from the ray exits already computed; cP computes the facet plane values once "
-        "for the broad phase and the facet pruning and tests the gauge ball only on facets that face the "
-        "point and are in reach; the smoothed normals weight the facet normals and their outer products "
-        "in one matrix product. The LP solver's own time per solve is unchanged (fewer solves: no sQ LP "
-        "away from ties); what remains outside it is the status assembly, the cP geometry and the planner "
-        "(see the cumulative table).",
-    ]
+    lines += ["", "Per case (HiGHS; iterations over all attempts):", "",
+              "| plan | iterations before / after | LP solves before / after | CPU s before / after | ms per iteration "
+              "before / after | LP share (CPU) before / after | µs per LP before / after | success, attempts before / after | "
+              "max abs du |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    pa, pb = per_case(after), per_case(before) if before else {}
+    for case in cases:
+        a, ca = pa[case], after["cases"][case]
+        b, cb = pb.get(case), (before["cases"].get(case) if before else None)
+        pair = lambda x, y, spec: f"{fmt(x, spec)} / {fmt(y, spec)}"  # noqa: E731
+        lines.append(
+            f"| {case} | {pair(cb and cb['iterations'], ca['iterations'], 'd')} | "
+            f"{pair(cb and cb['lp_solves'], ca['lp_solves'], 'd')} | {pair(cb and cb['cpu_s'], ca['cpu_s'], '.3g')} | "
+            f"{pair(b and b['ms_per_iteration'], a['ms_per_iteration'], '.3g')} | {pair(b and b['lp_share'], a['lp_share'], '.0%')} | "
+            f"{pair(b and b['us_per_lp'], a['us_per_lp'], '.0f')} | "
+            f"{'-' if cb is None else ('yes' if cb['success'] else 'no') + ', ' + str(cb['attempts'])} / "
+            f"{'yes' if ca['success'] else 'no'}, {ca['attempts']} | "
+            f"{'-' if cb is None else format(trajectory_change(before, after, case), '.2g')} |")
+        csv_rows.append(dict(measure=f"{case} ms per iteration", before=fmt(b and b["ms_per_iteration"], ".4g"),
+                             after=f"{a['ms_per_iteration']:.4g}", speedup=""))
+        csv_rows.append(dict(measure=f"{case} LP share", before=fmt(b and b["lp_share"], ".3f"),
+                             after=f"{a['lp_share']:.3f}", speedup=""))
+    if before:
+        lines += ["", "max abs du: the largest difference of the returned trajectories (u: mm and rad) over their "
+                  "common length; round-off in the LP data and in the compiled loops' order of operations, where "
+                  "the iterations and attempts are the same."]
+    lines += ["", "Cumulative time of the main functions in one profiled ellipsoid precision plan (cProfile inflates "
+              "every time; the shares are what matter):", "",
+              "| function | calls (after) | before s | after s | share of the plan (after) |", "|---|---|---|---|---|"]
+    total_after = cumulative(after, ("planner/core.py",), "plan")[1] or 1.0
+    for label, suffixes, name in FUNCTIONS:
+        nb, tb = cumulative(before, suffixes, name) if before else (0, None)
+        na, ta = cumulative(after, suffixes, name)
+        lines.append(f"| {label} | {na} | {fmt(tb, '.3f')} | {ta:.3f} | {ta / total_after:.0%} |")
     return "\n".join(lines) + "\n", csv_rows
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", type=Path, default=None, help=f"output folder (default ./{DEFAULT_OUT})")
+    parser.add_argument("--out", type=Path, default=None,
+                        help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick)")
     parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
     parser.add_argument("--repeats", type=int, default=3, help="timed plans per case and round")
     parser.add_argument("--rounds", type=int, default=2, help="before/after measurement rounds, alternating")
+    parser.add_argument("--quick", action="store_true", help="one case, one repeat, one round, no baseline")
     args = parser.parse_args(argv)
+    quick_out = DEFAULT_OUT.with_name(DEFAULT_OUT.name + "-quick")
+    out = args.out if args.out is not None else COMMITTED if args.docs else quick_out if args.quick else DEFAULT_OUT
+    cases = [list(c) for c in (QUICK_CASES if args.quick else CASES)]
+    repeats, rounds = (1, 1) if args.quick else (args.repeats, args.rounds)
     befores, afters = [], []
     with tempfile.TemporaryDirectory() as tmp:
-        tree = baseline_tree(args.baseline_ref, Path(tmp))
-        for i in range(args.rounds):  # alternate, so that load from other processes hits both alike
-            pair = [(befores, tree), (afters, None)]
+        tree = None if args.quick else baseline_tree(args.baseline_ref, Path(tmp))
+        for i in range(rounds):  # alternate, so that load from other processes hits both alike
+            pair = [(befores, tree), (afters, None)] if tree is not None else [(afters, None)]
             for results, where in pair if i % 2 == 0 else pair[::-1]:
-                results.append(measure(where, args.repeats))
-        assert all(b["synergrasp"].startswith(tmp) for b in befores), befores[0]["synergrasp"]
-    assert all(a["synergrasp"].startswith(str(ROOT)) for a in afters), afters[0]["synergrasp"]
-    before, after = combine(befores), combine(afters)
+                results.append(measure(where, repeats, cases, args.quick))
+    before, after = (combine(befores) if befores else None), combine(afters)
     text, rows = report(before, after, args.baseline_ref)
-    out = args.out if args.out is not None else COMMITTED if args.docs else DEFAULT_OUT
     out.mkdir(parents=True, exist_ok=True)
     (out / "profile.md").write_text(text)
     with open(out / "profile.csv", "w", newline="") as fh:

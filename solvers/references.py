@@ -113,6 +113,7 @@ class TimedBackend(Backend):
         super().__init__(name=self.inner.name)
         self.vertex_solutions = self.inner.vertex_solutions
         self.basis_hints = self.inner.basis_hints
+        self.max_columns = self.inner.max_columns
         self.lp_time = 0.0
         self.lp_calls = 0
 

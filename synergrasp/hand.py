@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._vectors import cross
+from ._jit import kernel
 
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 
@@ -319,11 +319,10 @@ class SynergyHand:
         # padding joints have zero rows, so they never move and never enter a Jacobian
         self._q_z = self._coupling @ self.synergies
         self._q_0 = self._coupling @ self.mean_pose + self._offset
-        self._q_z_flat = self._q_z.reshape(n_c * n_j, self.n_syn)
 
-        # Nodes: each chain's base and the end of each of its links, then the palm point.
+        # Nodes: each chain's base and the end of each of its links, then the palm point and the palm skin.
         palm = n_c * (n_j + 1)  # the palm point's node, then the palm skin's
-        n_nodes = palm + 1 + len(PALM_SKIN)
+        self._palm_nodes = np.vstack([self.palm_point, self._palm_skin])  # in the palm frame
         node = np.arange(palm).reshape(n_c, n_j + 1)
         segments = [(c, k + 1, j) for c in range(n_c) for k, j in enumerate(np.flatnonzero(self._lengths[c] > 0))]
         self._segment_nodes = np.array([[node[c, j], node[c, j + 1]] for c, _, j in segments])
@@ -353,14 +352,13 @@ class SynergyHand:
         }
         self._kinds = {}
         for kind, rows in points.items():
-            select = np.zeros((len(rows), n_nodes))
-            upstream = np.zeros((len(rows), n_c, n_j))
-            for i, (_, weights, c, n_up) in enumerate(rows):
-                select[i, list(weights)] = list(weights.values())
-                upstream[i, c, :n_up] = 1.0
-            # dq/dz of the joints upstream of each point: (n, n_c * n_j, n_syn)
-            q_z_masked = upstream.reshape(len(rows), -1, 1) * self._q_z_flat
-            frame = np.zeros(len(rows), dtype=int)  # index into the (n_c * (n_j + 1)) link frames
+            nodes = np.zeros((len(rows), 2), dtype=np.int64)   # each point: up to two nodes and their weights
+            weights = np.zeros((len(rows), 2))
+            upstream = np.zeros((len(rows), 2), dtype=np.int64)  # its chain and its number of joints upstream
+            for i, (_, w, c, n_up) in enumerate(rows):
+                nodes[i, :len(w)], weights[i, :len(w)] = list(w), list(w.values())
+                upstream[i] = c, n_up
+            frame = np.zeros(len(rows), dtype=np.int64)  # index into the (n_c * (n_j + 1)) link frames
             offset = np.zeros((len(rows), 3))       # in that frame
             for i, link in enumerate(links[kind]):
                 if link is not None:
@@ -371,7 +369,7 @@ class SynergyHand:
                     if len(link) == 3:  # round the segment from the palmar side towards its joint axis
                         side = np.cos(link[2]) * palmar[c, j] + np.sin(link[2]) * self._axes[c, j]
                     offset[i] = self.contact_offset * side / np.linalg.norm(side)
-            self._kinds[kind] = (select, q_z_masked, [r[0] for r in rows], frame, offset)
+            self._kinds[kind] = (nodes, weights, [r[0] for r in rows], upstream, frame, offset)
         # a power grasp's status needs both: one pass of the kinematics for the two
         self._kinds["_power_skin"] = tuple(
             a + b if isinstance(a, list) else np.concatenate([a, b])
@@ -549,41 +547,28 @@ class SynergyHand:
 
         Returns
         -------
-        nodes : (n_c * (n_j + 1) + 1 + len(PALM_SKIN), 3) float
-            Chain bases, link ends, the palm point and the palm skin points.
-        frames : (n_c * (n_j + 1), 3, 3) float
+        rot : (n_c, n_j + 1, 3, 3) float
             Orientation of each chain's base and of each link (after its joint).
-        axes : (n_c * n_j, 3) float
-            Joint axes.
-        origins : (n_c * n_j, 3) float
-            A point on each joint axis.
+        pos : (n_c, n_j + 1, 3) float
+            Position of each chain's base and of the end of each link.
         """
-        q = self._q_z @ z + self._q_0
-        s, c = np.sin(q)[..., None, None], np.cos(q)[..., None, None]
-        joint_rot = s * self._k1 + (1.0 - c) * self._k2 + np.eye(3)     # (n_c, n_j, 3, 3)
-        n_c, n_j = q.shape
-        rot = np.empty((n_c, n_j + 1, 3, 3))
-        rot[:, 0] = self._base_rot
-        for j in range(n_j):
-            np.matmul(rot[:, j], joint_rot[:, j], out=rot[:, j + 1])
-        palm = n_c * (n_j + 1)
-        nodes = np.empty((palm + 1 + len(PALM_SKIN), 3))
-        nodes[palm] = self.palm_point
-        nodes[palm + 1:] = self._palm_skin
-        pos = nodes[:palm].reshape(n_c, n_j + 1, 3)
-        pos[:, 0] = self._base_pos
-        # each link runs along its own +y: its step is length * the frame's second column
-        np.cumsum(self._lengths[..., None] * rot[:, 1:, :, 1], axis=1, out=pos[:, 1:])
-        pos[:, 1:] += self._base_pos[:, None]
-        axes = (rot[:, :-1] @ self._axes[..., None]).reshape(-1, 3)
-        return nodes, axes, pos[:, :-1].reshape(-1, 3), rot.reshape(-1, 3, 3)
+        n_c, n_j = self._lengths.shape
+        rot, pos = np.empty((n_c, n_j + 1, 3, 3)), np.empty((n_c, n_j + 1, 3))
+        _chain_kinematics(np.ascontiguousarray(z, dtype=float), self._q_z, self._q_0, self._k1, self._k2,
+                          self._base_rot, self._base_pos, self._lengths, rot, pos)
+        return rot, pos
 
-    def _local_points(self, z, kind):
-        """Hand points of a kind in the palm frame, with the chain geometry for the Jacobian."""
-        select, q_z_masked, _, frame, offset = self._check_kind(kind)
-        nodes, axes, origins, frames = self._chains(z)
-        local = select @ nodes + np.einsum("nab,nb->na", frames[frame], offset)
-        return local, axes, origins, q_z_masked
+    def _world(self, u, kind, jacobian):
+        """Hand points of a kind in the world frame and, if ``jacobian``, their Jacobian (else None)."""
+        u = self._check_u(u)
+        nodes, weights, _, upstream, frame, offset = self._check_kind(kind)
+        rot, pos = self._chains(u[6:])
+        n = len(nodes)
+        points = np.empty((n, 3))
+        jac = np.empty((n, 3, self.n_u)) if jacobian else np.empty((0, 3, self.n_u))
+        _hand_points(u, rotation_xyz(u[3:6]), rot, pos, self._palm_nodes, self._axes, self._q_z, nodes, weights,
+                     upstream, frame, offset, points, jac)
+        return points, (jac if jacobian else None)
 
     def points(self, u, kind="precision"):
         """Hand points in the world frame.
@@ -617,8 +602,7 @@ class SynergyHand:
         >>> bool(np.allclose(hand.points(shifted) - hand.points(u), [10.0, 0.0, 0.0]))
         True
         """
-        u = self._check_u(u)
-        return u[:3] + self._local_points(u[6:], kind)[0] @ rotation_xyz(u[3:6]).T
+        return self._world(u, kind, False)[0]
 
     def points_and_jacobian(self, u, kind="precision"):
         """Hand points and their analytic Jacobian with respect to ``u``.
@@ -654,19 +638,7 @@ class SynergyHand:
         >>> bool(np.allclose(jac[:, :, 6], numeric, atol=1e-6))
         True
         """
-        u = self._check_u(u)
-        local, axes, origins, q_z_masked = self._local_points(u[6:], kind)      # (n, 3), ...
-        rot = rotation_xyz(u[3:6])
-        arm = local @ rot.T
-        n = local.shape[0]
-        jac = np.empty((n, 3, self.n_u))
-        jac[:, :, :3] = np.eye(3)
-        c1, s1 = math.cos(u[3]), math.sin(u[3])
-        euler_axes = np.array([[1.0, 0.0, 0.0], [0.0, c1, s1], rot[:, 2]])        # x, Rx y, Rx Ry z
-        jac[:, :, 3:6] = cross(euler_axes[None], arm[:, None]).transpose(0, 2, 1)
-        dq = cross(axes[None], local[:, None] - origins[None])                   # (n, n_joints, 3)
-        jac[:, :, 6:] = rot @ (dq.transpose(0, 2, 1) @ q_z_masked)
-        return u[:3] + arm, jac
+        return self._world(u, kind, True)
 
     def points_jacobian(self, u, kind="precision"):
         """Analytic Jacobian of `points`, ``(n, 3, 6 + n_syn)`` (see `points_and_jacobian`)."""
@@ -755,7 +727,7 @@ class SynergyHand:
         (True, (15, 9, 3))
         """
         points, jac = self.points_and_jacobian(u, "_power_skin")
-        n = len(self._kinds["power"][2])
+        n = len(self._kinds["power"][0])
         return (points[:n], jac[:n], *self._split_skin(points[n:], jac[n:]))
 
     def _split_skin(self, points, jac):
@@ -779,7 +751,7 @@ class SynergyHand:
         """
         u = self._check_u(u)
         rot = rotation_xyz(u[3:6])
-        nodes = u[:3] + self._chains(u[6:])[0] @ rot.T
+        nodes = u[:3] + np.vstack([self._chains(u[6:])[1].reshape(-1, 3), self.palm_point]) @ rot.T
         return HandGeometry(
             capsules=nodes[self._segment_nodes],
             radius=self.finger_radius,
@@ -792,3 +764,111 @@ class SynergyHand:
     def __repr__(self):
         return (f"SynergyHand({self.name!r}, fingers={self.finger_names}, "
                 f"n_act={len(self.actuated_names)}, n_syn={self.n_syn})")
+
+
+@kernel
+def _chain_kinematics(z, q_z, q_0, k1, k2, base_rot, base_pos, lengths, rot, pos):
+    """Forward kinematics of the chains into ``rot`` and ``pos`` (see `SynergyHand._chains`).
+
+    Joint angles are affine in the synergies, ``q = q_z z + q_0``; joint j
+    turns link j by the Rodrigues rotation ``I + sin q K1 + (1 - cos q) K2``
+    (K1 the cross-product matrix of its axis, K2 = K1 K1), and each link runs
+    along its own +y: its end is its start plus its length times the frame's
+    second column.
+    """
+    n_c, n_j = lengths.shape
+    for c in range(n_c):
+        for a in range(3):
+            for b in range(3):
+                rot[c, 0, a, b] = base_rot[c, a, b]
+            pos[c, 0, a] = base_pos[c, a]
+        cum0 = cum1 = cum2 = 0.0
+        for j in range(n_j):
+            q = q_0[c, j]
+            for k in range(len(z)):
+                q += q_z[c, j, k] * z[k]
+            s, cq = np.sin(q), 1.0 - np.cos(q)
+            for a in range(3):
+                for b in range(3):
+                    acc = 0.0
+                    for m in range(3):
+                        r = k2[c, j, m, b] * cq + k1[c, j, m, b] * s + (1.0 if m == b else 0.0)
+                        acc += rot[c, j, a, m] * r
+                    rot[c, j + 1, a, b] = acc
+            cum0 += lengths[c, j] * rot[c, j + 1, 0, 1]
+            cum1 += lengths[c, j] * rot[c, j + 1, 1, 1]
+            cum2 += lengths[c, j] * rot[c, j + 1, 2, 1]
+            pos[c, j + 1, 0] = cum0 + base_pos[c, 0]
+            pos[c, j + 1, 1] = cum1 + base_pos[c, 1]
+            pos[c, j + 1, 2] = cum2 + base_pos[c, 2]
+
+
+@kernel
+def _hand_points(u, R, rot, pos, palm_nodes, axes, q_z, nodes, weights, upstream, frame, offset, points, jac):
+    """Hand points in the world frame (``points``) and, when ``jac`` has rows, their Jacobian.
+
+    A point is ``p + R x`` with x in the palm frame the weighted sum of its
+    nodes (chain nodes from ``pos``, numbered chain by chain; after them the
+    palm's, ``palm_nodes``) plus its offset in its link's frame. Its Jacobian: the identity for
+    p; ``w_k x (R x)`` for the Euler angles (``w_k`` = x, ``Rx y``, ``Rx Ry z``);
+    ``R sum_j (dq_j/dz) a_j x (x - o_j)`` for the synergies, over the joints
+    upstream of it (axis ``a_j`` through ``o_j``, the start of link j).
+    """
+    n_c, n_j1 = pos.shape[0], pos.shape[1]
+    n_j, n_syn = n_j1 - 1, q_z.shape[2]
+    c1, s1 = np.cos(u[3]), np.sin(u[3])
+    wanted = jac.shape[0] > 0
+    for i in range(len(nodes)):
+        x0 = x1 = x2 = 0.0
+        for e in range(2):
+            node, w = nodes[i, e], weights[i, e]
+            if w == 0.0:
+                continue
+            if node >= n_c * n_j1:  # the palm point or a palm skin point
+                k = node - n_c * n_j1
+                x0, x1, x2 = x0 + w * palm_nodes[k, 0], x1 + w * palm_nodes[k, 1], x2 + w * palm_nodes[k, 2]
+            else:
+                nc, nj = node // n_j1, node % n_j1
+                x0, x1, x2 = x0 + w * pos[nc, nj, 0], x1 + w * pos[nc, nj, 1], x2 + w * pos[nc, nj, 2]
+        fc, fj = frame[i] // n_j1, frame[i] % n_j1
+        o0, o1, o2 = offset[i, 0], offset[i, 1], offset[i, 2]
+        x0 += rot[fc, fj, 0, 0] * o0 + rot[fc, fj, 0, 1] * o1 + rot[fc, fj, 0, 2] * o2
+        x1 += rot[fc, fj, 1, 0] * o0 + rot[fc, fj, 1, 1] * o1 + rot[fc, fj, 1, 2] * o2
+        x2 += rot[fc, fj, 2, 0] * o0 + rot[fc, fj, 2, 1] * o1 + rot[fc, fj, 2, 2] * o2
+        arm0 = R[0, 0] * x0 + R[0, 1] * x1 + R[0, 2] * x2
+        arm1 = R[1, 0] * x0 + R[1, 1] * x1 + R[1, 2] * x2
+        arm2 = R[2, 0] * x0 + R[2, 1] * x1 + R[2, 2] * x2
+        points[i, 0], points[i, 1], points[i, 2] = u[0] + arm0, u[1] + arm1, u[2] + arm2
+        if not wanted:
+            continue
+        for a in range(3):
+            for b in range(3):
+                jac[i, a, b] = 1.0 if a == b else 0.0
+        # Euler angles: w_k x arm with w = x, (0, c1, s1), the third column of R
+        for k in range(3):
+            if k == 0:
+                w0, w1, w2 = 1.0, 0.0, 0.0
+            elif k == 1:
+                w0, w1, w2 = 0.0, c1, s1
+            else:
+                w0, w1, w2 = R[0, 2], R[1, 2], R[2, 2]
+            jac[i, 0, 3 + k] = w1 * arm2 - w2 * arm1
+            jac[i, 1, 3 + k] = w2 * arm0 - w0 * arm2
+            jac[i, 2, 3 + k] = w0 * arm1 - w1 * arm0
+        # synergies: sum over the upstream joints of (a_j x (x - o_j)) dq_j/dz, then R
+        c, n_up = upstream[i, 0], upstream[i, 1]
+        for s in range(n_syn):
+            d0 = d1 = d2 = 0.0
+            for j in range(n_up):
+                g = q_z[c, j, s]
+                if g == 0.0:
+                    continue
+                a0 = rot[c, j, 0, 0] * axes[c, j, 0] + rot[c, j, 0, 1] * axes[c, j, 1] + rot[c, j, 0, 2] * axes[c, j, 2]
+                a1 = rot[c, j, 1, 0] * axes[c, j, 0] + rot[c, j, 1, 1] * axes[c, j, 1] + rot[c, j, 1, 2] * axes[c, j, 2]
+                a2 = rot[c, j, 2, 0] * axes[c, j, 0] + rot[c, j, 2, 1] * axes[c, j, 1] + rot[c, j, 2, 2] * axes[c, j, 2]
+                r0, r1, r2 = x0 - pos[c, j, 0], x1 - pos[c, j, 1], x2 - pos[c, j, 2]
+                d0 += (a1 * r2 - a2 * r1) * g
+                d1 += (a2 * r0 - a0 * r2) * g
+                d2 += (a0 * r1 - a1 * r0) * g
+            for a in range(3):
+                jac[i, a, 6 + s] = R[a, 0] * d0 + R[a, 1] * d1 + R[a, 2] * d2

@@ -32,11 +32,8 @@ import numpy as np
 
 from . import lp
 from ._checks import as_points
+from .tolerances import DEGENERACY_TOL, VALUE_TOL
 
-#: Relative tolerance deciding that an LP quantity is zero.
-ZERO_TOL = 1e-9
-#: Tolerance on primal weights and reduced costs in the degeneracy test.
-DEGENERACY_TOL = 1e-7
 #: Largest dimension d accepted (the penetration LP has (d+1)(d+2) rows).
 MAX_DIM = 1000
 #: Point sets whose spread (half the largest side of their common bounding box) or offset (the
@@ -166,8 +163,8 @@ class PseudoDistance:
     active: int
 
 
-class _Optimum(NamedTuple):
-    """What one solve of :func:`_pseudo_distance` found (internal, no derived arrays).
+class Optimum(NamedTuple):
+    """The LP optimum behind a pseudo-distance (:func:`optimum`), without derived arrays.
 
     ``dual`` (d,) is signed so that ``grad_a = -alpha[:, None] * dual`` and
     ``grad_b = beta[:, None] * dual``; the other fields are those of :class:`PseudoDistance`.
@@ -332,24 +329,21 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     d = A.shape[1]
     if d > MAX_DIM:
         raise ValueError(f"A and B have points of dimension {d}; at most {MAX_DIM} is supported")
-    if simplex is None:
-        Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
-    else:
-        Q = check_simplex(simplex, d)
-        qmin = float(np.linalg.norm(Q, axis=1).min())
+    Q = _regular_simplex(d) if simplex is None else check_simplex(simplex, d)
+    given = None if simplex is None else Q  # optimum's own default needs no check
     lo, hi = np.minimum(A.min(axis=0), B.min(axis=0)), np.maximum(A.max(axis=0), B.max(axis=0))
     centre = 0.5 * lo + 0.5 * hi  # the bounding box's centre (no overflow near the largest floats)
     spread = float(np.max(0.5 * hi - 0.5 * lo))
     low, high = SCALE_RANGE
     if spread > high or float(np.abs(centre).max()) > high or 0.0 < spread < low:
         unit = spread if spread > 0 else 1.0  # all points in one place: translated only
-        opt = _pseudo_distance((A - centre) / unit, (B - centre) / unit, Q, qmin, lp.get_backend(backend))
+        opt = optimum((A - centre) / unit, (B - centre) / unit, simplex=given, backend=backend, checked=True)
         opt = opt._replace(value=opt.value * unit)
         if not np.isfinite(opt.value):
             raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
                              f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}); rescale the data")
     else:
-        opt = _pseudo_distance(A, B, Q, qmin, lp.get_backend(backend))
+        opt = optimum(A, B, simplex=given, backend=backend, checked=True)
     alpha, beta, dual = opt.alpha, opt.beta, opt.dual
     return PseudoDistance(
         value=opt.value,
@@ -368,26 +362,58 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     )
 
 
-def _pseudo_distance(A, B, Q, qmin, solver) -> _Optimum:
-    """The optimum behind :func:`pseudo_distance`, on validated input (finite float arrays).
+def optimum(A, B, *, simplex=None, backend="highs", checked=False) -> Optimum:
+    """The LP optimum behind :func:`pseudo_distance`: value, weights and duals, no derived arrays.
+
+    What :func:`pseudo_distance` and :func:`synergrasp.q_distance` build their
+    results from. Its gradients are ``grad_a = -alpha[:, None] * dual`` and
+    ``grad_b = beta[:, None] * dual``.
 
     Parameters
     ----------
-    A : (na, d) float ndarray
-    B : (nb, d) float ndarray
-    Q : (d+1, d) float ndarray
-        The simplex.
-    qmin : float
-        Smallest ``|q_k|``.
-    solver : synergrasp.lp.Backend
+    A : (na, d) array_like
+    B : (nb, d) array_like
+    simplex : (d+1, d) array_like, optional
+        Default ``regular_simplex(d)``.
+    backend : str or synergrasp.lp.Backend
+    checked : bool
+        ``A``, ``B`` and ``simplex`` are already validated finite float
+        arrays (a caller that checked them skips the checks).
 
     Returns
     -------
-    _Optimum
+    Optimum
+
+    Raises
+    ------
+    ValueError, synergrasp.lp.LPError
+        As :func:`pseudo_distance`.
+
+    Notes
+    -----
+    The data are solved as given: :func:`pseudo_distance` first rescales
+    point sets whose size or offset fall outside ``SCALE_RANGE``.
+
+    Examples
+    --------
+    >>> opt = optimum([[0.0, 0.0]], [[0.0, -3.0]])
+    >>> opt.kind, round(opt.value, 9), opt.alpha.tolist(), opt.beta.tolist()
+    ('separation', 3.0, [1.0], [1.0])
     """
+    if not checked:
+        A = as_points(A, "A", min_dim=2)
+        B = as_points(B, "B", dim=A.shape[1])
+        if A.shape[1] > MAX_DIM:
+            raise ValueError(f"A and B have points of dimension {A.shape[1]}; at most {MAX_DIM} is supported")
     d = A.shape[1]
+    if simplex is None:
+        Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
+    else:
+        Q = simplex if checked else check_simplex(simplex, d)
+        qmin = float(np.linalg.norm(Q, axis=1).min())
+    solver = lp.get_backend(backend)
     coord_scale = 1.0 + max(np.abs(A).max(), np.abs(B).max())
-    zero = ZERO_TOL * coord_scale * d / qmin
+    zero = VALUE_TOL * coord_scale * d / qmin
     lay = _layout(len(A), len(B), d)
 
     # The penetration LPs (Eq. 3) are all feasible exactly when the sets overlap or touch
@@ -425,7 +451,7 @@ def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
         return None
     x, y = sol.x, sol.y
     reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * y[lay.sep_rows], minlength=len(lay.sep_c))
-    return _Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
+    return Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
                     x[nq + na :], y[:d], -1)
 
 
@@ -450,5 +476,5 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
     ties = np.count_nonzero(values >= values[k] - zero) > 1
     reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
-    return _Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
+    return Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
                     x[1 + na :], -y[:d], k)

@@ -17,16 +17,16 @@ normals follow from the LP duals through ``w_ij(p_i, n_i)``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from . import lp
 from ._checks import as_points, as_vector, positive_scalar
-from ._vectors import cross
-from .pseudo_distance import _min_vertex_norm, _pseudo_distance, _regular_simplex
+from ._jit import helper, kernel
+from .pseudo_distance import optimum, regular_simplex
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
 FORCE_CLOSURE_TOL = 1e-9
@@ -38,7 +38,8 @@ EDGES_MAX = 1000
 
 _ORIGIN = np.zeros((1, 6))  # the origin of wrench space, the set the Q distance is measured to
 _ORIGIN.setflags(write=False)
-_SIMPLEX, _SIMPLEX_MIN_NORM = _regular_simplex(6), _min_vertex_norm(6)
+_SIMPLEX = regular_simplex(6)  # the default simplex in wrench space
+_SIMPLEX.setflags(write=False)
 
 
 def _unit_normals(normals, n_points):
@@ -61,48 +62,6 @@ def _unit_normals(normals, n_points):
     return normals / length[:, None], length
 
 
-#: ``_AXIS_CROSS[k] @ v = e_k x v`` for the coordinate axes e_k.
-_AXIS_CROSS = np.array([[[0, 0, 0], [0, 0, -1], [0, 1, 0]], [[0, 0, 1], [0, 0, 0], [-1, 0, 0]],
-                        [[0, -1, 0], [1, 0, 0], [0, 0, 0]]], dtype=float)
-_AXIS_CROSS.setflags(write=False)
-
-
-def _frame(nhat):
-    """The basis (n, e1, e2) of each contact: e1 = normalise(a x n), e2 = n x e1.
-
-    ``a`` is the coordinate axis least aligned with n (piecewise constant).
-
-    Returns
-    -------
-    basis : (3, n, 3) float
-        ``basis[0] = nhat``, ``basis[1] = e1``, ``basis[2] = e2``.
-    tangent : tuple
-        ``(C, vnorm)`` for :func:`_basis_vjp`: ``C`` (n, 3, 3) the matrices
-        ``[a]x`` of the axes and ``vnorm`` (n,) ``|a x n|``.
-    """
-    C = _AXIS_CROSS[np.abs(nhat).argmin(axis=1)]
-    v = np.einsum("iab,ib->ia", C, nhat)
-    vnorm = np.sqrt(np.einsum("ij,ij->i", v, v))
-    basis = np.empty((3,) + nhat.shape)
-    basis[0] = nhat
-    np.divide(v, vnorm[:, None], out=basis[1])
-    basis[2] = cross(nhat, basis[1])
-    return basis, (C, vnorm)
-
-
-def _basis_vjp(basis, C, vnorm, g1, g2):
-    """Vector-Jacobian product of the tangent basis: ``(de1/dn)^T g1 + (de2/dn)^T g2``.
-
-    With de1/dn = (I - e1 e1^T) [a]x / |a x n| and e2 = n x e1, so
-    de2/dn = -[e1]x + [n]x de1/dn; ``(de1/dn)^T w = -[a]x (I - e1 e1^T) w / |a x n|``.
-    """
-    n_g2, e1_g2 = cross(basis[:2], g2)
-    e1 = basis[1]
-    w = g1 - n_g2
-    w -= e1 * np.einsum("ij,ij->i", e1, w)[:, None]
-    return e1_g2 - np.einsum("iab,ib->ia", C, w) / vnorm[:, None]
-
-
 def _angles(edges):
     """(cos t_j, sin t_j), t_j = 2 pi j / m, for a valid edge count m."""
     if isinstance(edges, bool) or not isinstance(edges, (int, np.integer)) or not 3 <= edges <= EDGES_MAX:
@@ -117,36 +76,132 @@ def _cos_sin(edges):
     return np.cos(t), np.sin(t)
 
 
-def _cone(nhat, mu, edges):
-    """Cone edges as combinations of (n, e1, e2), for a validated ``mu`` and ``edges``.
-
-    Edge j of contact i is ``sum_k M[k, j] basis[k, i]`` with
-    ``M[:, j] = (1, mu cos t_j, mu sin t_j)`` and ``basis = (n, e1, e2)``.
-
-    Returns
-    -------
-    M : (3, m) float
-    basis : (3, n, 3) float
-    tangent : tuple
-        For :func:`_basis_vjp` (see :func:`_frame`).
-    """
-    basis, tangent = _frame(nhat)
-    return _cone_matrix(float(mu), int(edges)), basis, tangent
-
-
 @lru_cache(maxsize=32)
 def _cone_matrix(mu, edges):
-    """(3, m) read-only: column j is ``(1, mu cos t_j, mu sin t_j)``."""
+    """(3, m) read-only: column j is ``(1, mu cos t_j, mu sin t_j)``, the cone edges' weights of (n, e1, e2)."""
     cos, sin = _cos_sin(edges)
-    M = np.stack([np.ones_like(cos), mu * cos, mu * sin])
+    M = np.ascontiguousarray(np.stack([np.ones_like(cos), mu * cos, mu * sin]))
     M.setflags(write=False)
     return M
 
 
-def _wrenches(M, basis, arm, L):
-    """(n*m, 6) wrenches ``[d_ij ; arm_i x d_ij / L]``, contact-major."""
-    frames = np.concatenate([basis, cross(arm / L, basis)], axis=2)  # (3, n, 6): [d ; arm x d / L] of n, e1, e2
-    return np.einsum("kj,kia->ija", M, frames).reshape(-1, 6)
+def _wrenches(nhat, arm, L, mu, edges):
+    """Primitive wrenches ``[d_ij ; arm_i x d_ij / L]`` (n*m, 6), contact-major, and the frames behind them.
+
+    Edge j of contact i is ``d_ij = sum_k M[k, j] basis[k, i]`` with
+    ``M[:, j] = (1, mu cos t_j, mu sin t_j)`` and ``basis = (n, e1, e2)``:
+    e1 = normalise(a x n), a the coordinate axis least aligned with n
+    (piecewise constant), e2 = n x e1.
+
+    Returns
+    -------
+    W : (n*m, 6) float
+    M : (3, m) float
+    basis : (3, n, 3) float
+    axis : (n,) int
+        The axis a of each contact.
+    vnorm : (n,) float
+        ``|a x n|``.
+    """
+    n = len(nhat)
+    M = _cone_matrix(float(mu), int(edges))
+    W, basis = np.empty((n * M.shape[1], 6)), np.empty((3, n, 3))
+    axis, vnorm = np.empty(n, dtype=np.int64), np.empty(n)
+    _wrench_kernel(nhat, arm, float(L), M, W, basis, axis, vnorm)
+    return W, M, basis, axis, vnorm
+
+
+@helper
+def _axis_cross(k, v0, v1, v2):
+    """``e_k x v`` for the coordinate axis e_k."""
+    if k == 0:
+        return 0.0, -v2, v1
+    if k == 1:
+        return v2, 0.0, -v0
+    return -v1, v0, 0.0
+
+
+@kernel
+def _wrench_kernel(nhat, arm, L, M, W, basis, axis, vnorm):
+    """See `_wrenches`: fills ``W``, ``basis``, ``axis`` and ``vnorm``."""
+    m = M.shape[1]
+    for i in range(len(nhat)):
+        n0, n1, n2 = nhat[i, 0], nhat[i, 1], nhat[i, 2]
+        k = 0
+        if abs(n1) < abs(n0):
+            k = 1
+        if abs(n2) < min(abs(n0), abs(n1)):
+            k = 2
+        axis[i] = k
+        v0, v1, v2 = _axis_cross(k, n0, n1, n2)
+        vn = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
+        vnorm[i] = vn
+        e0, e1, e2 = v0 / vn, v1 / vn, v2 / vn
+        basis[0, i, 0], basis[0, i, 1], basis[0, i, 2] = n0, n1, n2
+        basis[1, i, 0], basis[1, i, 1], basis[1, i, 2] = e0, e1, e2
+        basis[2, i, 0], basis[2, i, 1], basis[2, i, 2] = n1 * e2 - n2 * e1, n2 * e0 - n0 * e2, n0 * e1 - n1 * e0
+        r0, r1, r2 = arm[i, 0] / L, arm[i, 1] / L, arm[i, 2] / L
+        for j in range(m):
+            for c in range(3):
+                d = M[0, j] * basis[0, i, c] + M[1, j] * basis[1, i, c] + M[2, j] * basis[2, i, c]
+                W[i * m + j, c] = d
+            d0, d1, d2 = W[i * m + j, 0], W[i * m + j, 1], W[i * m + j, 2]
+            W[i * m + j, 3] = r1 * d2 - r2 * d1
+            W[i * m + j, 4] = r2 * d0 - r0 * d2
+            W[i * m + j, 5] = r0 * d1 - r1 * d0
+
+
+@kernel
+def _gradient_kernel(alpha, dual, M, basis, axis, vnorm, arm, L, nhat, length, grad_points, grad_normals):
+    """d Q / d p_i and d Q / d n_i (``grad_points``, ``grad_normals``) from the LP's weights and duals.
+
+    d Q / d w_ij = -alpha_ij dual = alpha_ij g, so every sum over the edges j
+    goes through ``s = M alpha_i`` (the weights of n, e1, e2): d Q / d (n, e1,
+    e2)_i = s_i (g_f + g_t x arm_i / L), and d Q / d p_i = (sum_j d_ij) x g_t / L.
+    The tangent basis contributes through its vector-Jacobian product:
+    de1/dn = (I - e1 e1^T) [a]x / |a x n| and e2 = n x e1, so
+    de2/dn = -[e1]x + [n]x de1/dn, and ``(de1/dn)^T w = -[a]x (I - e1 e1^T) w / |a x n|``.
+    """
+    m = M.shape[1]
+    g0, g1, g2, t0, t1, t2 = -dual[0], -dual[1], -dual[2], -dual[3], -dual[4], -dual[5]
+    for i in range(len(nhat)):
+        s0 = s1 = s2 = 0.0
+        for j in range(m):
+            w = alpha[i * m + j]
+            s0 += M[0, j] * w
+            s1 += M[1, j] * w
+            s2 += M[2, j] * w
+        # sum_j d_ij x g_t / L
+        d0 = s0 * basis[0, i, 0] + s1 * basis[1, i, 0] + s2 * basis[2, i, 0]
+        d1 = s0 * basis[0, i, 1] + s1 * basis[1, i, 1] + s2 * basis[2, i, 1]
+        d2 = s0 * basis[0, i, 2] + s1 * basis[1, i, 2] + s2 * basis[2, i, 2]
+        grad_points[i, 0] = (d1 * t2 - d2 * t1) / L
+        grad_points[i, 1] = (d2 * t0 - d0 * t2) / L
+        grad_points[i, 2] = (d0 * t1 - d1 * t0) / L
+        # h = g_f + g_t x arm / L: d Q / d (n, e1, e2) = s h
+        a0, a1, a2 = arm[i, 0], arm[i, 1], arm[i, 2]
+        h0 = g0 + (t1 * a2 - t2 * a1) / L
+        h1 = g1 + (t2 * a0 - t0 * a2) / L
+        h2 = g2 + (t0 * a1 - t1 * a0) / L
+        n0, n1, n2 = basis[0, i, 0], basis[0, i, 1], basis[0, i, 2]
+        e0, e1, e2 = basis[1, i, 0], basis[1, i, 1], basis[1, i, 2]
+        # vector-Jacobian product of the tangent basis with g1 = s1 h, g2 = s2 h
+        u0, u1, u2 = s2 * h0, s2 * h1, s2 * h2
+        w0 = s1 * h0 - (n1 * u2 - n2 * u1)
+        w1 = s1 * h1 - (n2 * u0 - n0 * u2)
+        w2 = s1 * h2 - (n0 * u1 - n1 * u0)
+        ew = e0 * w0 + e1 * w1 + e2 * w2
+        w0, w1, w2 = w0 - e0 * ew, w1 - e1 * ew, w2 - e2 * ew
+        c0, c1, c2 = _axis_cross(axis[i], w0, w1, w2)  # a x w
+        vn = vnorm[i]
+        q0 = s0 * h0 + (e1 * u2 - e2 * u1) - c0 / vn
+        q1 = s0 * h1 + (e2 * u0 - e0 * u2) - c1 / vn
+        q2 = s0 * h2 + (e0 * u1 - e1 * u0) - c2 / vn
+        # through the normalisation of the given normal
+        qn = q0 * nhat[i, 0] + q1 * nhat[i, 1] + q2 * nhat[i, 2]
+        grad_normals[i, 0] = (q0 - qn * nhat[i, 0]) / length[i]
+        grad_normals[i, 1] = (q1 - qn * nhat[i, 1]) / length[i]
+        grad_normals[i, 2] = (q2 - qn * nhat[i, 2]) / length[i]
 
 
 def friction_cone_edges(normals, mu=0.3, edges=8):
@@ -176,8 +231,8 @@ def friction_cone_edges(normals, mu=0.3, edges=8):
     nhat, _ = _unit_normals(normals, len(normals))
     mu = positive_scalar(mu, "mu", MU_MAX)
     _angles(edges)
-    M, basis, _ = _cone(nhat, mu, edges)
-    return np.einsum("kj,kia->ija", M, basis)
+    W = _wrenches(nhat, np.zeros_like(nhat), 1.0, mu, edges)[0]
+    return W[:, :3].reshape(len(nhat), int(edges), 3)
 
 
 def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale=None):
@@ -210,8 +265,7 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     (4, 6)
     """
     arm, nhat, _, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
-    M, basis, _ = _cone(nhat, mu, edges)
-    return _wrenches(M, basis, arm, L)
+    return _wrenches(nhat, arm, L, mu, edges)[0]
 
 
 def _prepare(points, normals, mu, edges, center, torque_scale):
@@ -353,19 +407,10 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     False
     """
     arm, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
-    M, basis, tangent = _cone(nhat, mu, edges)
-    W = _wrenches(M, basis, arm, L)
-    res = _pseudo_distance(W, _ORIGIN, _SIMPLEX, _SIMPLEX_MIN_NORM, lp.get_backend(backend))
-
-    # d value / d w_ij = -alpha_ij dual = alpha_ij g, so every sum over the edges j goes through
-    # s = M alpha_i (the weights of n, e1, e2): d value / d (n, e1, e2)_i = s_i (g_f + g_t x arm_i / L)
-    s = M @ res.alpha.reshape(len(arm), -1).T  # (3, n)
-    g = -res.dual
-    grad_points = cross(np.einsum("ki,kia->ia", s, basis), g[3:]) / L  # sum_j d_ij x g_t / L
-    h = g[:3] + cross(g[3:], arm) / L
-    sh = s[:, :, None] * h  # d value / d (n, e1, e2)
-    grad_nhat = sh[0] + _basis_vjp(basis, *tangent, sh[1], sh[2])
-    grad_normals = (grad_nhat - np.einsum("ij,ij->i", grad_nhat, nhat)[:, None] * nhat) / length[:, None]
+    W, M, basis, axis, vnorm = _wrenches(nhat, arm, L, mu, edges)
+    res = optimum(W, _ORIGIN, backend=backend, checked=True)
+    grad_points, grad_normals = np.empty_like(arm), np.empty_like(arm)
+    _gradient_kernel(res.alpha, res.dual, M, basis, axis, vnorm, arm, float(L), nhat, length, grad_points, grad_normals)
     return QDistance(
         value=res.value,
         grad_points=grad_points,

@@ -20,6 +20,20 @@ def test_torus_has_the_faces_asked_for():
     assert 320_000 <= len(mesh.faces) <= 340_000 and mesh.is_watertight
 
 
+def test_first_plan_quick(tmp_path, capsys):
+    """The first process compiles into an empty cache; the second finds every kernel there and writes nothing."""
+    from benchmarks import bench_first_plan
+
+    row = bench_first_plan.main(["--quick", "--out", str(tmp_path)])
+    assert json.loads((tmp_path / "first_plan.json").read_text()) == row
+    first, second = row["cache_files"]
+    assert first > 10 and second == first  # the second process compiled nothing new
+    for run in (row["cold"], row["warm"]):
+        assert list(run) == ["import", "first plan", "second plan"]
+        assert all(wall > 0 and cpu > 0 for wall, cpu in run.values())
+    assert "files in the cache" in capsys.readouterr().out
+
+
 # --------------------------------------------------------------------------- generalisation benchmark
 
 from types import SimpleNamespace  # noqa: E402

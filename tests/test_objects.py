@@ -7,7 +7,8 @@ from hypothesis import strategies as st
 
 import synergrasp as sg
 import synergrasp.objects as so
-from synergrasp.objects.proximity import MAX_LP_COLUMNS, cp_bounds
+from synergrasp.objects import facets
+from synergrasp.objects.contact_distance import cp_bounds, group_contact_distance
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -182,7 +183,7 @@ def test_cp_matches_core_pseudo_distance(goblet, backend):
         if not r.degenerate[i]:
             assert r.grad[i] == pytest.approx(best.grad_a[0], abs=1e-6)
     assert (r.value[-4:] < 0).all() and r.inside[-4:].all()
-    if backend not in MAX_LP_COLUMNS:  # all blocks in one LP
+    if sg.lp.get_backend(backend).max_columns is None:  # all blocks in one LP
         assert r.lp_solves == 1
 
 
@@ -214,8 +215,6 @@ def test_cp_gradients_match_finite_differences(goblet, ellipsoid, backend):
 
 def test_group_cp_is_the_group_minimum_and_warm_starts_change_nothing(backend):
     """`group_contact_distance`: the smallest cP of each group; warm starts from the last bases keep every value."""
-    from synergrasp.objects.proximity import group_contact_distance
-
     rng = np.random.default_rng(21)
     obj = so.goblet()
     pts = np.vstack([around(obj, 30, rng, gap=(-3, 25)), obj.center + rng.normal(size=(6, 3)) * 4])
@@ -230,7 +229,7 @@ def test_group_cp_is_the_group_minimum_and_warm_starts_change_nothing(backend):
             assert best[g] in rows and alone.value[best[g]] == pytest.approx(r.value[g], abs=1e-7)
             if not r.degenerate[g]:
                 assert r.grad[g] == pytest.approx(alone.grad[best[g]], abs=1e-6)
-    assert (len(obj._lp_bases.codes) > 0) == sg.lp.get_backend(backend).basis_hints  # only simplex backends use them
+    assert (len(obj.index.memory) > 0) == sg.lp.get_backend(backend).basis_hints  # only simplex backends use them
 
 
 def test_cp_rejects_bad_points(goblet):
@@ -322,6 +321,30 @@ def test_cp_bounds_bracket_the_value(seed):
     assert np.all(np.isfinite(upper)) and np.isfinite(lower).any()
 
 
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_group_pruning_keeps_every_group_minimiser(seed):
+    """`PieceIndex.group_probe` drops only points that cannot attain their group's smallest cP."""
+    obj, rng = _random_object(seed)
+    pts = _probe_points(obj, rng, 12)
+    groups = rng.integers(0, 4, size=len(pts))
+    groups[:4] = np.arange(4)  # every group has a point
+    value = obj.contact_distance(pts).value
+    rows, probe = obj.index.group_probe(pts, groups)
+    assert (probe.P == pts[rows]).all()
+    for g in range(4):
+        members = np.flatnonzero(groups == g)
+        best = value[members].min()
+        kept = np.intersect1d(members, rows)
+        assert len(kept) and value[kept].min() == pytest.approx(best, abs=1e-7 * (1 + abs(best)))
+
+
+def test_plane_bounds_are_each_pieces_signed_distance_bound(goblet):
+    pts = goblet.center + np.random.default_rng(2).normal(size=(20, 3)) * 40.0
+    expected = np.column_stack([p.signed_distance_bound(pts) for p in goblet.convex])
+    assert goblet.index.plane_bounds(pts) == pytest.approx(expected, abs=1e-9)
+
+
 def test_broad_phase_prunes_far_pieces(goblet):
     # beside the bowl the foot is far: only the bowl is solved
     r = goblet.contact_distance([[45.0, 0.0, 120.0]])
@@ -384,10 +407,7 @@ def test_sq_closed_form_equals_the_lp(name, cube, goblet, backend, monkeypatch):
     closed = obj.scaled_contacts(pts, backend=backend)
     if name != "cube":  # faces of these meshes are split into coplanar triangles
         assert closed.lp_solves == 0
-    from synergrasp.objects import proximity
-
-    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
-        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    monkeypatch.setattr(facets, "CLOSED_FORM", False)
     lp_only = obj.scaled_contacts(pts, backend=backend)
     assert lp_only.lp_solves >= 1
     assert closed.scale == pytest.approx(lp_only.scale, rel=1e-7)
@@ -405,10 +425,7 @@ def test_cp_penetration_closed_form_equals_the_lp(name, cube, goblet, backend, m
     pts = inside[obj.contains(inside)][:12]
     closed = obj.contact_distance(pts, backend=backend)
     assert closed.inside.all() and len(pts) >= 8
-    from synergrasp.objects import proximity
-
-    monkeypatch.setattr(proximity, "_facet_exit", lambda obj, c0, U, ray, facet: (
-        np.zeros(len(U), bool), np.zeros(len(U)), np.zeros((len(U), 3))))
+    monkeypatch.setattr(facets, "CLOSED_FORM", False)
     lp_only = obj.contact_distance(pts, backend=backend)
     assert lp_only.lp_solves >= 1
     assert closed.value == pytest.approx(lp_only.value, abs=1e-7)

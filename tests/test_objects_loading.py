@@ -121,7 +121,7 @@ def test_non_convex_mesh_is_decomposed_and_cached(tmp_path, cache, monkeypatch):
     assert 2 <= first.n_pieces <= 16
     assert list(cache.glob("*.npz")), "the decomposition was stored"
     # the pieces cover the mesh (CoACD's remeshing is within about a mm)
-    assert (first._plane_bounds(mesh.vertices).min(axis=1) <= 1.5).all()
+    assert (first.index.plane_bounds(mesh.vertices).min(axis=1) <= 1.5).all()
     # the waist is not filled in as a hull would
     assert not first.contains([[18.0, 0, 20.0]])[0]
 
@@ -160,7 +160,7 @@ def test_non_convex_point_cloud_is_clustered():
     assert obj.contains([[40.0, 0.0, 0.0], [0.0, -40.0, 0.0]]).all(), "the ring is solid"
     assert obj.contains([obj.center])[0]
     # every cloud point is in (or within a mm of) a piece
-    assert (obj._plane_bounds(pts).min(axis=1) <= 1.0).all()
+    assert (obj.index.plane_bounds(pts).min(axis=1) <= 1.0).all()
     again = so.from_points(pts)
     assert again.info["cache"] == "hit" and again.n_pieces == obj.n_pieces
 

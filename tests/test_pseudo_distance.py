@@ -214,3 +214,18 @@ def test_a_failed_penetration_attempt_falls_back_to_separation(rng):
     apart = sg.pseudo_distance(A, B, backend=backend)  # penetration is tried first and "fails"
     assert apart.kind == "separation" and apart.lp_solves == 2
     assert apart.value == pytest.approx(sg.pseudo_distance(A, B).value, abs=1e-9)
+
+
+def test_the_optimum_is_what_pseudo_distance_builds_its_result_from(backend, rng):
+    from synergrasp.pseudo_distance import optimum
+
+    for shift in (0.0, 3.0):  # overlapping, then apart
+        A, B = rng.normal(size=(6, 3)), rng.normal(size=(5, 3)) + shift
+        r = sg.pseudo_distance(A, B, backend=backend)
+        opt = optimum(A, B, backend=backend)
+        assert opt.kind == r.kind and opt.value == pytest.approx(r.value, abs=1e-9)
+        if not r.degenerate:
+            assert -opt.alpha[:, None] * opt.dual == pytest.approx(r.grad_a, abs=1e-7)
+            assert opt.beta[:, None] * opt.dual == pytest.approx(r.grad_b, abs=1e-7)
+    with pytest.raises(ValueError, match="dimension"):
+        optimum([[0.0, 0.0]], [[1.0, 0.0, 0.0]])

@@ -57,11 +57,12 @@ def test_every_backend_agrees_with_highs(quick):
 
 def test_outputs_and_paper_rows(quick):
     out = quick["out"]
-    for name in ("lp_level.csv", "plan_level.csv", "summary.csv", "ratios.csv", "environment.json", "README.md"):
+    for name in ("lp_level.csv", "plan_level.csv", "summary.csv", "ratios.csv", "solver_ratios.csv", "environment.json",
+                 "README.md"):
         assert (out / name).stat().st_size > 0
     assert (out / compare.FIGURE).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = (out / "README.md").read_text()
-    assert compare.PAPER_LABEL in text and "Target ratios" in text
+    assert compare.PAPER_LABEL in text and "Target ratios" in text and "in-solver ratios" in text
     paper = [r for r in quick["plan"] if r["source"] == "paper"]
     assert len(paper) == 8 and all(r["backend"] == compare.PAPER_LABEL for r in paper)
     assert [r["target"] for r in quick["ratios"]] == [20.0, 10.0, 10.0, 100.0]
@@ -96,3 +97,25 @@ def test_timed_backend_accumulates_solver_time():
     assert timed.lp_calls == r.lp_solves and timed.lp_time > 0 and str(timed) == "highs"
     timed.reset()
     assert timed.lp_calls == 0 and timed.lp_time == 0.0
+
+
+def test_every_backend_has_a_whole_call_and_an_in_solver_ratio_per_workload(quick):
+    rows = quick["solver_ratios"]
+    others = [b for b in EXPECTED if b != compare.REFERENCE]
+    for workload in compare.WORKLOADS:
+        assert [r["backend"] for r in rows if r["workload"] == workload] == others
+    assert {r["backend"] for r in rows if r["unit"] == "per plan"} == set(others)
+    for r in rows:  # ratios of positive times
+        assert r["whole"] > 0 and r["in_solver"] > 0, r
+
+
+def test_profile_plan_quick_writes_its_tables(tmp_path):
+    from solvers import profile_plan
+
+    before, after = profile_plan.main(["--quick", "--out", str(tmp_path)])
+    assert before is None and list(after["cases"]) == ["ellipsoid precision"]
+    case = after["cases"]["ellipsoid precision"]
+    assert case["iterations"] > 0 and case["lp_solves"] > 0
+    assert 0 < case["lp_cpu_s"] < case["cpu_s"] and 0 < case["lp_time_s"] < case["wall_s"]
+    text = (tmp_path / "profile.md").read_text()
+    assert "inside Backend.solve" in text and (tmp_path / "profile.csv").stat().st_size > 0

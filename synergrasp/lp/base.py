@@ -96,6 +96,10 @@ class Backend:
         Class attribute: :meth:`solve` can start from the columns named by
         its ``basic`` argument (a simplex warm start); other backends ignore
         the argument.
+    max_columns : int or None
+        Class attribute: the largest LP (in columns) worth passing in one
+        call; callers that stack independent blocks (`synergrasp.lp.blocks`)
+        split them into several LPs above it. None: no limit.
     calls : int
         Number of solves done by this instance.
 
@@ -114,6 +118,7 @@ class Backend:
     calls: int = field(default=0, init=False)
     vertex_solutions: ClassVar[bool] = False
     basis_hints: ClassVar[bool] = False
+    max_columns: ClassVar[int | None] = None
 
     def solve(self, c, A, b, basic=None) -> LPSolution:
         """Solve ``min c @ x  s.t.  A @ x == b, x >= 0``.

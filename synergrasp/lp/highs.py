@@ -1,15 +1,16 @@
-"""HiGHS backend through highspy's own API (dual simplex, warm-started).
+"""HiGHS backend through highspy's own API (dual simplex, warm-started, models updated in place).
 
-One ``Highs`` object is kept per backend instance and reused for every solve.
-The last optimal basis is remembered twice, under the LP's *structure* (shape
-and the number of entries of every column) and under its shape alone, and
-handed to the solver as a warm start: the basis of the last LP with the same
-structure if there is one, else that of the last LP with the same shape.
-Inside the planner several kinds of LP can share a shape while their columns
-mean different things (a cP block lists the vertices of the facets facing its
-hand point, which change as the point moves); keyed by structure, each kind
-finds its own previous basis, and the shape fallback still helps when the
-pattern changes a little from one iteration to the next. A caller that knows
+An LP's *structure* is its shape and sparsity pattern. The backend keeps a
+few ``Highs`` objects, each holding the last LP of one structure with its
+optimal basis. An LP whose structure one of them holds (inside the planner:
+the Q-distance LPs, whose layout depends only on the number of contacts) is
+written into it in place, its columns swapped for the new ones, and solved
+from that basis; HiGHS then skips the set-up of a new model. Any other LP
+replaces the model of the least recently used object and starts from the
+last optimal basis of an LP with the same shape and column counts, else of
+the same shape (several kinds of LP can share a shape while their columns
+mean different things: a cP block lists the vertices of the facets facing
+its hand point, which change as the point moves). A caller that knows
 better names the columns to start basic (``solve(..., basic=...)``; the cP
 LP blocks of `synergrasp.objects` pass those of their last optimum), and
 HiGHS completes them to a basis.
@@ -40,8 +41,10 @@ _RESCUE = {"simplex_scale_strategy": 2, "presolve": "choose"}
 
 _STATUSES = np.array([highspy.HighsBasisStatus.kLower, highspy.HighsBasisStatus.kBasic], dtype=object)
 
-#: Number of LP structures and shapes whose last optimal basis is remembered.
+#: Number of LP column-count patterns and shapes whose last optimal basis is remembered.
 BASIS_CACHE_SIZE = 64
+#: Number of ``Highs`` objects kept, each holding the last LP of one structure (see the module docstring).
+MODEL_CACHE_SIZE = 8
 
 #: The number of threads HiGHS picks for ``threads = 0`` (half the logical CPUs, rounded up),
 #: named explicitly: left at 0, HiGHS asks the operating system for the CPU count on every run,
@@ -84,6 +87,15 @@ def _new_highs() -> highspy.Highs:
         os.close(null)
 
 
+class _Model:
+    """One ``Highs`` object, the right-hand side of the LP it holds and that LP's optimal basis (None if not solved)."""
+
+    def __init__(self, highs):
+        self.highs = highs
+        self.rhs = None
+        self.basis = None
+
+
 class HighsBackend(Backend):
     """LP backend on HiGHS (``highspy``), simplex with warm starts.
 
@@ -91,8 +103,9 @@ class HighsBackend(Backend):
     ----------
     warm_start : bool
         Start from the columns the caller names as basic (``basic``), else
-        from the last optimal basis of an LP with the same shape and column
-        counts, else of the last LP with the same shape.
+        from the last optimal basis of an LP with the same structure (solved
+        in place), else with the same shape and column counts, else with the
+        same shape. False: every LP is passed as a new model and solved cold.
     options : dict
         Extra HiGHS options (``setOptionValue(key, value)``).
     """
@@ -103,28 +116,48 @@ class HighsBackend(Backend):
     def __init__(self, warm_start: bool = True, **options):
         super().__init__(name="highs")
         self.warm_start = warm_start
-        self._h = _new_highs()
-        self._h.setOptionValue("output_flag", False)
-        self._h.setOptionValue("presolve", "off")  # tiny dense LPs: presolve costs more than it saves
-        self._h.setOptionValue("solver", "simplex")
-        self._h.setOptionValue("simplex_scale_strategy", 0)  # data are well scaled (mm, unit normals)
-        self._h.setOptionValue("simplex_initial_condition_check", False)
-        self._h.setOptionValue("threads", THREADS)
-        for key, value in options.items():
-            self._h.setOptionValue(key, value)
+        self._options = {
+            "output_flag": False,
+            "presolve": "off",  # tiny dense LPs: presolve costs more than it saves
+            "solver": "simplex",
+            "simplex_scale_strategy": 0,  # data are well scaled (mm, unit normals)
+            "simplex_initial_condition_check": False,
+            "threads": THREADS,
+            **options,
+        }
+        self._models = OrderedDict()  # structure -> _Model, least recently used first
         self._basis = OrderedDict()
         self._bounds_cache = {}
+        self.in_place = 0  # solves done in place (a model of the same structure updated)
 
-    def _run(self):
+    def _make_highs(self):
+        h = _new_highs()
+        for key, value in self._options.items():
+            h.setOptionValue(key, value)
+        return h
+
+    def _model_for(self, key):
+        """The model object for a structure: its own if kept, else a new or the least recently used one."""
+        model = self._models.pop(key, None)
+        if model is None:
+            if len(self._models) >= MODEL_CACHE_SIZE:
+                model = self._models.popitem(last=False)[1]
+                model.rhs = model.basis = None
+            else:
+                model = _Model(self._make_highs())
+        self._models[key] = model
+        return model
+
+    @staticmethod
+    def _run(h):
         """``run()``; if HiGHS's global scheduler was set up with another number of threads, adopt it."""
-        h = self._h
         if h.run() == highspy.HighsStatus.kError and h.getModelStatus() == highspy.HighsModelStatus.kNotset:
             h.setOptionValue("threads", 0)  # 0: whatever the running scheduler has
             h.run()
 
-    def _rescue(self):
+    @staticmethod
+    def _rescue(h):
         """Solve the loaded model again from scratch with HiGHS's own scaling and presolve."""
-        h = self._h
         fast = {key: h.getOptionValue(key)[1] for key in _RESCUE}
         h.clearSolver()
         for key, value in _RESCUE.items():
@@ -136,7 +169,8 @@ class HighsBackend(Backend):
                 h.setOptionValue(key, value)
         return h.getModelStatus()
 
-    def _hint(self, basic, m):
+    @staticmethod
+    def _hint(h, basic, m):
         """Start from the columns ``basic`` (n,) bool; HiGHS completes the basis with row logicals.
 
         The basis is passed as an "alien" one (``HighsBasis.alien``, the
@@ -147,45 +181,58 @@ class HighsBackend(Backend):
         basis.col_status = _STATUSES[basic.view(np.int8)].tolist()
         basis.row_status = [highspy.HighsBasisStatus.kLower] * m
         basis.valid = True
-        self._h.setBasis(basis)
+        h.setBasis(basis)
 
     def _bounds(self, n):
         if n not in self._bounds_cache:
-            self._bounds_cache[n] = (np.zeros(n), np.full(n, highspy.kHighsInf), np.zeros(n, dtype=np.int32))
+            self._bounds_cache[n] = (np.zeros(n), np.full(n, highspy.kHighsInf), np.zeros(n, dtype=np.int32),
+                                     np.arange(n, dtype=np.int32))
         return self._bounds_cache[n]
 
     def _solve(self, c, A, b, basic=None):
         m, n = A.shape
-        lower, upper, continuous = self._bounds(n)
+        lower, upper, continuous, every = self._bounds(n)
         indptr, index, value = csc_arrays(A)
-        h = self._h
-        # column-wise matrix (format 1), minimise (sense 1), no offset, all columns continuous
-        h.passModel(n, m, len(value), 1, 1, 0.0, c, lower, upper, b, b, indptr[:-1], index, value, continuous)
-        key = shape = None
-        if self.warm_start and basic is not None and basic.any():  # the caller's guess
-            self._hint(basic, m)
-        elif self.warm_start:  # the last optimal basis of an LP of this structure, else of this shape
-            key, shape = (m, n, hash(indptr.tobytes())), (m, n)  # pattern: the column counts
-            basis = self._basis.get(key)
-            if basis is None:
-                basis = self._basis.get(shape)
-            if basis is not None:
-                h.setBasis(basis)
-        self._run()
+        counts = hash(indptr.tobytes())  # the column counts
+        model = self._model_for((m, n, counts, hash(index.tobytes())))  # the structure
+        h = model.highs
+        hinted = self.warm_start and basic is not None and basic.any()
+        if self.warm_start and not hinted and model.basis is not None:  # the same structure: update it in place
+            h.deleteCols(n, every)
+            h.addCols(n, c, lower, upper, len(value), indptr[:-1], index, value)
+            if not np.array_equal(b, model.rhs):
+                h.changeRowsBounds(m, every[:m] if m <= n else np.arange(m, dtype=np.int32), b, b)
+            h.setBasis(model.basis)
+            self.in_place += 1
+        else:
+            # column-wise matrix (format 1), minimise (sense 1), no offset, all columns continuous
+            h.passModel(n, m, len(value), 1, 1, 0.0, c, lower, upper, b, b, indptr[:-1], index, value, continuous)
+            if hinted:  # the caller's guess
+                self._hint(h, basic, m)
+            elif self.warm_start:  # the last optimal basis of an LP with these column counts, else of this shape
+                basis = self._basis.get((m, n, counts))
+                if basis is None:
+                    basis = self._basis.get((m, n))
+                if basis is not None:
+                    h.setBasis(basis)
+        model.rhs = b.copy()
+        self._run(h)
         model_status = h.getModelStatus()
         status = _STATUS.get(model_status, "failed")
         if status == "failed":  # numerical trouble (e.g. nearly coplanar sets): once more, cold and scaled
-            model_status = self._rescue()
+            model_status = self._rescue(h)
             status = _STATUS.get(model_status, "failed")
         iterations = h.getInfoValue("simplex_iteration_count")[1]
         if status != "optimal":
-            self._basis.pop(key, None)
-            self._basis.pop(shape, None)
+            model.basis = None
+            self._basis.pop((m, n, counts), None)
+            self._basis.pop((m, n), None)
             return status, None, None, iterations, h.modelStatusToString(model_status)
         solution = h.getSolution()
-        if key is not None:
-            basis = h.getBasis()
-            for k in (key, shape):
+        if self.warm_start:
+            model.basis = basis = h.getBasis()
+        if self.warm_start and not hinted:
+            for k in ((m, n, counts), (m, n)):
                 self._basis[k] = basis
                 self._basis.move_to_end(k)
             while len(self._basis) > BASIS_CACHE_SIZE:

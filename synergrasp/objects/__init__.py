@@ -15,7 +15,9 @@ True
 from .convex import ConvexPiece
 from .grasp_object import GraspObject
 from .loading import MESH_FORMATS, POINT_FORMATS, SUPPORTED_FORMATS, cache_dir, from_mesh, from_points, get, load
-from .proximity import ContactDistance, Penetration, ScaledContacts
+from .collision import Penetration
+from .contact_distance import ContactDistance
+from .scaled_contacts import ScaledContacts
 from .shapes import BUILTINS, bell, cup, ellipsoid, goblet, revolve
 
 __all__ = [

@@ -3,7 +3,7 @@
 An object is a union of convex pieces. Each `ConvexPiece` keeps
 
 * ``vertices`` (k, 3): the hull's vertices (interior points dropped), the
-  vertex set the LPs of `synergrasp.objects.proximity` work on;
+  vertex set the LPs of the hand-point queries work on;
 * ``planes`` (f, 4): the hull's facet planes ``[n, o]`` with unit outward
   normal n, so that ``x`` is inside iff ``n . x + o <= 0`` for every facet;
 * ``facets`` (f, 3): the triangles (indices into ``vertices``), outward wound;

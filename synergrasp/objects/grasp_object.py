@@ -9,19 +9,11 @@ import numpy as np
 import trimesh
 
 from .._checks import as_vector, positive_scalar
-from . import proximity
+from .broad_phase import PieceIndex
+from .collision import Penetration, penetration
+from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
-
-#: Vertices per cluster in the nearest-vertex search of `GraspObject._vertex_gauge`.
-VERTEX_CLUSTER = 16
-
-
-def _scaled_max(v, scale, block=16384):
-    """``(v * scale).max(axis=1)`` for (n, f) ``v``, about ``block`` entries at a time (no large temporary)."""
-    rows = max(1, block // v.shape[1])
-    if rows >= len(v):
-        return (v * scale).max(axis=1)
-    return np.concatenate([(v[i : i + rows] * scale).max(axis=1) for i in range(0, len(v), rows)])
+from .scaled_contacts import ScaledContacts, scaled_contacts
 
 
 class GraspObject:
@@ -53,6 +45,8 @@ class GraspObject:
     ----------
     convex : tuple of ConvexPiece
         The pieces with their planes and fcl geometry.
+    index : PieceIndex
+        The pieces stacked for the hand-point queries (`synergrasp.objects.broad_phase`).
     center : (3,) float
     torque_scale : float
     name : str
@@ -93,10 +87,7 @@ class GraspObject:
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")
         self.info = dict(info or {})
-        self._planes = np.vstack([p.planes for p in self.convex])
-        self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
-        self._plane_starts = np.cumsum(np.r_[0, self._plane_counts[:-1]])
-        self._lp_bases = proximity._BasisMemory()  # warm starts of the cP LP blocks
+        self.index = PieceIndex(self.convex)
         if center is None:
             self.center = self._default_center()
         else:
@@ -150,157 +141,6 @@ class GraspObject:
         ext = " x ".join(f"{e:.0f}" for e in self.extents)
         return f"GraspObject({self.name!r}, {self.n_pieces} pieces, {ext} mm, L={self.torque_scale:.1f})"
 
-    def _plane_bounds(self, points: np.ndarray) -> np.ndarray:
-        """(n, J): ``max_f n_f . p + o_f`` per piece (<= 0 inside, else a lower bound of the distance)."""
-        return self._plane_values(points)[0]
-
-    def _plane_values(self, points: np.ndarray, pairs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The facet-plane values ``n_f . p + o_f`` and two bounds from them, for the pairs of points and pieces asked.
-
-        Parameters
-        ----------
-        points : (n, 3) float
-        pairs : (n, J) bool, optional
-            The pieces wanted for each point (default: all).
-
-        Returns
-        -------
-        bounds : (n, J) float
-            `_plane_bounds`, inf where not asked.
-        values : (n, F) float
-            The values (F: the facets of all pieces), 0 where not asked.
-        gauge : (n, J) float
-            ``max_f (n_f . p + o_f) / -min_k n_f . q_k``: for a point outside
-            piece j a lower bound of its gauge distance to the piece (the
-            gauge ball ``p + t Q`` reaches the half-space behind facet f
-            only for t at least that); inf where not asked.
-        """
-        n = len(points)
-        bounds = np.full((n, len(self.convex)), np.inf)
-        gauge = np.full((n, len(self.convex)), np.inf)
-        values = np.zeros((n, len(self._planes)))
-        counts = np.full(len(self.convex), n) if pairs is None else pairs.sum(axis=0)
-        for j, planes in enumerate(self._plane_slices):
-            if counts[j] == n:
-                rows = slice(None)
-            elif counts[j] == 0:
-                continue
-            else:  # BLAS rounds a lone row (matrix-vector kernel) unlike the rows of a product: never leave one
-                rows = np.repeat(np.flatnonzero(pairs[:, j]), 2 if counts[j] == 1 else 1)
-            v = points[rows] @ self._planes[planes, :3].T
-            v += self._planes[planes, 3]  # in place: large temporaries cost page faults
-            if len(self.convex) == 1 and counts[0] == n:
-                values = v
-            else:
-                values[rows, planes] = v
-            bounds[rows, j] = v.max(axis=1)
-            gauge[rows, j] = _scaled_max(v, self._facet_reach[planes])
-        return bounds, values, gauge
-
-    @cached_property
-    def _facet_reach(self) -> np.ndarray:
-        """(F,): ``1 / -min_k n_f . q_k`` (> 0: the simplex's vertices span every direction)."""
-        return 1.0 / -self._facet_nq
-
-    @cached_property
-    def _support(self) -> np.ndarray:
-        """(J, 4): support function ``max_v q_k . v`` of each piece along the simplex vertices."""
-        return np.array([(p.vertices @ proximity._Q.T).max(axis=0) for p in self.convex])
-
-    @cached_property
-    def _vertex_clusters(self) -> tuple[np.ndarray, np.ndarray]:
-        """The distinct vertices of all pieces in clusters of nearby ones, for `_vertex_gauge`.
-
-        Returns
-        -------
-        members : (4, C, VERTEX_CLUSTER) float
-            ``q_k . v`` of each cluster's vertices (a cluster with fewer
-            vertices repeats some of its own).
-        support : (4, C) float
-            ``max_v q_k . v`` over each cluster's vertices.
-        """
-        verts = np.vstack([p.vertices for p in self.convex])
-        vq, first = np.unique(verts @ proximity._Q.T, axis=0, return_index=True)
-        clusters = _median_split(verts[first], VERTEX_CLUSTER)
-        members = vq[np.stack([np.resize(c, VERTEX_CLUSTER) for c in clusters])]  # (C, VERTEX_CLUSTER, 4)
-        members = np.ascontiguousarray(members.transpose(2, 0, 1))
-        return members, members.max(axis=2)
-
-    def _vertex_gauge(self, pq: np.ndarray) -> np.ndarray:
-        """(n,): smallest gauge distance ``3 max_k q_k . (p - v)`` from each point to a vertex of the object.
-
-        The minimum is exact, but only the clusters of `_vertex_clusters`
-        that can hold it are searched: a cluster's gauge distances are at
-        least ``3 max_k (q_k . p - max_v q_k . v)``, and the first vertex of
-        every cluster gives an upper bound of the minimum. Both bounds are
-        taken on the same rounded differences ``q_k . p - q_k . v`` as the
-        minimum (rounding is monotone), so no tolerance is needed.
-
-        Parameters
-        ----------
-        pq : (n, 4) float
-            ``q_k . p`` for the points.
-        """
-        members, support = self._vertex_clusters
-        if len(pq) <= VERTEX_CLUSTER:  # too few points for the bounds to pay: all vertices
-            return proximity.GAUGE_RATIO * proximity._largest_gap(pq, members.reshape(4, -1)).min(axis=1)
-        low = proximity._largest_gap(pq, support)  # (n, C)
-        high = proximity._largest_gap(pq, members[:, :, 0]).min(axis=1)
-        rows, cluster = np.divmod(np.flatnonzero(low <= high[:, None]), low.shape[1])
-        gap = proximity._largest_gap(pq[rows], members[:, cluster]).min(axis=1)
-        starts = np.flatnonzero(np.r_[True, rows[1:] != rows[:-1]])  # every point keeps a cluster
-        return proximity.GAUGE_RATIO * np.minimum.reduceat(gap, starts)
-
-    @cached_property
-    def _normal_moments(self) -> list[np.ndarray]:
-        """Per piece, (f, 12): each facet's outward normal n_f, then ``n_f n_f^T`` row by row."""
-        out = []
-        for p in self.convex:
-            a = p.planes[:, :3]
-            out.append(np.hstack([a, (a[:, :, None] * a[:, None, :]).reshape(-1, 9)]))
-        return out
-
-    @cached_property
-    def _facet_q(self) -> np.ndarray:
-        """(F, 4): ``n_f . q_k`` for each facet's outward normal (all pieces, in plane order)."""
-        return self._planes[:, :3] @ proximity._Q.T
-
-    @cached_property
-    def _facet_nq(self) -> np.ndarray:
-        """(F,): ``min_k n_f . q_k`` for each facet's outward normal (all pieces, in plane order)."""
-        return self._facet_q.min(axis=1)
-
-    @cached_property
-    def _facet_mq(self) -> np.ndarray:
-        """(4, F): ``min over the facet's vertices t of -q_k . t`` (all pieces, in plane order)."""
-        return np.ascontiguousarray(np.vstack([(-(p.vertices @ proximity._Q.T))[p.facets].min(axis=1) for p in self.convex]).T)
-
-    @cached_property
-    def _vertices(self) -> np.ndarray:
-        """(V, 3): the vertices of all pieces, piece by piece."""
-        return np.vstack([p.vertices for p in self.convex])
-
-    @cached_property
-    def _facet_vertex_rows(self) -> np.ndarray:
-        """(F, 3) int: each facet's vertices as rows of `_vertices` (all pieces, in plane order)."""
-        offsets = np.cumsum([0] + [len(p.vertices) for p in self.convex[:-1]])
-        return np.vstack([p.facets + o for p, o in zip(self.convex, offsets)])
-
-    @cached_property
-    def _plane_slices(self) -> list[slice]:
-        """Per piece, its planes' columns in the all-pieces plane arrays."""
-        return [slice(start, start + count) for start, count in zip(self._plane_starts, self._plane_counts)]
-
-    @cached_property
-    def _centre_depths(self) -> np.ndarray:
-        """(F,): ``-(n_f . c + o_f)``, how far the centre c lies behind each facet plane (< 0: in front)."""
-        return -(self._planes[:, :3] @ self.center + self._planes[:, 3])
-
-    @cached_property
-    def _centre_in_every_piece(self) -> bool:
-        """The centre lies strictly inside every piece."""
-        return bool((self._centre_depths > 0).all())
-
     def contains(self, points) -> np.ndarray:
         """Whether each point is inside (or on) some piece.
 
@@ -312,7 +152,7 @@ class GraspObject:
         -------
         (n,) bool
         """
-        return (self._plane_bounds(proximity._check_points(points)) <= 0).any(axis=1)
+        return (self.index.plane_bounds(check_points(points)) <= 0).any(axis=1)
 
     def _default_center(self) -> np.ndarray:
         if isinstance(self.mesh, trimesh.Trimesh) and self.mesh.is_watertight and self.mesh.volume > 0:
@@ -321,7 +161,7 @@ class GraspObject:
             vol = np.array([p.volume for p in self.convex])
             g = (vol[:, None] * np.array([p.centroid for p in self.convex])).sum(axis=0) / vol.sum()
         margin = 1e-3 * float(np.ptp(np.vstack([p.vertices for p in self.convex]), axis=0).max())
-        bounds = self._plane_bounds(g[None])[0]
+        bounds = self.index.plane_bounds(g[None])[0]
         if bounds.min() <= -margin:
             return g
         if bounds.min() <= margin:  # on the skin of a piece (a cut between pieces): step into that piece
@@ -338,13 +178,6 @@ class GraspObject:
                 best = (dist, np.asarray(result.nearest_points[1], dtype=float), piece)
         _, nearest, piece = best
         return nearest + 0.25 * (piece.centroid - nearest)
-
-    @cached_property
-    def _fcl_manager(self):
-        manager = fcl.DynamicAABBTreeCollisionManager()
-        manager.registerObjects([p.fcl for p in self.convex])
-        manager.setup()
-        return manager
 
     def piece_meshes(self) -> list[trimesh.Trimesh]:
         """The convex pieces as trimesh meshes (outward-wound hulls)."""
@@ -401,7 +234,7 @@ class GraspObject:
 
     # ----------------------------------------------------------------- queries
 
-    def contact_distance(self, points, backend="highs") -> "proximity.ContactDistance":
+    def contact_distance(self, points, backend="highs") -> ContactDistance:
         """cP: pseudo-distance from each hand point to the object, with gradients.
 
         For each point p the pseudo-distance between A = {p} and every
@@ -447,9 +280,9 @@ class GraspObject:
         >>> (r.nearest[0].round(6) + 0.0).tolist(), (r.normal[0].round(6) + 0.0).tolist()
         ([0.0, 0.0, 50.0], [0.0, 0.0, -1.0])
         """
-        return proximity.contact_distance(self, points, backend)
+        return contact_distance(self, points, backend)
 
-    def scaled_contacts(self, points, backend="highs") -> "proximity.ScaledContacts":
+    def scaled_contacts(self, points, backend="highs") -> ScaledContacts:
         """sQ contacts: scale the object about its centre until it touches each hand point.
 
         For each point p, ``t = max {t : c + t (p - c) in a piece}`` (in closed
@@ -499,9 +332,9 @@ class GraspObject:
         >>> (s.contact.round(6) + 0.0).tolist()        # both carried back to the pole
         [[0.0, 0.0, 50.0], [0.0, 0.0, 50.0]]
         """
-        return proximity.scaled_contacts(self, points, backend)
+        return scaled_contacts(self, points, backend)
 
-    def penetration(self, segments, radius) -> "proximity.Penetration":
+    def penetration(self, segments, radius) -> Penetration:
         """Deepest penetration of capsules (hand links) into the object, by python-fcl.
 
         Parameters
@@ -522,29 +355,5 @@ class GraspObject:
         ValueError
             If ``segments`` is not a finite (k, 2, 3) array or a radius is not > 0.
         """
-        return proximity.penetration(self, segments, radius)
+        return penetration(self, segments, radius)
 
-
-def _median_split(points: np.ndarray, size: int) -> list[np.ndarray]:
-    """Indices of ``points`` in clusters of at most ``size``, halving along the longest side.
-
-    Parameters
-    ----------
-    points : (n, 3) float
-    size : int
-
-    Returns
-    -------
-    list of (m,) int
-        The clusters (``size // 2 <= m <= size`` when ``n > size``).
-    """
-    todo, done = [np.arange(len(points))], []
-    while todo:
-        idx = todo.pop()
-        if len(idx) <= size:
-            done.append(idx)
-            continue
-        coords = points[idx]
-        order = idx[np.argsort(coords[:, np.argmax(np.ptp(coords, axis=0))], kind="stable")]
-        todo += [order[: len(order) // 2], order[len(order) // 2 :]]
-    return done

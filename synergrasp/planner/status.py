@@ -18,10 +18,17 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._jit import kernel
 from .._vectors import unit_rows
 from ..hand import SynergyHand
-from ..objects.proximity import group_contact_distance
+from ..objects.contact_distance import group_contact_distance
 from ..quality import q_distance
+
+
+#: Added to the row of each cP candidate point of a precision status to name it in the object's
+#: memory of LP bases (a power status's points are named by their rows): each point's cP blocks
+#: start from the last optimal bases of the same point of the same kind of status.
+PRECISION_IDS = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -107,21 +114,74 @@ def smoothed_normals(obj, x, pieces, length):
     >>> bool(np.allclose(n, [[0.0, 0.0, -1.0]], atol=1e-2)), jac.shape
     (True, (1, 3, 3))
     """
-    m = np.empty((len(x), 3))  # softmax-weighted facet normals
-    dm = np.empty((len(x), 3, 3))  # their derivatives with respect to x
-    for k in np.unique(pieces):  # all points on one piece at once
-        rows = pieces == k
-        a, offset = obj.convex[k].planes[:, :3], obj.convex[k].planes[:, 3]
-        s = (x[rows] @ a.T + offset) / length
-        w = np.exp(s - s.max(axis=1, keepdims=True))
-        w /= w.sum(axis=1, keepdims=True)
-        moments = w @ obj._normal_moments[k]  # the weighted n_f and n_f n_f^T in one product
-        m[rows] = moments[:, :3]
-        dm[rows] = (moments[:, 3:].reshape(-1, 3, 3) - m[rows, :, None] * m[rows, None, :]) / length
-    norm = np.linalg.norm(m, axis=1)
-    n_out = m / norm[:, None]
-    projector = np.eye(3) - n_out[:, :, None] * n_out[:, None, :]
-    return -n_out, -(projector @ dm) / norm[:, None, None]
+    x = np.ascontiguousarray(x, dtype=float)
+    pieces = np.asarray(pieces, dtype=np.int64)
+    index = obj.index
+    start = np.zeros(len(x) + 1, dtype=np.int64)
+    np.cumsum(index.facet_counts[pieces], out=start[1:])
+    w = np.empty(start[-1])
+    _smoothing_exponents(x, pieces, index.planes, index.plane_start, float(length), start, w)
+    np.exp(w, out=w)  # numpy's vectorised exp: several times faster than a compiled loop's
+    normals, jac = np.empty((len(x), 3)), np.empty((len(x), 3, 3))
+    _smoothed_normals(pieces, index.planes, index.plane_start, float(length), start, w, normals, jac)
+    return normals, jac
+
+
+@kernel
+def _smoothing_exponents(x, pieces, planes, plane_start, h, start, s):
+    """``(n_f . x + o_f) / h`` minus its max over the facets of x's piece, into ``s[start[i]:start[i+1]]``."""
+    for i in range(len(x)):
+        j = pieces[i]
+        sub = planes[plane_start[j]:plane_start[j + 1]]
+        out = s[start[i]:start[i + 1]]
+        x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
+        smax = -np.inf
+        for f in range(len(sub)):
+            out[f] = (x0 * sub[f, 0] + x1 * sub[f, 1] + x2 * sub[f, 2] + sub[f, 3]) / h
+            smax = max(smax, out[f])
+        for f in range(len(sub)):
+            out[f] -= smax
+
+
+@kernel
+def _smoothed_normals(pieces, planes, plane_start, h, start, w, normals, jac):
+    """`smoothed_normals` into ``normals`` (n, 3) and ``jac`` (n, 3, 3), from the softmax weights' numerators ``w``.
+
+    With the softmax weights w_f of ``(n_f . x + o_f) / h``, the gradient of
+    the smoothed surface is ``m = sum w_f n_f``, its derivative
+    ``dm = (sum w_f n_f n_f^T - m m^T) / h``; the inward unit normal is
+    ``-m / |m|`` with derivative ``-(I - n n^T) dm / |m|``.
+    """
+    for i in range(len(pieces)):
+        j = pieces[i]
+        sub = planes[plane_start[j]:plane_start[j + 1]]
+        wi = w[start[i]:start[i + 1]]
+        total = m0 = m1 = m2 = 0.0
+        s00 = s01 = s02 = s11 = s12 = s22 = 0.0
+        for f in range(len(sub)):
+            a0, a1, a2, wf = sub[f, 0], sub[f, 1], sub[f, 2], wi[f]
+            total += wf
+            m0 += wf * a0
+            m1 += wf * a1
+            m2 += wf * a2
+            s00 += wf * a0 * a0
+            s01 += wf * a0 * a1
+            s02 += wf * a0 * a2
+            s11 += wf * a1 * a1
+            s12 += wf * a1 * a2
+            s22 += wf * a2 * a2
+        m0, m1, m2 = m0 / total, m1 / total, m2 / total
+        d00, d01, d02 = (s00 / total - m0 * m0) / h, (s01 / total - m0 * m1) / h, (s02 / total - m0 * m2) / h
+        d11, d12, d22 = (s11 / total - m1 * m1) / h, (s12 / total - m1 * m2) / h, (s22 / total - m2 * m2) / h
+        norm = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+        n0, n1, n2 = m0 / norm, m1 / norm, m2 / norm
+        normals[i, 0], normals[i, 1], normals[i, 2] = -n0, -n1, -n2
+        # -(I - n n^T) dm / |m|, dm symmetric
+        for c, (e0, e1, e2) in enumerate(((d00, d01, d02), (d01, d11, d12), (d02, d12, d22))):
+            ne = n0 * e0 + n1 * e1 + n2 * e2  # (n^T dm)[column c]
+            jac[i, 0, c] = -(e0 - n0 * ne) / norm
+            jac[i, 1, c] = -(e1 - n1 * ne) / norm
+            jac[i, 2, c] = -(e2 - n2 * ne) / norm
 
 
 def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
@@ -294,7 +354,8 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
         candidates.insert(0, points)
         jacobians.insert(0, jac)
     candidates = np.vstack(candidates)
-    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend)
+    ids = np.arange(len(candidates)) + (PRECISION_IDS if kind == "precision" else 0)
+    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend, ids=ids)
     point_jac = np.concatenate(jacobians)[best]
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:

@@ -1,0 +1,125 @@
+"""Capsules (the hand's phalanges) against an object: penetration depths by python-fcl.
+
+The depth of a capsule is fcl's signed distance (GJK/EPA) to the object's
+pieces: the translation that frees it from one convex piece. The pieces sit
+in fcl's own broad phase (a dynamic AABB tree, `PieceIndex.fcl_manager`),
+and only a capsule that reaches the object is measured against each piece.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import fcl
+import numpy as np
+
+from .._checks import positive_scalar
+from .._vectors import cross
+
+
+@dataclass(frozen=True)
+class Penetration:
+    """Result of `GraspObject.penetration` (capsules against the object).
+
+    Attributes
+    ----------
+    depth : float
+        Deepest penetration depth over all capsules (mm), 0 if none collides.
+    index : int
+        Index of the deepest capsule, -1 if none collides.
+    depths : (k,) float
+        Penetration depth of each capsule (0 when clear).
+    distances : (k,) float
+        Signed distance of each capsule to the object (negative = penetration).
+    piece : int
+        Piece the deepest capsule penetrates most, -1 if none.
+    witnesses : (k, 2, 3) float
+        For each penetrating capsule, fcl's witness points in the piece it
+        penetrates most: the capsule's point deepest in the object, then the
+        object's point deepest in the capsule (the translation from the first
+        to the second frees the capsule, its length is the depth); NaN for the
+        capsules that do not penetrate.
+
+    Notes
+    -----
+    The depth is fcl's signed distance (GJK/EPA), the translation that frees
+    the capsule from one convex piece; for a capsule through several pieces it
+    is the largest such depth, a lower bound of the depth into the union.
+    """
+
+    depth: float
+    index: int
+    depths: np.ndarray
+    distances: np.ndarray
+    piece: int
+    witnesses: np.ndarray
+
+    @property
+    def collision(self) -> bool:
+        """True when some capsule penetrates the object."""
+        return self.index >= 0
+
+
+def _frames(z):
+    """(k, 3, 3) rotations whose z axes are the unit rows of ``z`` (k, 3); x is normal to the axis least aligned with z."""
+    x = cross(np.eye(3)[np.argmin(np.abs(z), axis=1)], z)
+    x /= np.sqrt(np.einsum("ij,ij->i", x, x))[:, None]
+    return np.stack([x, cross(z, x), z], axis=2)
+
+
+def penetration(obj, segments, radius) -> Penetration:
+    """Deepest capsule penetration; see `GraspObject.penetration`."""
+    try:
+        seg = np.asarray(segments, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"segments must be a numeric (k, 2, 3) array, got {type(segments).__name__}") from exc
+    if seg.ndim != 3 or seg.shape[1:] != (2, 3) or len(seg) == 0:
+        raise ValueError(f"segments must have shape (k, 2, 3) (end points of k capsule axes), got {seg.shape}")
+    if not np.isfinite(seg).all():
+        raise ValueError("segments contains NaN or inf")
+    k = len(seg)
+    try:
+        r = np.asarray(radius, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"radius must be a number or an array of ({k},) numbers, got {type(radius).__name__}") from None
+    if r.ndim == 0:
+        r = np.full(k, positive_scalar(float(r), "radius"))
+    elif r.shape != (k,):
+        raise ValueError(f"radius must be a number or shape ({k},), got shape {r.shape}")
+    elif not (np.isfinite(r).all() and (r > 0).all()):
+        raise ValueError("radius must be finite and > 0 for every capsule")
+    request = fcl.DistanceRequest(enable_signed_distance=True)
+    distances = np.empty(k)
+    deepest_piece = np.full(k, -1)
+    witnesses = np.full((k, 2, 3), np.nan)
+    manager = obj.index.fcl_manager
+    axes = seg[:, 1] - seg[:, 0]
+    lengths = np.sqrt(np.einsum("ij,ij->i", axes, axes))
+    point = lengths <= 1e-12
+    rotations = _frames(axes / np.where(point, 1.0, lengths)[:, None] + point[:, None] * [0.0, 0.0, 1.0])
+    centres = 0.5 * (seg[:, 0] + seg[:, 1])
+    for i in range(k):
+        if point[i]:
+            geom, rot = fcl.Sphere(float(r[i])), np.eye(3)
+        else:
+            geom, rot = fcl.Capsule(float(r[i]), float(lengths[i])), rotations[i]
+        capsule = fcl.CollisionObject(geom, fcl.Transform(rot, centres[i]))
+        data = fcl.DistanceData(request=request)
+        manager.distance(capsule, data, fcl.defaultDistanceCallback)
+        distances[i] = data.result.min_distance
+        if distances[i] < 0:
+            results = [fcl.DistanceResult() for _ in obj.convex]
+            per = [fcl.distance(capsule, piece.fcl, request, res) for piece, res in zip(obj.convex, results)]
+            distances[i] = min(per)
+            deepest_piece[i] = int(np.argmin(per))
+            witnesses[i] = results[deepest_piece[i]].nearest_points
+    depths = np.maximum(-distances, 0.0)
+    index = int(np.argmax(depths)) if (depths > 0).any() else -1
+    return Penetration(
+        depth=float(depths[index]) if index >= 0 else 0.0,
+        index=index,
+        depths=depths,
+        distances=distances,
+        piece=int(deepest_piece[index]) if index >= 0 else -1,
+        witnesses=witnesses,
+    )
