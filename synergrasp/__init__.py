@@ -7,7 +7,7 @@ on interchangeable LP backends (``synergrasp.lp``); the synergy hand
 planner (``plan``).
 """
 
-from . import lp, objects
+from . import batch, lp, objects
 from .hand import SynergyHand
 from .planner import PlanResult, plan
 from .pseudo_distance import PseudoDistance, pseudo_distance, regular_simplex
@@ -20,6 +20,7 @@ __all__ = [
     "PseudoDistance",
     "QDistance",
     "SynergyHand",
+    "batch",
     "contact_wrenches",
     "force_closure_by_hull",
     "friction_cone_edges",

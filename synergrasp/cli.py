@@ -105,6 +105,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_plan)
+    from .batch.cli import register as register_batch  # the batch and report subcommands
+    register_batch(sub)
     return parser
 
 

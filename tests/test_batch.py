@@ -1,0 +1,411 @@
+"""Batch planning on Dask (synergrasp.batch): tasks, result files, failures, interrupts, reports.
+
+The Dask tests run on LocalClusters on the loopback interface. Expected plans are computed
+here with ``sg.plan`` directly, on a freshly loaded object and a new backend instance.
+"""
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+import synergrasp as sg
+from synergrasp.batch import (
+    ResultStore, TaskFailure, expand, grasp_summary, local_cluster, run, write_atomic, write_report,
+)
+from synergrasp.cli import main
+
+distributed = pytest.importorskip("distributed")
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Fields of a PlanResult that may differ between runs of the same plan: the time, and the
+#: count of LP calls (the pseudo-distance starts from the regime its last call with the same
+#: LP shape ended in, a memory of the worker process; the plan itself is bit-identical).
+TIMING = ("time_s", "lp_solves")
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    with local_cluster(2) as local:
+        yield local
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYNERGRASP_CACHE", str(tmp_path / "cache"))
+
+
+def expected_plan(source, grasp, **options):
+    """The plan of a task computed without the batch code (fresh object, new backend)."""
+    backend = type(sg.lp.get_backend("highs"))()
+    return sg.plan(sg.objects.get(source), grasp, backend=backend, **options)
+
+
+def plan_data(path):
+    """A result file's content without its timing."""
+    data = json.loads(Path(path).read_text())
+    return {k: v for k, v in data.items() if k not in TIMING}
+
+
+def assert_same_plan(path, expected):
+    got = sg.PlanResult.load(path)
+    assert (got.success, got.reason, got.iterations, got.total_iterations, got.contact_labels) == (
+        expected.success, expected.reason, expected.iterations, expected.total_iterations, expected.contact_labels)
+    assert np.array_equal(got.trajectory, expected.trajectory)  # bit-identical
+    assert np.array_equal(got.status, expected.status)
+
+
+def result_files(out):
+    return sorted(p.relative_to(out).as_posix() for p in Path(out).glob("results/**/*.json") if p.name != "object.json")
+
+
+def read_summary(out):
+    with open(Path(out) / "summary.csv", newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+# --------------------------------------------------------------------------- tasks
+
+
+def test_expand_names_files_and_folders(tmp_path):
+    folder = tmp_path / "meshes"
+    (folder / "kitchen").mkdir(parents=True)
+    (folder / ".hidden").mkdir()
+    for path in (folder / "box.stl", folder / "kitchen" / "mug.obj", folder / ".hidden" / "x.stl",
+                 folder / "notes.txt", tmp_path / "ball.ply"):
+        path.write_text("x")
+    tasks = expand(["ellipsoid", str(tmp_path / "ball.ply"), folder, "ellipsoid"], ["power", "precision"])
+    assert [(t.key, t.grasp) for t in tasks] == [
+        ("ellipsoid", "power"), ("ellipsoid", "precision"), ("ball.ply", "power"), ("ball.ply", "precision"),
+        ("meshes/box.stl", "power"), ("meshes/box.stl", "precision"),
+        ("meshes/kitchen/mug.obj", "power"), ("meshes/kitchen/mug.obj", "precision"),
+    ]
+    assert tasks[2].source == str((tmp_path / "ball.ply").resolve())
+    assert tasks[6].source == str((folder / "kitchen" / "mug.obj").resolve())
+    assert expand("teapot")[0].source == "teapot"  # kept as given: its load fails on a worker
+
+
+def test_expand_bad_input(tmp_path):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    for sub in ("a", "b"):
+        (tmp_path / sub / "mug.obj").write_text("x")
+    with pytest.raises(ValueError, match="share the results folder 'mug.obj'"):
+        expand([tmp_path / "a" / "mug.obj", tmp_path / "b" / "mug.obj"])
+    with pytest.raises(ValueError, match="grasp types must be among"):
+        expand(["cup"], ["pinch"])
+    with pytest.raises(ValueError, match="grasp types must be among"):
+        expand(["cup"], [])
+    with pytest.raises(TypeError, match="built-in name or a path"):
+        expand([3])
+    (tmp_path / "empty").mkdir()
+    with pytest.warns(UserWarning, match="holds no object file"), pytest.raises(ValueError, match="no objects to plan"):
+        expand([tmp_path / "empty"])
+
+
+# --------------------------------------------------------------------------- result files
+
+
+def test_write_atomic_replaces_whole_files_and_leaves_no_temporary(tmp_path):
+    path = write_atomic(tmp_path / "a" / "x.txt", "one")
+    write_atomic(path, "two")
+    assert path.read_text() == "two" and sorted(os.listdir(path.parent)) == ["x.txt"]
+    with pytest.raises(RuntimeError):
+        write_atomic(path, lambda tmp: (tmp.write_text("half"), (_ for _ in ()).throw(RuntimeError("killed"))))
+    assert path.read_text() == "two" and sorted(os.listdir(path.parent)) == ["x.txt"]
+
+
+def test_store_rows_come_from_the_result_files(tmp_path):
+    store = ResultStore(tmp_path / "out")
+    store.check_writable()
+    result = sg.plan(sg.objects.get("ellipsoid"), "precision")
+    store.write_result("ellipsoid", "precision", result)
+    store.write_result("cup", "power", TaskFailure("timeout", "no result within the time limit of 1 s", 1.5))
+    rows, unreadable = store.scan()
+    assert unreadable == [] and [(r["object"], r["grasp"], r["status"]) for r in rows] == [
+        ("cup", "power", "timeout"), ("ellipsoid", "precision", "planned")]
+    row = rows[1]
+    assert (row["success"], row["reason"], row["iterations"], row["q"], row["sq"], row["contacts"]) == (
+        True, result.reason, result.iterations, float(result.q_history[-1]), float(result.status[-1, -1]),
+        len(result.contact_labels))
+    assert rows[0]["time_s"] == 1.5 and rows[0]["reason"].startswith("no result within")
+    # a retry that produced a plan replaces the failure record
+    store.write_result("cup", "power", result)
+    assert not store.failure_path("cup", "power").exists()
+    assert [r["status"] for r in store.scan()[0]] == ["planned", "planned"]
+    # a damaged file is reported, not read as a result
+    store.result_path("cup", "power").write_text('{"success": tru')
+    rows, unreadable = store.scan()
+    assert [r["object"] for r in rows] == ["ellipsoid"] and unreadable == [store.result_path("cup", "power")]
+    store.write_summary(rows)
+    assert [(r["object"], r["grasp"], r["success"]) for r in read_summary(store.out)] == [
+        ("ellipsoid", "precision", str(result.success))]
+
+
+def test_check_writable_removes_only_dead_writers_temporaries(tmp_path):
+    store = ResultStore(tmp_path)
+    store.results.mkdir(parents=True)
+    host = __import__("socket").gethostname()
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    stale = store.results / f".precision.json.{host}-{int(dead.stdout)}.tmp"
+    live = store.results / f".power.json.{host}-{os.getpid()}.tmp"
+    stale.write_text("x")
+    live.write_text("x")
+    store.check_writable()
+    assert not stale.exists() and live.exists()
+
+
+def test_unwritable_output_folder_is_refused_before_planning(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    # the folder is checked before the scheduler is contacted: PermissionError, not ConnectionError
+    with pytest.raises(PermissionError, match="cannot be created or written"):
+        run(["ellipsoid"], ["precision"], blocker / "out", scheduler="tcp://127.0.0.1:9", progress=False)
+    if Path("/proc").is_dir():  # not writable even by root
+        with pytest.raises(PermissionError, match="choose another output folder"):
+            run(["ellipsoid"], ["precision"], "/proc", scheduler="tcp://127.0.0.1:9", progress=False)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(backend="gurobi"), "unknown LP backend 'gurobi'"),
+        (dict(options={"not_an_option": 1}), "unknown planner options"),
+        (dict(options={"mu": -1.0}), "the planner rejects the options"),
+        (dict(time_limit=-1.0), "time_limit must be a finite number > 0"),
+        (dict(scale=0.0), "scale must be a finite number > 0"),
+        (dict(workers=0), "workers must be a whole number >= 1"),
+        (dict(workers=2, scheduler="tcp://127.0.0.1:9"), "workers sets the size of the local cluster"),
+    ],
+)
+def test_bad_settings_are_refused_before_planning(tmp_path, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        run(["ellipsoid"], ["precision"], tmp_path, progress=False, **kwargs)
+    assert result_files(tmp_path) == []
+
+
+def test_silent_scheduler_is_a_clear_error(tmp_path):
+    import socket
+
+    with socket.socket() as sock:  # a port nobody listens on
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    with pytest.raises(ConnectionError, match=rf"no Dask scheduler answered at 'tcp://127.0.0.1:{port}' within 2 s"):
+        run(["ellipsoid"], ["precision"], tmp_path, scheduler=f"tcp://127.0.0.1:{port}", connect_timeout=2,
+            progress=False)
+
+
+def test_grasp_summary_closed_form():
+    rows = [{"grasp": "precision", "status": "planned", "success": k % 2 == 0, "time_s": float(k)} for k in range(1, 11)]
+    rows.append({"grasp": "precision", "status": "plan error", "success": False, "time_s": 0.5})
+    s, = grasp_summary(rows)
+    assert (s["tasks"], s["success"], s["failed"], s["timeouts"]) == (11, 5, 1, 0)
+    assert s["rate"] == pytest.approx(5 / 11)
+    assert s["median_s"] == pytest.approx(5.5) and s["p90_s"] == pytest.approx(9.1)  # linear interpolation
+    assert s["plans_per_s"] == pytest.approx(10 / 55)
+
+
+# --------------------------------------------------------------------------- batches on a cluster
+
+
+@pytest.fixture
+def bad_objects(tmp_path):
+    garbage = tmp_path / "garbage.stl"
+    garbage.write_bytes(b"not a mesh" * 10)
+    metres = tmp_path / "box_in_metres.stl"
+    trimesh.creation.box((0.06, 0.05, 0.09)).export(metres)
+    return garbage, metres
+
+
+def test_batch_results_failures_and_rerun(tmp_path, cluster, bad_objects):
+    garbage, metres = bad_objects
+    out = tmp_path / "out"
+    objects = ["ellipsoid", "cup", "teapot", garbage, metres]
+    report = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False)
+    assert (report.tasks, report.skipped, report.finished, report.workers) == (10, 0, 10, 2)
+    for name in ("ellipsoid", "cup"):
+        for grasp in ("precision", "power"):
+            assert_same_plan(out / "results" / name / f"{grasp}.json", expected_plan(name, grasp))
+    rows = {(r["object"], r["grasp"]): r for r in report.rows}
+    assert len(rows) == len(report.rows) == 10
+    for grasp in ("precision", "power"):
+        assert rows["teapot", grasp]["status"] == "load error" and "unknown object 'teapot'" in rows["teapot", grasp]["reason"]
+        assert rows["garbage.stl", grasp]["status"] == "load error" and "could not read" in rows["garbage.stl", grasp]["reason"]
+        assert rows["box_in_metres.stl", grasp]["status"] == "plan error"
+        assert "too small to grasp" in rows["box_in_metres.stl", grasp]["reason"]
+    record = json.loads((out / "results" / "box_in_metres.stl" / "power.failed.json").read_text())
+    assert record["status"] == "plan error" and "scale=1000" in " ".join(record["warnings"])
+    assert "box_in_metres.stl power: box_in_metres.stl is only 0.09 mm across" in (out / "warnings.log").read_text()
+    table = read_summary(out)
+    assert [(r["object"], r["grasp"]) for r in table] == sorted(rows)  # one row per task, sorted
+    assert sum(r["success"] == "True" for r in table) == sum(r["success"] for r in report.rows) == 4
+
+    # a rerun plans nothing and leaves the files alone
+    stamps = {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")}
+    again = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False)
+    assert (again.skipped, again.finished, again.workers) == (10, 0, 0)
+    assert {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")} == stamps
+    # retry_failed plans the six failures again; the metres box with scale=1000 now plans
+    retried = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False,
+                  retry_failed=True, scale=1000)
+    assert (retried.skipped, retried.finished) == (4, 6)
+    rows = {(r["object"], r["grasp"]): r for r in retried.rows}
+    assert rows["box_in_metres.stl", "precision"]["status"] == "planned"
+    assert not (out / "results" / "box_in_metres.stl" / "precision.failed.json").exists()
+    assert rows["teapot", "power"]["status"] == "load error"
+
+
+def test_time_limit_is_recorded_as_timeout(tmp_path, cluster):
+    report = run(["bell"], ["power"], tmp_path, scheduler=cluster.scheduler_address, progress=False, time_limit=0.001)
+    row, = report.rows
+    assert row["status"] == "timeout" and row["reason"] == "no result within the time limit of 0.001 s"
+    assert report.per_grasp[0]["timeouts"] == 1
+
+
+def test_killed_worker_is_retried(tmp_path, cluster):
+    client = distributed.Client(cluster)
+    pids = client.run(os.getpid)
+    killed = []
+
+    def kill_a_planning_worker():
+        deadline = time.monotonic() + 60
+        while not killed and time.monotonic() < deadline:
+            for address, keys in client.processing().items():
+                if any(str(k).startswith("plan-") for k in keys) and address in pids:
+                    os.kill(pids[address], signal.SIGKILL)
+                    killed.append(address)
+                    return
+            time.sleep(0.01)
+
+    killer = threading.Thread(target=kill_a_planning_worker)
+    killer.start()
+    try:
+        report = run(["ellipsoid", "cup"], ["power"], tmp_path, scheduler=cluster.scheduler_address, progress=False)
+    finally:
+        killer.join()
+        client.close()
+    assert killed, "no worker was planning"
+    assert [r["status"] for r in report.rows] == ["planned", "planned"]
+    for name in ("ellipsoid", "cup"):
+        assert_same_plan(tmp_path / "results" / name / "power.json", expected_plan(name, "power"))
+
+
+def test_worker_that_keeps_dying_is_recorded(tmp_path):
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), local_cluster(1) as local, \
+            distributed.Client(local) as client:
+        pid = next(iter(client.run(os.getpid).values()))
+
+        def kill_when_planning():
+            while not any(str(k).startswith("plan-") for keys in client.processing().values() for k in keys):
+                time.sleep(0.01)
+            os.kill(pid, signal.SIGKILL)
+
+        killer = threading.Thread(target=kill_when_planning)
+        killer.start()
+        report = run(["cup"], ["power"], tmp_path, scheduler=local.scheduler_address, progress=False)
+        killer.join()
+    row, = report.rows
+    assert row["status"] == "worker lost" and "died" in row["reason"]
+
+
+def test_plan_task_pins_blas_to_one_thread(tmp_path):
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    code = (
+        "import json, threadpoolctl, synergrasp.batch as b\n"
+        "before = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
+        "outcome, _ = b.plan_task(b.load_object('ellipsoid'), 'precision', options={'max_iter': 1})\n"
+        "after = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
+        "print(json.dumps([before, after, outcome.iterations]))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    before, after, iterations = json.loads(done.stdout.strip().splitlines()[-1])
+    assert after and set(after) == {1} and iterations == 1
+    if (os.cpu_count() or 1) > 1:
+        assert max(before) > 1  # the pin changed something
+
+
+# --------------------------------------------------------------------------- the command line
+
+
+def test_sigterm_stops_the_command_and_keeps_what_was_written(tmp_path, cluster, capsys):
+    def terminate_after_one_result():
+        while not result_files(tmp_path):
+            time.sleep(0.01)
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    killer = threading.Thread(target=terminate_after_one_result)
+    killer.start()
+    code = main(["batch", "ellipsoid", "cup", "bell", "goblet", "--grasp", "precision", "power", "--out", str(tmp_path),
+                 "--scheduler", cluster.scheduler_address, "--quiet"])
+    killer.join()
+    assert code == 130 and "rerun the same command to plan the rest" in capsys.readouterr().err
+    written = result_files(tmp_path)
+    assert 0 < len(written) < 8
+    # the summary table was rebuilt from exactly the results written
+    assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == written
+
+
+def test_killed_run_resumes_to_the_uninterrupted_result(tmp_path, cluster):
+    objects, grasps = ["ellipsoid", "cup", "goblet"], ["precision", "power"]
+    reference = tmp_path / "reference"
+    run(objects, grasps, reference, scheduler=cluster.scheduler_address, progress=False)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "synergrasp.cli", "batch", *objects, "--grasp", *grasps, "--out", str(out),
+               "--workers", "2", "--quiet"]
+    first = subprocess.Popen(command, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             start_new_session=True)
+    while not result_files(out) and first.poll() is None:
+        time.sleep(0.01)
+    os.killpg(first.pid, signal.SIGKILL)  # the client and its workers at once, like a crash
+    first.communicate()
+    assert 0 < len(result_files(out)) < 6
+
+    second = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert second.returncode == 0, second.stderr
+    assert "6 tasks:" in second.stdout and "power " in second.stdout and "precision " in second.stdout
+    assert result_files(out) == result_files(reference) and len(result_files(out)) == 6
+    for name in result_files(out):
+        assert plan_data(out / name) == plan_data(reference / name)
+    assert not [p for p in out.rglob("*") if p.name.startswith(".")]  # no temporary file left
+    table = read_summary(out)
+    assert len({(r["object"], r["grasp"]) for r in table}) == len(table) == 6
+
+
+def test_cli_bad_input(tmp_path, capsys):
+    assert main(["batch", "cup", "--out", str(tmp_path), "--backend", "gurobi", "--quiet"]) == 2
+    assert "unknown LP backend 'gurobi'" in capsys.readouterr().err
+    assert main(["report", str(tmp_path / "missing")]) == 2
+    assert "no batch results" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- report
+
+
+def test_report_page(tmp_path, cluster):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run(["ellipsoid", "cup", "teapot"], ["precision"], tmp_path, scheduler=cluster.scheduler_address,
+            progress=False)
+    assert main(["report", str(tmp_path), "--gallery", "1"]) == 0
+    page = (tmp_path / "report.html").read_text()
+    assert page.count("<tr class=") == 3  # every task in the table
+    assert "unknown object" in page and "results/cup/precision.json" in page
+    pictures = list((tmp_path / "report").rglob("*.png"))
+    assert len(pictures) == 1 and pictures[0].stat().st_size > 5000  # the gallery holds one plan
+    stamp = pictures[0].stat().st_mtime_ns
+    write_report(tmp_path, gallery=1)
+    assert pictures[0].stat().st_mtime_ns == stamp  # reused, not drawn again
+    with pytest.raises(ValueError, match="gallery must be"):
+        write_report(tmp_path, gallery=-1)
