@@ -224,12 +224,22 @@ def local_cluster(workers=None):
         Listening on 127.0.0.1 only, without the dashboard (its HTTP server on
         a free port), logging errors only. Close it when done (or use it in a
         ``with`` block).
+
+    Notes
+    -----
+    The workers start without the ``MALLOC_TRIM_THRESHOLD_`` that Dask's nannies
+    set by default (``distributed.nanny.pre-spawn-environ``): it makes the C
+    library return freed memory at once, and a plan's many short-lived arrays
+    then cost page faults afresh (``benchmarks/bench_batch.py`` measures the
+    CPU time and page faults with and without it).
     """
+    import dask
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                        host="127.0.0.1", dashboard_address=None, scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                        silence_logs=logging.ERROR)
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+        return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                            host="127.0.0.1", dashboard_address=None,
+                            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
 
 
 def _connect(workers, scheduler, connect_timeout):

@@ -81,6 +81,7 @@ def write_atomic(path, content) -> Path:
         ``path``, which holds either its old content or all of the new one, never
         a part: a process killed mid-write leaves at most a hidden temporary file
         (``.NAME.HOST-PID.tmp``), which `ResultStore.check_writable` removes later.
+        The content is flushed to disk (``os.fsync``) before the rename.
 
     Examples
     --------
@@ -100,6 +101,8 @@ def write_atomic(path, content) -> Path:
             content(tmp)
         else:
             tmp.write_text(content, encoding="utf-8")
+        with open(tmp, "rb") as handle:  # on disk before it takes the final name
+            os.fsync(handle.fileno())
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
