@@ -16,6 +16,7 @@ import time
 import warnings
 from pathlib import Path
 
+import distributed
 import numpy as np
 import pytest
 import trimesh
@@ -25,8 +26,6 @@ from synergrasp.batch import (
     ResultStore, TaskFailure, expand, grasp_summary, local_cluster, run, write_atomic, write_report,
 )
 from synergrasp.cli import main
-
-distributed = pytest.importorskip("distributed")
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Fields of a PlanResult that may differ between runs of the same plan: the time, and the

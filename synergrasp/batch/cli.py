@@ -74,6 +74,9 @@ def _batch(args) -> int:
         print(f"synergrasp: interrupted; the {exc.report.finished} results of this run are written: "
               "rerun the same command to plan the rest", file=sys.stderr)
         return 130
+    except KeyboardInterrupt:  # before the first task was submitted
+        print("synergrasp: interrupted before planning started; nothing was planned", file=sys.stderr)
+        return 130
     finally:
         if main_thread:
             signal.signal(signal.SIGTERM, previous)
