@@ -8,8 +8,8 @@ The tasks: the 22 meshes of ``benchmarks/meshes`` and the built-in ellipsoid, cu
 each with a precision and a power grasp (50 plans); ``--quick``: the three built-ins only
 (6 plans, for the tests). In one run:
 
-1. **loop**: the tasks one after the other in this process, through the functions a worker
-   runs (``load_object``, ``plan_task``) and the writer of a batch (``ResultStore``);
+1. **loop**: the tasks one after the other in this process, through the function a worker
+   runs (``plan_task``, which loads each object once) and the writer of a batch (``ResultStore``);
 2. **dask, 1 worker** and 3. **dask, 2 workers**: ``synergrasp.batch.run`` on a local cluster
    of that size, started and warmed up (one short plan per worker) before the clock starts;
    the time is the batch's own, from the first task submitted to the last result written;
@@ -57,18 +57,16 @@ RUN_FIELDS = ("time_s", "lp_solves")
 
 def warm_up():
     """One short plan, so that a process has imported and initialised what planning needs."""
-    plan_task(load_object("ellipsoid"), "precision", options={"max_iter": 5})
+    plan_task("ellipsoid", "precision", options={"max_iter": 5})
 
 
 def loop(tasks, out):
     """The tasks in this process, one by one; returns the wall time (s)."""
     store = ResultStore(out)
     store.check_writable()
-    start, loaded = time.perf_counter(), {}
+    start = time.perf_counter()
     for task in tasks:
-        if task.key not in loaded:
-            loaded[task.key] = load_object(task.source)
-        outcome, _ = plan_task(loaded[task.key], task.grasp)
+        outcome, _ = plan_task(task.source, task.grasp)  # loads each object once, as a worker does
         store.write_result(task.key, task.grasp, outcome)
     wall = time.perf_counter() - start
     store.write_summary(store.scan()[0])

@@ -265,6 +265,18 @@ def test_batch_results_failures_and_rerun(tmp_path, cluster, bad_objects):
     assert rows["teapot", "power"]["status"] == "load error"
 
 
+def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):
+    # a torus-shaped cloud: its centroid is in the hole, so loading it builds fcl geometry
+    # (which cannot be pickled) to move the centre inside
+    torus = trimesh.creation.torus(major_radius=35.0, minor_radius=12.0, major_sections=32, minor_sections=12)
+    path = tmp_path / "torus.npy"
+    np.save(path, trimesh.sample.sample_surface(torus, 3000, seed=0)[0])
+    report = run([path], ["precision", "power"], tmp_path / "out", scheduler=cluster.scheduler_address, progress=False)
+    assert [r["status"] for r in report.rows] == ["planned", "planned"]
+    for grasp in ("precision", "power"):
+        assert_same_plan(tmp_path / "out" / "results" / "torus.npy" / f"{grasp}.json", expected_plan(str(path), grasp))
+
+
 def test_time_limit_is_recorded_as_timeout(tmp_path, cluster):
     report = run(["bell"], ["power"], tmp_path, scheduler=cluster.scheduler_address, progress=False, time_limit=0.001)
     row, = report.rows
@@ -325,7 +337,7 @@ def test_plan_task_pins_blas_to_one_thread(tmp_path):
     code = (
         "import json, threadpoolctl, synergrasp.batch as b\n"
         "before = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
-        "outcome, _ = b.plan_task(b.load_object('ellipsoid'), 'precision', options={'max_iter': 1})\n"
+        "outcome, _ = b.plan_task('ellipsoid', 'precision', options={'max_iter': 1})\n"
         "after = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
         "print(json.dumps([before, after, outcome.iterations]))\n"
     )

@@ -13,7 +13,7 @@ from .report import write_report
 from .runner import BatchInterrupted, BatchReport, local_cluster, run
 from .store import COLUMNS, STATUSES, ResultStore, TaskFailure, grasp_summary, write_atomic
 from .tasks import Task, expand
-from .worker import load_object, pin_blas, plan_task
+from .worker import load_object, pin_blas, plan_task, prepare_object
 
 __all__ = [
     "BatchInterrupted",
@@ -29,6 +29,7 @@ __all__ = [
     "local_cluster",
     "pin_blas",
     "plan_task",
+    "prepare_object",
     "run",
     "write_atomic",
     "write_report",

@@ -3,8 +3,8 @@
 `run` expands the objects into tasks (`synergrasp.batch.tasks`), skips the tasks whose
 results are already in the output folder, and submits the rest to a Dask cluster: a
 ``LocalCluster`` of one-thread worker processes on this machine, or any running scheduler by
-its address. Each object is loaded once, by one task on one worker; the plans of its grasp
-types depend on it, so Dask runs them where the object is or sends it there. The client
+its address. Each object is loaded by one task (`synergrasp.batch.worker.prepare_object`),
+which the plans of its grasp types wait for; a worker keeps the objects it loaded. The client
 writes each outcome as it arrives (`synergrasp.batch.store`), so an interrupted run loses
 only the plans in flight, and a rerun of the same call plans only what is missing.
 """
@@ -24,7 +24,7 @@ from ..objects import ellipsoid
 from ..planner import plan
 from .store import ResultStore, TaskFailure, grasp_summary
 from .tasks import expand
-from .worker import load_object, plan_task
+from .worker import plan_task, prepare_object
 
 
 class BatchInterrupted(KeyboardInterrupt):
@@ -286,9 +286,9 @@ def _plan_all(todo, store, report, workers, scheduler, backend, options, time_li
             by_object.setdefault((task.key, task.source), []).append(task)
         for (key, source), its_tasks in by_object.items():
             store.write_object(key, source, scale)
-            loaded = client.submit(load_object, source, scale, key=f"load-{token}-{key}", pure=False)
+            prepared = client.submit(prepare_object, source, scale, key=f"load-{token}-{key}", pure=False)
             for task in its_tasks:
-                future = client.submit(plan_task, loaded, task.grasp, backend, options, time_limit,
+                future = client.submit(plan_task, source, task.grasp, backend, options, time_limit, scale, prepared,
                                        key=f"plan-{token}-{task.grasp}-{key}", pure=False)
                 futures[future] = task
         for future in as_completed(list(futures)):

@@ -1,27 +1,39 @@
-"""What runs on the Dask workers: load an object, plan one task, pin BLAS to one thread.
+"""What runs on the Dask workers: load an object once per worker, plan one task, pin BLAS.
 
-Both functions catch every exception of the work they do and return it as a
+A batch submits one `prepare_object` task per object and one `plan_task` per (object, grasp)
+that depends on it. `prepare_object` loads the object on some worker (a mesh's convex
+decomposition then lands in the disk cache) and keeps it in that worker process; the plan
+tasks run after it, where Dask prefers the worker that holds its (tiny) result, and take the
+object from their process's memory, loading it there (from the disk cache) only if another
+worker prepared it. Objects stay in the workers: they hold fcl geometry that cannot be pickled.
+
+Each plan starts from fresh state: a new `GraspObject` over the loaded object's convex pieces
+and a new instance of the LP backend. The planner's warm starts (the LP bases an object and a
+backend remember) then depend only on the task itself, not on the tasks the worker ran
+before, so a batch gives bit-identical results whatever the number of workers and the order
+of the tasks, and the same as ``sg.plan`` on a freshly loaded object.
+
+Both task functions catch every exception of the work they do and return it as a
 `TaskFailure`, so a bad object or a plan that raises is recorded and never stops the batch.
-
-Each plan starts from fresh state: a copy of the loaded object and a new instance of the LP
-backend. The planner's warm starts (the LP bases an object and a backend remember) then
-depend only on the task itself, not on the tasks the worker ran before, so a batch gives
-bit-identical results whatever the number of workers and the order of the tasks.
 `plan_task` also limits BLAS to one thread in its process (once) before it plans.
 """
 
 from __future__ import annotations
 
-import copy
 import time
 import warnings
+from collections import OrderedDict
 
 from .. import objects
 from ..lp import get_backend
 from ..planner import plan
 from .store import TaskFailure
 
+#: Loaded objects a worker process keeps (the most recently used).
+KEPT_OBJECTS = 8
+
 _pinned = False
+_kept: OrderedDict = OrderedDict()
 
 
 def pin_blas() -> None:
@@ -39,7 +51,7 @@ def pin_blas() -> None:
 
 
 def load_object(source: str, scale: float = 1.0):
-    """Load one object of a batch (on a worker).
+    """Load one object of a batch.
 
     Parameters
     ----------
@@ -55,6 +67,13 @@ def load_object(source: str, scale: float = 1.0):
         The object, or a ``"load error"`` failure with the reason.
     warnings : list of str
         Warnings raised while loading.
+
+    Examples
+    --------
+    >>> load_object("cup")[0]
+    GraspObject('cup', 6 pieces, 75 x 75 x 80 mm, L=51.5)
+    >>> load_object("teapot")[0].reason
+    "ValueError: unknown object 'teapot': not a built-in (ellipsoid, cup, bell, goblet) and no such file"
     """
     start = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
@@ -70,17 +89,51 @@ def load_object(source: str, scale: float = 1.0):
     return obj, messages
 
 
+def _kept_object(source: str, scale: float):
+    """`load_object` through this process's memory of the last `KEPT_OBJECTS` objects."""
+    key = (source, float(scale))
+    if key in _kept:
+        _kept.move_to_end(key)
+    else:
+        _kept[key] = load_object(source, scale)
+        while len(_kept) > KEPT_OBJECTS:
+            _kept.popitem(last=False)
+    return _kept[key]
+
+
+def prepare_object(source: str, scale: float = 1.0):
+    """Load an object into this worker process (the task the plans of one object depend on).
+
+    Parameters
+    ----------
+    source : str
+        A built-in name or a file path.
+    scale : float
+        Factor applied to a file's coordinates.
+
+    Returns
+    -------
+    failure : TaskFailure or None
+        The ``"load error"``, or None when the object loaded.
+    warnings : list of str
+        Warnings raised while loading.
+    """
+    obj, messages = _kept_object(source, scale)
+    return (obj if isinstance(obj, TaskFailure) else None), messages
+
+
 class _TimeLimit(Exception):
     """Raised from the planner's progress callback when a task runs out of time."""
 
 
-def plan_task(loaded, grasp: str, backend: str = "highs", options=None, time_limit=None):
+def plan_task(source: str, grasp: str, backend: str = "highs", options=None, time_limit=None, scale: float = 1.0,
+              prepared=None):
     """Plan one task of a batch (on a worker).
 
     Parameters
     ----------
-    loaded : tuple
-        What `load_object` returned for the task's object.
+    source : str
+        The object: a built-in name or a file path.
     grasp : str
         ``"precision"`` or ``"power"``.
     backend : str
@@ -90,6 +143,11 @@ def plan_task(loaded, grasp: str, backend: str = "highs", options=None, time_lim
     time_limit : float, optional
         Seconds; checked after every planner iteration (an LP solve in
         progress is not interrupted). None: no limit.
+    scale : float
+        Factor applied to a file's coordinates.
+    prepared : tuple, optional
+        What `prepare_object` returned for the object: its load failure is
+        returned as this task's outcome, its warnings with it.
 
     Returns
     -------
@@ -98,12 +156,25 @@ def plan_task(loaded, grasp: str, backend: str = "highs", options=None, time_lim
         or ``"timeout"`` failure.
     warnings : list of str
         Warnings raised while loading the object and planning.
+
+    Examples
+    --------
+    >>> result, _ = plan_task("ellipsoid", "precision")
+    >>> result.success, result.contact_labels
+    (True, ['T0', 'I0', 'R0', 'L0'])
+    >>> plan_task("ellipsoid", "precision", time_limit=1e-6)[0].status
+    'timeout'
     """
     pin_blas()
-    obj, messages = loaded
-    if isinstance(obj, TaskFailure):
-        return obj, messages
-    obj = copy.deepcopy(obj)
+    failure, messages = prepared if prepared is not None else (None, None)
+    if failure is not None:
+        return failure, messages
+    loaded, load_messages = _kept_object(source, scale)
+    messages = load_messages if messages is None else messages
+    if isinstance(loaded, TaskFailure):
+        return loaded, messages
+    obj = objects.GraspObject(list(loaded.convex), center=loaded.center, torque_scale=loaded.torque_scale,
+                              name=loaded.name, mesh=loaded.mesh, info=loaded.info)
     start = time.perf_counter()
 
     def progress(check, status):
