@@ -25,8 +25,10 @@ each with a precision and a power grasp (50 plans); ``--quick``: the three built
    ``synergrasp.batch.local_cluster`` drops): CPU time and minor page faults.
 
 Prints the wall times, the ratio of the 1-worker to the 2-worker time (target >= 1.6 on a
-2-core machine), the overhead per task of Dask against the loop (target <= 10 %), the
-verdicts, and the load average before and after (the timings need an idle machine).
+2-core machine), the overhead per task of Dask against the loop (target <= 10 %) in wall time
+and in CPU time (the workers' and the client's against the loop's; less sensitive to other
+jobs on the machine), the verdicts, and the load average before and after (the wall-clock
+timings need an idle machine).
 Writes under ``DIR`` (default ``bench-out/batch``): ``loop``, ``dask-1``, ``dask-2``,
 ``interrupted``, ``malloc``.
 """
@@ -85,12 +87,19 @@ def loop(tasks, out):
 
 
 def on_dask(objects, workers, out):
-    """``sg.batch.run`` on a warmed local cluster of ``workers`` workers; returns its BatchReport."""
+    """``sg.batch.run`` on a warmed local cluster of ``workers`` workers.
+
+    Returns its BatchReport, the CPU time (s) of the workers during the run, and that of
+    this process (the client, with the local cluster's scheduler).
+    """
     from distributed import Client
 
     with local_cluster(workers) as cluster, Client(cluster) as client:
         client.run(warm_up)
-        return sg.batch.run(objects, GRASPS, out, scheduler=cluster.scheduler_address, progress=False)
+        before, cpu = client.run(time.process_time), time.process_time()
+        report = sg.batch.run(objects, GRASPS, out, scheduler=cluster.scheduler_address, progress=False)
+        cpu, after = time.process_time() - cpu, client.run(time.process_time)
+    return report, sum(after[w] - before[w] for w in before), cpu
 
 
 def content(path, drop=()):
@@ -201,13 +210,13 @@ def main(argv=None):
     print(f"loop (in-process):  wall {loop_s:7.2f} s, {len(tasks) / loop_s:.3f} plans/s, CPU {cpu:.2f} s: "
           f"{len(tasks) / cpu:.3f} plans per CPU second; writing and reading back a result: "
           f"{1e3 * client_s / len(tasks):.1f} ms CPU")
-    walls = {}
+    walls, cpus = {}, {}
     for workers in (1, 2):
-        cpu = time.process_time()
-        report = on_dask(objects, workers, out / f"dask-{workers}")
-        walls[workers] = report.wall_s
+        report, worker_cpu, client_cpu = on_dask(objects, workers, out / f"dask-{workers}")
+        walls[workers], cpus[workers] = report.wall_s, worker_cpu + client_cpu
         print(f"dask, {workers} worker{'s' if workers > 1 else ' '}:    wall {report.wall_s:7.2f} s, "
-              f"{report.finished / report.wall_s:.3f} plans/s, client CPU {time.process_time() - cpu:.2f} s")
+              f"{report.finished / report.wall_s:.3f} plans/s, CPU {worker_cpu:.2f} s in the workers "
+              f"+ {client_cpu:.2f} s in the client")
     ratio = walls[1] / walls[2]
     print(f"throughput 2 workers / 1 worker: {ratio:.2f}x (target >= 1.6: {'met' if ratio >= 1.6 else 'NOT met'})")
     extra = walls[1] - loop_s
@@ -215,6 +224,9 @@ def main(argv=None):
     print(f"overhead dask (1 worker) against the loop: {extra:+.2f} s over {len(tasks)} tasks = "
           f"{1e3 * extra / len(tasks):+.1f} ms per task, {100 * overhead:+.1f} % "
           f"(target <= 10 %: {'met' if overhead <= 0.10 else 'NOT met'})")
+    extra = cpus[1] - cpu
+    print(f"CPU overhead dask (1 worker, workers + client) against the loop: {extra:+.2f} s = "
+          f"{1e3 * extra / len(tasks):+.1f} ms per task, {100 * extra / cpu:+.1f} %")
     diff = sorted(set(differing(out / "loop", out / "dask-1") + differing(out / "loop", out / "dask-2")))
     print(f"same outcome per task (loop, 1 worker, 2 workers): {'yes' if not diff else 'NO'} "
           f"({len(tasks) - len(diff)} of {len(tasks)})" + (f"; differ: {', '.join(diff)}" if diff else ""))
