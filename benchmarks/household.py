@@ -92,9 +92,9 @@ def main(argv=None):
                              "and the rates to the README")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    groups = {"meshes": _files(MESHES, 1.0), "shapes": household_objects()}
+    groups = {"meshes": mesh_files(MESHES, 1.0), "shapes": household_objects()}
     if args.meshes:
-        groups[str(args.meshes)] = _files(args.meshes, args.scale)
+        groups[str(args.meshes)] = mesh_files(args.meshes, args.scale)
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]
     rows = []
     for group, objects in groups.items():
@@ -107,7 +107,7 @@ def main(argv=None):
         _write_docs(rows, grasps, summary)
 
 
-def _files(folder, scale):
+def mesh_files(folder, scale):
     """Mesh and point-cloud files of a folder: name -> GraspObject."""
     return {
         path.stem: sg.objects.load(path, scale=scale)

@@ -38,7 +38,7 @@ import numpy as np
 import synergrasp as sg
 from synergrasp.planner.core import PlannerOptions, _attempt, _power_start, _preshape, start_configuration
 
-from household import MESHES, _files, household_objects, verified
+from household import MESHES, household_objects, mesh_files, verified
 
 #: Directions of a cube's faces, edges and corners (object centre to hand).
 DIRECTIONS = [d for d in itertools.product((-1.0, 0.0, 1.0), repeat=3) if any(d)]
@@ -48,7 +48,7 @@ DIRECTIONS = [d for d in itertools.product((-1.0, 0.0, 1.0), repeat=3) if any(d)
 def objects():
     """The paper's four objects and the household set: name -> GraspObject (loaded once per process)."""
     objs = {f"paper/{name}": make() for name, make in sg.objects.BUILTINS.items()}
-    objs.update({f"mesh/{name}": obj for name, obj in _files(MESHES, 1.0).items()})
+    objs.update({f"mesh/{name}": obj for name, obj in mesh_files(MESHES, 1.0).items()})
     objs.update({f"shape/{name}": obj for name, obj in household_objects().items()})
     return objs
 

@@ -2,14 +2,19 @@
 
 Plans the 8 cases with the default settings and HiGHS, verifies each final
 grasp independently (origin strictly inside the convex hull of its contact
-wrenches), and writes a table beside the paper's own numbers to the README and
-``docs/paper-experiments.md`` (between their ``paper-table`` markers), the raw
-rows to ``docs/results/paper_experiments.csv`` and the figures of every case to
-``docs/figures/paper/``.
+wrenches), and writes to ``--out`` (default ``./examples-out/paper``) a table
+beside the paper's own numbers (``paper_experiments.md``), the raw rows
+(``paper_experiments.csv``) and the status and poses figures of every case.
+
+With ``--docs`` it regenerates the documentation instead: the table in the
+README and ``docs/paper-experiments.md`` (between their ``paper-table``
+markers), the rows in ``docs/results/paper_experiments.csv`` and the figures in
+``docs/figures/paper/``. ``--quick`` plans one case (the ellipsoid's precision
+grasp) once, to check that the script runs.
 
 Usage::
 
-    python examples/paper_experiments.py [--repeats 3] [--no-figures]
+    python examples/paper_experiments.py [--out DIR] [--repeats 3] [--no-figures] [--quick] [--docs]
 """
 
 from __future__ import annotations
@@ -90,51 +95,62 @@ def write_between_markers(path, text):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default="examples-out/paper", help="output folder (default ./examples-out/paper)")
     parser.add_argument("--repeats", type=int, default=3, help="plans per case for the median time (default 3)")
     parser.add_argument("--no-figures", action="store_true", help="skip the figures")
+    parser.add_argument("--quick", action="store_true", help="one case (ellipsoid, precision), planned once")
+    parser.add_argument("--docs", action="store_true",
+                        help="write the README's and docs' tables, docs/results/ and docs/figures/paper/ instead of --out")
     args = parser.parse_args(argv)
+    if args.docs and args.quick:
+        parser.error("--docs needs the full run: drop --quick")
     warnings.simplefilter("ignore")
     hand = sg.SynergyHand.default()
-    figures = ROOT / "docs" / "figures" / "paper"
-    figures.mkdir(parents=True, exist_ok=True)
+    out = Path(args.out)
+    figures, results = (ROOT / "docs" / "figures" / "paper", ROOT / "docs" / "results") if args.docs else (out, out)
+    for folder in (figures, results):
+        folder.mkdir(parents=True, exist_ok=True)
+    cases = [("ellipsoid", "precision")] if args.quick else [(name, grasp) for grasp in GRASPS for name in OBJECTS]
+    repeats = 1 if args.quick else args.repeats
     rows = []
-    for grasp in GRASPS:
-        for name in OBJECTS:
-            obj, result, median_time = run_case(name, grasp, args.repeats)
-            row = {
-                "object": name,
-                "grasp": grasp,
-                "success": result.success,
-                "verified": result.success and force_closed_by_hull(result, obj),
-                "iterations": result.iterations,
-                "all_iterations": result.total_iterations,
-                "attempts": len(result.attempts),
-                "sq": result.final_sq,
-                "q": result.final_q,
-                "n_contacts": len(result.contact_labels),
-                "contacts": " ".join(result.contact_labels),
-                "palm": "P" in result.contact_labels,
-                "penetration": result.penetration,
-                "time_s": median_time,
-                "lp_solves": result.lp_solves,
-                "reason": result.reason,
-            }
-            rows.append(row)
-            print(f"{name:9s} {grasp:9s} {'ok ' if row['verified'] else 'NO '} {result.iterations:4d} it "
-                  f"Q {row['q']:+.4f} {median_time:6.2f} s  {result.reason}", flush=True)
-            if not args.no_figures:
-                viz.plot_status(result, figures / f"{name}_{grasp}_status.png")
-                viz.plot_poses(result, obj, hand, figures / f"{name}_{grasp}_poses.png")
-    results = ROOT / "docs" / "results"
-    results.mkdir(parents=True, exist_ok=True)
+    for name, grasp in cases:
+        obj, result, median_time = run_case(name, grasp, repeats)
+        row = {
+            "object": name,
+            "grasp": grasp,
+            "success": result.success,
+            "verified": result.success and force_closed_by_hull(result, obj),
+            "iterations": result.iterations,
+            "all_iterations": result.total_iterations,
+            "attempts": len(result.attempts),
+            "sq": result.final_sq,
+            "q": result.final_q,
+            "n_contacts": len(result.contact_labels),
+            "contacts": " ".join(result.contact_labels),
+            "palm": "P" in result.contact_labels,
+            "penetration": result.penetration,
+            "time_s": median_time,
+            "lp_solves": result.lp_solves,
+            "reason": result.reason,
+        }
+        rows.append(row)
+        print(f"{name:9s} {grasp:9s} {'ok ' if row['verified'] else 'NO '} {result.iterations:4d} it "
+              f"Q {row['q']:+.4f} {median_time:6.2f} s  {result.reason}", flush=True)
+        if not args.no_figures:
+            viz.plot_status(result, figures / f"{name}_{grasp}_status.png")
+            viz.plot_poses(result, obj, hand, figures / f"{name}_{grasp}_poses.png")
     with open(results / "paper_experiments.csv", "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
     text = table(rows)
-    for path in (ROOT / "README.md", ROOT / "docs" / "paper-experiments.md"):
-        write_between_markers(path, text)
+    if args.docs:
+        for path in (ROOT / "README.md", ROOT / "docs" / "paper-experiments.md"):
+            write_between_markers(path, text)
+    else:
+        (out / "paper_experiments.md").write_text(text + "\n")
     print(text)
+    print(f"wrote {results / 'paper_experiments.csv'}" + ("" if args.no_figures else f" and the figures in {figures}"))
 
 
 if __name__ == "__main__":

@@ -25,6 +25,7 @@ import trimesh
 
 import synergrasp as sg
 from synergrasp import viz
+from synergrasp.cli import output_stem
 
 
 def main(argv=None):
@@ -60,7 +61,7 @@ def main(argv=None):
               f"penetration {result.penetration:.2f} mm, {result.iterations} iterations, {result.time_s:.1f} s")
     else:
         print(f"no grasp: {result.reason}")
-    stem = out / f"{Path(obj.name).stem}_precision"
+    stem = out / output_stem(obj.name, "precision")  # the extension too: mug.stl and mug.ply do not collide
     files = [result.save(f"{stem}.json"), viz.plot_poses(result, obj, hand, f"{stem}_poses.png")]
     print("wrote " + ", ".join(str(f) for f in files))
 

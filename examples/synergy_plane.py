@@ -1,14 +1,16 @@
 """The synergy plane of the paper's hand (cf. the paper's Fig. 4).
 
 Renders the hand at z1, z2 in {-1, 0, 1} on a 3x3 grid (z1 along the columns, z2 down the
-rows) with the mean pose (z = 0) framed in blue, and writes a PNG.
+rows) with the mean pose (z = 0) framed in blue, and writes ``synergy_plane.png`` to ``--out``
+(default ``./examples-out``), or with ``--docs`` to ``docs/figures/`` (the figure of the
+documentation's synergy hand page).
 
 Usage::
 
-    python examples/synergy_plane.py [output.png]     # default: docs/figures/synergy_plane.png
+    python examples/synergy_plane.py [--out DIR] [--docs]
 """
 
-import sys
+import argparse
 from pathlib import Path
 
 import matplotlib
@@ -20,7 +22,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from synergrasp.hand import SynergyHand  # noqa: E402
 
-DEFAULT_OUTPUT = Path(__file__).resolve().parents[1] / "docs" / "figures" / "synergy_plane.png"
+DOCS_FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
 FINGER_COLOURS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown"}
 FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little"}
 BOX_FACES = [[0, 1, 3, 2], [4, 5, 7, 6], [0, 1, 5, 4], [2, 3, 7, 6], [0, 2, 6, 4], [1, 3, 7, 5]]
@@ -85,7 +87,15 @@ def synergy_plane(hand, path, values=(-1.0, 0.0, 1.0), view=(20.0, -135.0)):
     plt.close(fig)
 
 
-if __name__ == "__main__":
-    out = Path(sys.argv[1]) if len(sys.argv) > 1 else DEFAULT_OUTPUT
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--docs", action="store_true", help=f"write the documentation's figure in {DOCS_FIGURES} instead")
+    args = parser.parse_args(argv)
+    out = (DOCS_FIGURES if args.docs else Path(args.out)) / "synergy_plane.png"
     synergy_plane(SynergyHand.default(), out)
     print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m solvers.compare [--quick] [--out solvers/results] [--docs] [--max-iter N]
+    python -m solvers.compare [--quick] [--out DIR] [--docs] [--max-iter N]
 
 Backends: every available synergrasp backend (``sg.lp.available_backends()``)
 plus two references a user might pick instead, both ordinary
@@ -39,12 +39,15 @@ backends to :data:`SLOW_PLAN_CASES` for a shorter run, and says so in the output
 The paper's own figures (MATLAB 2015 on an i5-2430M laptop) are added as fixed
 rows, labelled as such: they come from another machine and another code.
 
-Outputs in ``--out`` (default ``solvers/results``, with ``--quick``
-``solvers/results/quick`` so that a quick run never overwrites the full
-results): ``lp_level.csv``, ``plan_level.csv``, ``summary.csv``,
-``ratios.csv``, ``environment.json``, ``README.md`` (the tables) and
-``solver_comparison.png`` (log-scale bars). ``--docs`` also rewrites
-``docs/solver-comparison.md`` and copies the figure to ``docs/figures/``.
+Outputs in ``--out`` (default ``./bench-out/solver-comparison``, with
+``--quick`` ``./bench-out/solver-comparison-quick``): ``lp_level.csv``,
+``plan_level.csv``, ``summary.csv``, ``ratios.csv``, ``environment.json``,
+``README.md`` (the tables) and ``solver_comparison.png`` (log-scale bars).
+``--docs`` writes the committed results instead (``solvers/results``, unless
+``--out`` is given), rewrites ``docs/solver-comparison.md`` and copies the
+figure to ``docs/figures/``. The profile section comes from ``profile.md`` in
+the output folder, else from the committed ``solvers/results/profile.md``
+(``python -m solvers.profile_plan --docs`` writes it).
 """
 
 from __future__ import annotations
@@ -69,7 +72,10 @@ from synergrasp.lp import Backend
 from .references import LinprogBackend, PlainCvxpyBackend, TimedBackend
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_OUT = ROOT / "solvers" / "results"
+#: The committed results (written with --docs).
+COMMITTED = ROOT / "solvers" / "results"
+#: Output folder of a run without --docs (relative to the working directory).
+DEFAULT_OUT = Path("bench-out") / "solver-comparison"
 REFERENCE = "highs"
 REFERENCE_BACKENDS = ("scipy-linprog", "cvxpy-plain")
 FIGURE = "solver_comparison.png"
@@ -702,15 +708,20 @@ def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="reduced run: few calls, one short plan per backend")
     parser.add_argument("--out", type=Path, default=None,
-                        help="output folder (default solvers/results; with --quick solvers/results/quick)")
-    parser.add_argument("--docs", action="store_true", help="also write docs/solver-comparison.md and its figure")
+                        help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick; "
+                             "with --docs solvers/results)")
+    parser.add_argument("--docs", action="store_true",
+                        help="write the committed results (solvers/results), docs/solver-comparison.md and its figure")
     parser.add_argument("--max-iter", type=int, default=None, help="plan iteration cap (600; quick: 8)")
     parser.add_argument("--slow-subset", action="store_true",
                         help=f"run the cvxpy-based backends' plans on {len(SLOW_PLAN_CASES)} cases only (a shorter run)")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
     log = (lambda *a: None) if args.quiet else (lambda *a: print(*a, flush=True))
-    out = Path(args.out) if args.out is not None else DEFAULT_OUT / "quick" if args.quick else DEFAULT_OUT
+    if args.docs and args.quick:
+        parser.error("--docs needs the full run: drop --quick")
+    default = COMMITTED if args.docs else DEFAULT_OUT.with_name(DEFAULT_OUT.name + "-quick") if args.quick else DEFAULT_OUT
+    out = Path(args.out) if args.out is not None else default
     out.mkdir(parents=True, exist_ok=True)
     backends = make_backends()
     settings = Settings.make(args.quick, backends, args.max_iter, args.slow_subset)
@@ -732,7 +743,7 @@ def main(argv=None) -> dict:
     write_csv(out / "ratios.csv", ratio_rows)
     (out / "environment.json").write_text(json.dumps(env, indent=1))
     figure(out / FIGURE, lp_rows, plan_rows, backends)
-    profile_path = out / "profile.md"
+    profile_path = out / "profile.md" if (out / "profile.md").exists() else COMMITTED / "profile.md"
     profile_text = profile_path.read_text() if profile_path.exists() else ""
     text = markdown(env, settings, lp_rows, plan_rows, summary, ratio_rows, FIGURE, profile_text)
     (out / "README.md").write_text("# Solver comparison results\n\nWritten by `python -m solvers.compare"

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m solvers.profile_plan [--out solvers/results] [--baseline-ref e9c86e9] [--repeats 5]
+    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref e9c86e9] [--repeats 5]
 
 Profiles ``sg.plan(sg.objects.ellipsoid(), "precision")`` on HiGHS twice, each in
 its own subprocess:
@@ -22,8 +22,9 @@ iterations and LP solves, the time inside the LP solver (sum of
 ``LPSolution.solve_time``), the median time of one ``q_distance`` (5 contacts,
 value + gradients) and of one ``contact_distance`` call, and the cumulative
 times of the main functions under cProfile. Writes ``profile.md`` and
-``profile.csv`` to ``--out``; ``python -m solvers.compare`` includes
-``profile.md`` in its results.
+``profile.csv`` to ``--out`` (default ``./bench-out/profile``), or with
+``--docs`` to the committed ``solvers/results``, whose ``profile.md``
+``python -m solvers.compare`` includes in its results.
 """
 
 from __future__ import annotations
@@ -41,7 +42,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_OUT = ROOT / "solvers" / "results"
+#: The committed results (written with --docs).
+COMMITTED = ROOT / "solvers" / "results"
+#: Output folder of a run without --docs (relative to the working directory).
+DEFAULT_OUT = Path("bench-out") / "profile"
 #: The commit before the overhead work on the Q distance and the geometry around the LPs. (The earlier
 #: work on the LP layer started from 079b621, whose files no longer fit the rest of the package.)
 BASELINE_REF = "e9c86e9"
@@ -252,7 +256,8 @@ def report(before: dict, after: dict, ref: str) -> tuple[str, list]:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", type=Path, default=DEFAULT_OUT)
+    parser.add_argument("--out", type=Path, default=None, help=f"output folder (default ./{DEFAULT_OUT})")
+    parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
     parser.add_argument("--repeats", type=int, default=3, help="timed plans per case and round")
     parser.add_argument("--rounds", type=int, default=2, help="before/after measurement rounds, alternating")
@@ -268,9 +273,10 @@ def main(argv=None):
     assert all(a["synergrasp"].startswith(str(ROOT)) for a in afters), afters[0]["synergrasp"]
     before, after = combine(befores), combine(afters)
     text, rows = report(before, after, args.baseline_ref)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "profile.md").write_text(text)
-    with open(args.out / "profile.csv", "w", newline="") as fh:
+    out = args.out if args.out is not None else COMMITTED if args.docs else DEFAULT_OUT
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "profile.md").write_text(text)
+    with open(out / "profile.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)

@@ -4,11 +4,13 @@ Grasp quality by the pseudo-distance formulation (separation and penetration
 distances, the Q distance in wrench space) with exact dual-based derivatives,
 on interchangeable LP backends (``synergrasp.lp``); the synergy hand
 (``SynergyHand``), objects (``synergrasp.objects``) and the reach-to-grasp
-planner (``plan``).
+planner (``plan``); physics validation of a grasp in MuJoCo (``validate``,
+``synergrasp.physics``, with the ``sim`` extra).
 """
 
 from . import batch, lp, objects
 from .hand import SynergyHand
+from .physics import Validation, validate
 from .planner import PlanResult, plan
 from .pseudo_distance import PseudoDistance, pseudo_distance, regular_simplex
 from .quality import QDistance, contact_wrenches, force_closure_by_hull, friction_cone_edges, q_distance
@@ -21,6 +23,7 @@ __all__ = [
     "QDistance",
     "SynergyHand",
     "batch",
+    "Validation",
     "contact_wrenches",
     "force_closure_by_hull",
     "friction_cone_edges",
@@ -30,4 +33,5 @@ __all__ = [
     "pseudo_distance",
     "q_distance",
     "regular_simplex",
+    "validate",
 ]

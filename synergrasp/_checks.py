@@ -33,9 +33,11 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
         If it is not 2-D, is empty, has the wrong dimension or a non-finite entry.
     """
     try:
+        if np.iscomplexobj(value):
+            raise TypeError("complex")
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {type(value).__name__}") from exc
+        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value)}") from exc
     if arr.ndim != 2:
         raise ValueError(f"{name} must have shape (n, d), got shape {arr.shape}")
     if arr.shape[0] == 0:
@@ -52,9 +54,11 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
 def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     """Validate a finite 1-D vector (optionally of a given size)."""
     try:
+        if np.iscomplexobj(value):
+            raise TypeError("complex")
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric vector, got {type(value).__name__}") from exc
+        raise TypeError(f"{name} must be a numeric vector, got {_kind(value)}") from exc
     if arr.ndim != 1 or (size is not None and arr.shape[0] != size):
         expected = f"({size},)" if size is not None else "(n,)"
         raise ValueError(f"{name} must have shape {expected}, got shape {arr.shape}")
@@ -63,12 +67,34 @@ def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     return arr
 
 
-def positive_scalar(value, name: str) -> float:
-    """Validate a finite, strictly positive number."""
+def positive_scalar(value, name: str, maximum: float | None = None) -> float:
+    """Validate a finite, strictly positive number (at most ``maximum`` if given)."""
     try:
+        if isinstance(value, (str, bytes)):
+            raise TypeError(type(value).__name__)
         out = float(value)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a number, got {type(value).__name__}") from exc
     if not math.isfinite(out) or out <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if maximum is not None and out > maximum:
+        raise ValueError(f"{name} must be a number in (0, {maximum:g}], got {value!r}")
     return out
+
+
+def integer(value, name: str, minimum: int = 1, what: str = "") -> int:
+    """Validate a whole number >= ``minimum`` (bools refused); ``what`` says what it counts."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}{f' ({what})' if what else ''}, got {value!r}")
+    return int(value)
+
+
+def _kind(value) -> str:
+    """How a value that is not a numeric array is named in messages."""
+    if isinstance(value, np.ndarray):
+        return f"an array of dtype {value.dtype}"
+    try:
+        complex_values = np.iscomplexobj(value) and not isinstance(value, (str, bytes))
+    except (TypeError, ValueError):  # ragged nested lists
+        return f"a ragged {type(value).__name__}"
+    return "complex numbers" if complex_values else type(value).__name__

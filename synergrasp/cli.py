@@ -1,9 +1,10 @@
-"""The ``synergrasp`` command line."""
+"""The ``synergrasp`` command line: ``synergrasp demo`` and ``synergrasp plan``; exit codes in `EXIT_CODES`."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 
 import numpy as np
 
@@ -28,7 +29,97 @@ def _vector(text):
         raise argparse.ArgumentTypeError(f"expected three numbers x,y,z, got {text!r}") from None
     if len(values) != 3:
         raise argparse.ArgumentTypeError(f"expected three numbers x,y,z, got {text!r}")
+    if not all(np.isfinite(values)):
+        raise argparse.ArgumentTypeError(f"expected three finite numbers x,y,z, got {text!r}")
     return values
+
+
+def _positive(kind):
+    """An argparse type: a finite number (``float``) or a whole number (``int``) greater than 0."""
+
+    def parse(text):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a{'n integer' if kind is int else ' number'} > 0, got {text!r}") from None
+        if not np.isfinite(value) or value <= 0:
+            raise argparse.ArgumentTypeError(f"expected a{'n integer' if kind is int else ' number'} > 0, got {text!r}")
+        return value
+
+    return parse
+
+
+#: ``--units``: the factor that turns each unit into millimetres.
+UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
+#: Exit status of the ``synergrasp`` command.
+EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
+              1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written)",
+              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)"}
+
+
+def output_stem(obj_arg, grasp) -> str:
+    """The file-name stem of a plan's outputs: the object's name, with its file's extension, and the grasp.
+
+    Two input files that differ only by their extension (``capsule.xyz`` and
+    ``capsule.npy``) get different names.
+
+    Parameters
+    ----------
+    obj_arg : str
+        The ``--object`` argument: a built-in name or a file path.
+    grasp : str
+        ``"precision"`` or ``"power"``.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> output_stem("ellipsoid", "precision"), output_stem("scans/capsule.xyz", "power")
+    ('ellipsoid_precision', 'capsule_xyz_power')
+    """
+    from pathlib import Path
+
+    path = Path(str(obj_arg))
+    suffix = path.suffix.lower().lstrip(".")
+    return f"{path.stem}_{suffix}_{grasp}" if suffix else f"{path.stem}_{grasp}"
+
+
+def attempt_table(result) -> str:
+    """A plan's attempts, one line each: pass, start palm position, stand-off, iterations and why it ended.
+
+    Parameters
+    ----------
+    result : PlanResult
+
+    Returns
+    -------
+    str
+        A text table with a header line.
+    """
+    rows = [("#", "pass", "start palm (mm)", "stand-off", "iterations", "ended")]
+    for number, attempt in enumerate(result.attempts, 1):
+        start = attempt.get("start")
+        palm = "(" + ", ".join(f"{x:.0f}" for x in start[:3]) + ")" if start is not None else "-"
+        standoff = attempt.get("standoff")
+        rows.append((str(number), str(attempt.get("pass", "-")), palm,
+                     "-" if standoff is None else f"{standoff:g} mm", str(attempt["iterations"]), attempt["reason"]))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
+    return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[-1] for row in rows)
+
+
+def _load_object(args):
+    """The object of ``--object``, scaled by ``--scale`` or ``--units`` (files only)."""
+    from . import objects
+
+    scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else None
+    if scale is None:
+        return objects.get(args.object)
+    if isinstance(args.object, str) and args.object.lower() in objects.BUILTINS:
+        option = "--scale" if args.scale is not None else "--units"
+        raise ValueError(f"{option} applies to object files; the built-in {args.object!r} is in millimetres already")
+    return objects.get(args.object, scale=scale)
 
 
 def _plan(args) -> int:
@@ -36,14 +127,16 @@ def _plan(args) -> int:
 
     from tqdm import tqdm
 
-    from . import objects, viz
+    from . import viz
+    from ._files import writable_folder
     from .hand import SynergyHand
+    from .lp import get_backend
     from .planner import plan
 
-    obj = objects.get(args.object)
+    out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
+    get_backend(args.backend)
+    obj = _load_object(args)
     hand = SynergyHand.default()
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
                bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
 
@@ -52,21 +145,32 @@ def _plan(args) -> int:
         q = "  -   " if check.q != check.q else f"{check.q:+.3f}"
         bar.set_postfix_str(f"contacts {check.n_contacts}  g_sQ {status.g[-1]:+.3f}  g_Q {q}")
 
-    result = plan(obj, args.grasp, backend=args.backend, approach=args.approach, max_iter=args.max_iter,
-                  hand=hand, progress=progress)
-    bar.close()
-    stem = f"{Path(str(args.object)).stem}_{args.grasp}"
+    try:
+        result = plan(obj, args.grasp, backend=args.backend, approach=args.approach, max_iter=args.max_iter,
+                      hand=hand, progress=progress)
+    finally:
+        bar.close()
+    stem = output_stem(args.object, args.grasp)
     files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png"),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
     if not args.no_animation:
         files += [viz.animate(result, obj, hand, out / f"{stem}_reach.gif"),
                   viz.write_html(obj, hand, result.u, out / f"{stem}_grasp.html")]
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
-    print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {result.final_q:+.4f}, "
+    q = "-" if result.final_q != result.final_q else f"{result.final_q:+.4f}"
+    print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {q}, "
           f"contacts {', '.join(result.contact_labels) or 'none'}, penetration {result.penetration:.1f} mm")
     print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
+    if not result.success:
+        print(f"attempts ({result.total_iterations} iterations in all; every attempt's status trace is in "
+              f"{Path(files[1]).name}):")
+        print(attempt_table(result))
     print("wrote " + ", ".join(str(f) for f in files))
     return 0 if result.success else 1
+
+
+def _epilog():
+    return "exit status: " + "; ".join(f"{code} {meaning}" for code, meaning in EXIT_CODES.items())
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -76,13 +180,18 @@ def build_parser() -> argparse.ArgumentParser:
     -------
     argparse.ArgumentParser
     """
+    from . import __version__
+
     parser = argparse.ArgumentParser(
         prog="synergrasp",
         description="Reach-to-grasp planning and grasp quality for a synergy-controlled robotic hand.",
+        epilog=_epilog(),
     )
+    parser.add_argument("--version", action="version", version=f"synergrasp {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="print the Q distance of a built-in grasp", description="Print the Q distance of contacts spread on a sphere's equator.")
-    demo.add_argument("--contacts", type=int, default=5, help="number of contacts (default 5)")
+    demo = sub.add_parser("demo", help="print the Q distance of a built-in grasp",
+                          description="Print the Q distance of contacts spread on a sphere's equator.", epilog=_epilog())
+    demo.add_argument("--contacts", type=_positive(int), default=5, help="number of contacts (default 5)")
     demo.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
     demo.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
     demo.set_defaults(func=_demo)
@@ -92,21 +201,35 @@ def build_parser() -> argparse.ArgumentParser:
         help="plan a reach-to-grasp motion and write the result and its figures",
         description="Plan a precision or power grasp of an object with the synergy hand (paper Sec. 3.2). "
         "Writes DIR/NAME_GRASP.json (the PlanResult), the status figure, the poses figure, a GIF of the reach "
-        "and an interactive 3-D page of the final grasp. Exit status 0 on success, 1 if no stable grasp was found.",
+        "and an interactive 3-D page of the final grasp; NAME is the built-in's name or the file's stem and "
+        "extension (capsule.xyz: capsule_xyz), so inputs never share output files. Every file is written "
+        "to a temporary file first and then renamed. The output folder is checked before planning. "
+        "A failed plan prints a table of its attempts and why each ended.",
+        epilog=_epilog(),
     )
     p.add_argument("--object", default="ellipsoid",
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
     p.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type (default precision)")
     p.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
+    units = p.add_mutually_exclusive_group()
+    units.add_argument("--scale", type=_positive(float), default=None, metavar="FACTOR",
+                       help="multiply the file's coordinates by FACTOR to get millimetres (1000 for metres)")
+    units.add_argument("--units", choices=sorted(UNITS), default=None,
+                       help="the file's length unit (m: --scale 1000, cm: --scale 10; default mm)")
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
-    p.add_argument("--max-iter", type=int, default=1500, help="cap on the iterations over all attempts (default 1500)")
+    p.add_argument("--max-iter", type=_positive(int), default=1500,
+                   help="cap on the iterations over all attempts (default 1500)")
     p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_plan)
+    from .physics.cli import add_validate_parser  # the validate subcommand lives with the physics package
+
+    add_validate_parser(sub).epilog = _epilog()
     from .batch.cli import register as register_batch  # the batch and report subcommands
-    register_batch(sub)
+
+    register_batch(sub, _epilog())
     return parser
 
 
@@ -121,8 +244,10 @@ def main(argv=None) -> int:
     Returns
     -------
     int
-        Exit status: 0 on success, 1 if ``plan`` found no stable grasp, 2 on a bad
-        argument or input (the error is printed to stderr).
+        Exit status (`EXIT_CODES`): 0 on success, 1 if ``plan`` found no stable
+        grasp, 2 on a bad argument, input file or output folder (the error is
+        printed to stderr). Argument errors found by the parser exit with 2 too
+        (``SystemExit``).
 
     Examples
     --------
@@ -133,11 +258,23 @@ def main(argv=None) -> int:
     0
     """
     args = build_parser().parse_args(argv)
-    try:
-        return args.func(args)
-    except (ValueError, TypeError, OSError) as exc:
-        print(f"synergrasp: error: {exc}", file=sys.stderr)
-        return 2
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        try:
+            return args.func(args)
+        except (ValueError, TypeError, OSError) as exc:
+            print(f"synergrasp: error: {_command_line_hint(str(exc))}", file=sys.stderr)
+            return 2
+
+
+def _command_line_hint(message: str) -> str:
+    """A library message that suggests ``scale=...``, with the command line's way of saying it."""
+    return message + (" (on the command line: --units m or cm, or --scale FACTOR)" if "scale=" in message else "")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Warnings as one line on stderr, without the library's file and line."""
+    print(f"synergrasp: warning: {_command_line_hint(str(message))}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -416,6 +416,8 @@ class SynergyHand:
 
         Raises
         ------
+        FileNotFoundError
+            If the file does not exist.
         ValueError
             If the file is not valid JSON or a field is missing or malformed; the message
             names the file and the field.
@@ -437,9 +439,11 @@ class SynergyHand:
         ('thick_fingers', 10.0)
         """
         path = Path(path)
+        if not path.is_file():
+            raise FileNotFoundError(f"hand file not found: '{path}'")
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as err:
+        except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise ValueError(f"{path}: not valid JSON ({err})") from None
         return cls(data, source=path)
 
@@ -467,7 +471,13 @@ class SynergyHand:
         return ["px", "py", "pz", "phi1", "phi2", "phi3"] + [f"z{i + 1}" for i in range(self.n_syn)]
 
     def _check_u(self, u):
-        u = np.asarray(u, dtype=float)
+        try:
+            if np.iscomplexobj(u):
+                raise TypeError("complex")
+            u = np.asarray(u, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError(f"u must be a numeric vector of {self.n_u} numbers [p (3), phi (3), z ({self.n_syn})], "
+                            f"got {type(u).__name__}") from None
         if u.shape != (self.n_u,):
             raise ValueError(f"u must have shape ({self.n_u},) = [p (3), phi (3), z ({self.n_syn})], "
                              f"got {u.shape}")

@@ -37,6 +37,14 @@ from ._checks import as_points
 ZERO_TOL = 1e-9
 #: Tolerance on primal weights and reduced costs in the degeneracy test.
 DEGENERACY_TOL = 1e-7
+#: Largest dimension d accepted (the penetration LP has (d+1)(d+2) rows).
+MAX_DIM = 1000
+#: Point sets whose spread (half the largest side of their common bounding box) or offset (the
+#: largest coordinate of the box's centre) fall outside this range are solved translated to
+#: the box's centre and divided by their spread, so that the LPs' tolerances fit them; the
+#: value is scaled back (the pseudo-distance is translation invariant and scales with the
+#: data, its gradients do not change). Data within it (mm at hand size) are solved as given.
+SCALE_RANGE = (1e-3, 1e6)
 
 
 @lru_cache(maxsize=None)
@@ -71,8 +79,8 @@ def regular_simplex(d: int) -> np.ndarray:
     >>> Q.shape, bool(np.allclose(np.linalg.norm(Q, axis=1), 1.0))
     ((4, 3), True)
     """
-    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 2:
-        raise ValueError(f"d must be an integer >= 2, got {d!r}")
+    if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or not 2 <= d <= MAX_DIM:
+        raise ValueError(f"d must be an integer from 2 to {MAX_DIM}, got {d!r}")
     return _regular_simplex(int(d)).copy()
 
 
@@ -322,12 +330,26 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     A = as_points(A, "A", min_dim=2)
     B = as_points(B, "B", dim=A.shape[1])
     d = A.shape[1]
+    if d > MAX_DIM:
+        raise ValueError(f"A and B have points of dimension {d}; at most {MAX_DIM} is supported")
     if simplex is None:
         Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
     else:
         Q = check_simplex(simplex, d)
         qmin = float(np.linalg.norm(Q, axis=1).min())
-    opt = _pseudo_distance(A, B, Q, qmin, lp.get_backend(backend))
+    lo, hi = np.minimum(A.min(axis=0), B.min(axis=0)), np.maximum(A.max(axis=0), B.max(axis=0))
+    centre = 0.5 * lo + 0.5 * hi  # the bounding box's centre (no overflow near the largest floats)
+    spread = float(np.max(0.5 * hi - 0.5 * lo))
+    low, high = SCALE_RANGE
+    if spread > high or float(np.abs(centre).max()) > high or 0.0 < spread < low:
+        unit = spread if spread > 0 else 1.0  # all points in one place: translated only
+        opt = _pseudo_distance((A - centre) / unit, (B - centre) / unit, Q, qmin, lp.get_backend(backend))
+        opt = opt._replace(value=opt.value * unit)
+        if not np.isfinite(opt.value):
+            raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
+                             f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}); rescale the data")
+    else:
+        opt = _pseudo_distance(A, B, Q, qmin, lp.get_backend(backend))
     alpha, beta, dual = opt.alpha, opt.beta, opt.dual
     return PseudoDistance(
         value=opt.value,

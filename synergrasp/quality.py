@@ -30,6 +30,11 @@ from .pseudo_distance import _min_vertex_norm, _pseudo_distance, _regular_simple
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
 FORCE_CLOSURE_TOL = 1e-9
+#: Largest friction coefficient accepted (larger ones are not friction coefficients, and cone
+#: edges that long leave the LP badly scaled).
+MU_MAX = 1000.0
+#: Most friction cone edges (sides of the linearised cone) accepted.
+EDGES_MAX = 1000
 
 _ORIGIN = np.zeros((1, 6))  # the origin of wrench space, the set the Q distance is measured to
 _ORIGIN.setflags(write=False)
@@ -41,6 +46,16 @@ def _unit_normals(normals, n_points):
     if len(normals) != n_points:
         raise ValueError(f"normals has {len(normals)} rows but points has {n_points}; give one normal per contact")
     length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+    huge = ~np.isfinite(length)  # the squares overflowed (entries beyond 1e154): divide by the largest first
+    if huge.any():
+        normals = normals.copy()
+        biggest = np.abs(normals[huge]).max(axis=1)
+        normals[huge] /= biggest[:, None]
+        length[huge] = np.sqrt(np.einsum("ij,ij->i", normals[huge], normals[huge]))
+        unit = normals / length[:, None]
+        with np.errstate(over="ignore"):
+            length[huge] *= biggest  # inf where beyond the float range: the gradient through it is 0
+        return unit, length
     if length.min() < 1e-12:
         raise ValueError(f"normals has zero-length rows {np.nonzero(length < 1e-12)[0].tolist()}; each contact needs a direction")
     return normals / length[:, None], length
@@ -90,8 +105,9 @@ def _basis_vjp(basis, C, vnorm, g1, g2):
 
 def _angles(edges):
     """(cos t_j, sin t_j), t_j = 2 pi j / m, for a valid edge count m."""
-    if isinstance(edges, bool) or not isinstance(edges, (int, np.integer)) or edges < 3:
-        raise ValueError(f"edges must be an integer >= 3 (sides of the linearised friction cone), got {edges!r}")
+    if isinstance(edges, bool) or not isinstance(edges, (int, np.integer)) or not 3 <= edges <= EDGES_MAX:
+        raise ValueError(f"edges must be an integer from 3 to {EDGES_MAX} (sides of the linearised friction cone), "
+                         f"got {edges!r}")
     return _cos_sin(int(edges))
 
 
@@ -158,7 +174,7 @@ def friction_cone_edges(normals, mu=0.3, edges=8):
     """
     normals = as_points(normals, "normals", dim=3)
     nhat, _ = _unit_normals(normals, len(normals))
-    mu = positive_scalar(mu, "mu")
+    mu = positive_scalar(mu, "mu", MU_MAX)
     _angles(edges)
     M, basis, _ = _cone(nhat, mu, edges)
     return np.einsum("kj,kia->ija", M, basis)
@@ -202,7 +218,7 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
     """Validated inputs: lever arms ``p_i - c`` (n, 3), unit normals (n, 3) and their lengths (n,), mu, c, L."""
     points = as_points(points, "points", dim=3)
     nhat, length = _unit_normals(normals, len(points))
-    mu = positive_scalar(mu, "mu")
+    mu = positive_scalar(mu, "mu", MU_MAX)
     _angles(edges)  # validated here, before any work
     c = np.zeros(3) if center is None else as_vector(center, "center", 3)
     arm = points - c
@@ -241,6 +257,8 @@ def force_closure_by_hull(wrenches, tol=1e-9) -> bool:
     (True, False)
     """
     W = as_points(wrenches, "wrenches", dim=6)
+    if isinstance(tol, bool) or not isinstance(tol, (int, float, np.floating, np.integer)) or not np.isfinite(tol) or tol < 0:
+        raise ValueError(f"tol must be a finite number >= 0, got {tol!r}")
     try:
         hull = ConvexHull(W)
     except QhullError:

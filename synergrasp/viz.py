@@ -1,7 +1,8 @@
 """Figures and animations of plans: status histories, hand poses, a GIF and an HTML scene.
 
 All functions draw headless (importing this module selects matplotlib's Agg backend) and
-write files; each returns the path it wrote. ``synergrasp plan`` on the command line writes
+write files, each atomically (a temporary file beside it, then a rename: a failed write leaves
+no partial file); each returns the path it wrote. ``synergrasp plan`` on the command line writes
 all four for a plan.
 """
 
@@ -18,16 +19,17 @@ import trimesh  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-__all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "write_html"]
+from ._checks import integer  # noqa: E402
+from ._files import atomic_path  # noqa: E402
+
+__all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
 
 _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
+_FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
 
 
-def plot_status(result, path, labels=None):
-    """The status vector against iterations, like the paper's Figs. 7b-14b.
-
-    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
-    g_Q with the -0.1 level of a good grasp.
+def plot_status(result, path, labels=None, attempts=None):
+    """The status vector against iterations, like the paper's Figs. 7b-14b (`status_figure`, written to ``path``).
 
     Parameters
     ----------
@@ -35,13 +37,23 @@ def plot_status(result, path, labels=None):
     path : str or Path
         Output image (.png, .svg, .pdf).
     labels : list of str, optional
-        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
-        (pass ``hand.point_labels(result.grasp)`` for another hand).
+        See `status_figure`.
+    attempts : {"all", "last"}, optional
+        See `status_figure`.
 
     Returns
     -------
     Path
         ``path``.
+
+    Raises
+    ------
+    TypeError
+        If ``result`` is not a PlanResult.
+    ValueError
+        If the file's extension is not an image format matplotlib writes, or ``attempts`` is unknown.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
 
     Examples
     --------
@@ -55,11 +67,67 @@ def plot_status(result, path, labels=None):
     ...     path.name, path.stat().st_size > 0
     ('status.png', True)
     """
+    path = _image_path(path)
+    return _save(status_figure(result, labels, attempts), path, dpi=120)
+
+
+def status_figure(result, labels=None, attempts=None):
+    """The figure of `plot_status`: the status vector against iterations.
+
+    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
+    g_Q with the -0.1 level of a good grasp. With every attempt shown, the
+    attempts follow one another along the iteration axis, separated by grey
+    lines and numbered; g_Q is known for the returned (last) attempt only.
+
+    Parameters
+    ----------
+    result : PlanResult
+    labels : list of str, optional
+        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
+        (pass ``hand.point_labels(result.grasp)`` for another hand).
+    attempts : {"all", "last"}, optional
+        Show every attempt's status trace, or the returned reach only. Default:
+        every attempt for a plan that found no grasp (so the figure shows what
+        each attempt did), the returned reach for a successful one. Results
+        without per-attempt traces (saved by older versions) show the returned
+        reach.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes (cP rows, Q distances); close it with ``plt.close(fig)``.
+
+    Raises
+    ------
+    ValueError
+        If ``attempts`` is not "all", "last" or None.
+
+    Examples
+    --------
+    >>> import matplotlib.pyplot as plt
+    >>> import synergrasp as sg
+    >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision", max_iter=6, iterations_per_attempt=3)
+    >>> fig = status_figure(result)            # a failed plan: both attempts, one after the other
+    >>> [len(a["status"]) for a in result.attempts], bool(fig.axes[1].get_xlim()[1] > 7)
+    ([4, 4], True)
+    >>> plt.close(fig)
+    """
     from .hand import SynergyHand
 
+    _check(result=result)
+    if attempts not in (None, "all", "last"):
+        raise ValueError(f"attempts must be 'all', 'last' or None, got {attempts!r}")
     labels = labels or SynergyHand.default().point_labels(result.grasp)
-    status = np.asarray(result.status)
-    k = np.arange(len(status))
+    traces = [a["status"] for a in result.attempts if "status" in a]
+    if attempts is None:
+        attempts = "last" if result.success else "all"
+    if attempts == "last" or len(traces) != len(result.attempts) or len(traces) < 2:
+        traces = [np.asarray(result.status)]
+    traces = [np.asarray(t, dtype=float) for t in traces]
+    starts = np.cumsum([0] + [len(t) for t in traces[:-1]])
+    # one polyline per row, broken (NaN) between attempts
+    k = np.concatenate([np.r_[s + np.arange(len(t)), np.nan] for s, t in zip(starts, traces)])[:-1]
+    status = np.vstack([np.vstack([t, np.full((1, t.shape[1]), np.nan)]) for t in traces])[:-1]
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
     for i, label in enumerate(labels):
         top.plot(k, status[:, i], color=_FINGER_COLORS.get(label[0], "gray"), lw=1.4,
@@ -70,24 +138,64 @@ def plot_status(result, path, labels=None):
     top.set_ylabel("cP (mm)")
     top.set_yscale("symlog", linthresh=10.0)
     top.legend(ncol=6 if len(labels) > 6 else 4, fontsize=7, loc="upper right")
-    top.set_title(f"{result.object_name}, {result.grasp} grasp: {'success' if result.success else 'no grasp'} "
-                  f"after {result.iterations} iterations")
+    outcome = "success" if result.success else "no grasp"
+    if len(traces) > 1:
+        top.set_title(f"{result.object_name}, {result.grasp} grasp: {outcome}; attempts 1-{len(traces)}, "
+                      f"{sum(len(t) - 1 for t in traces)} iterations", pad=14)
+        every = max(1, int(np.ceil(len(traces) / 20)))
+        for number, start in enumerate(starts, 1):
+            for ax in (top, bottom):
+                ax.axvline(start, color="0.6", lw=0.6)
+            if (number - 1) % every == 0:
+                top.annotate(str(number), (start, 1.0), xycoords=("data", "axes fraction"), xytext=(2, 2),
+                             textcoords="offset points", fontsize=7, color="0.35", va="bottom")
+    else:
+        top.set_title(f"{result.object_name}, {result.grasp} grasp: {outcome} after {result.iterations} iterations")
     bottom.plot(k, status[:, -1], color="tab:blue", lw=1.6, label=r"$g_{sQ}$")
-    bottom.plot(k, result.q_history, color="tab:red", lw=1.2, label=r"$g_Q$ (real contacts)")
+    last = starts[-1] + np.arange(len(traces[-1]))
+    bottom.plot(last, np.asarray(result.q_history)[-len(last):], color="tab:red", lw=1.2,
+                label=r"$g_Q$ (real contacts" + (", last attempt)" if len(traces) > 1 else ")"))
     bottom.axhline(-0.1, color="k", lw=0.8, ls="--", label="-0.1")
     bottom.axhline(0.0, color="gray", lw=0.6)
     bottom.set_ylabel("Q distance")
-    bottom.set_xlabel("iteration k")
+    bottom.set_xlabel("iteration k" + (" (attempts one after another)" if len(traces) > 1 else ""))
     bottom.legend(fontsize=8, loc="upper right")
-    return _save(fig, path, dpi=120)
+    fig.tight_layout()
+    return fig
+
+
+def _check(result=None, obj=None, hand=None):
+    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand."""
+    from .hand import SynergyHand
+    from .objects import GraspObject
+    from .planner import PlanResult
+
+    for name, value, kind in (("result", result, PlanResult), ("obj", obj, GraspObject), ("hand", hand, SynergyHand)):
+        if value is not None and not isinstance(value, kind):
+            raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+
+
+def _image_path(path, suffixes=None):
+    """``Path(path)``; ValueError unless its extension is an image format matplotlib writes (or one of ``suffixes``)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    path = Path(path)
+    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes())
+    if path.suffix.lower() not in known:
+        raise ValueError(f"cannot write '{path}': {path.suffix or 'no extension'} is not a supported format; "
+                         f"use one of {', '.join(known)}")
+    return path
 
 
 def _save(fig, path, dpi):
-    """Lay out, write and close a figure; returns ``Path(path)``."""
+    """Lay out, write (atomically) and close a figure; returns ``Path(path)``."""
     fig.tight_layout()
     path = Path(path)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi)
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -141,6 +249,15 @@ def plot_poses(result, obj, hand, path, count=5):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``result``, ``obj`` or ``hand`` is of the wrong type.
+    ValueError
+        If the file's extension is not an image format matplotlib writes, or ``count`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -150,6 +267,9 @@ def plot_poses(result, obj, hand, path, count=5):
     >>> plot_poses(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "poses.png").exists()
     True
     """
+    _check(result=result, obj=obj, hand=hand)
+    path = _image_path(path)
+    count = integer(count, "count", what="poses drawn")
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
     fig = plt.figure(figsize=(7, 7))
@@ -163,7 +283,17 @@ def plot_poses(result, obj, hand, path, count=5):
     if len(result.contact_points):
         ax.scatter(*np.asarray(result.contact_points).T, color="k", s=18, depthshade=False)
     _frame_axes(ax, obj, np.vstack(points))
-    ax.set_title(f"{result.object_name}, {result.grasp}: iterations {', '.join(map(str, picks))}")
+    ax.set_title(f"{result.object_name}, {result.grasp}: iterations {', '.join(map(str, picks))}\n"
+                 "(fainter: earlier; the final pose is drawn thickest)", fontsize=10)
+    fingers = [f for f in _FINGER_NAMES if f != "P" and f in {label[0] for label in hand.segments(traj[-1]).labels}]
+    handles = [plt.Line2D([], [], color=_FINGER_COLORS[f], lw=4) for f in fingers]
+    names = [_FINGER_NAMES[f] for f in fingers]
+    handles.append(plt.Line2D([], [], color="k", lw=1))
+    names.append("palm")
+    if len(result.contact_points):
+        handles.append(plt.Line2D([], [], color="k", marker="o", ls="", markersize=5))
+        names.append("contacts")
+    ax.legend(handles, names, loc="upper left", fontsize=8, frameon=False)
     return _save(fig, path, dpi=120)
 
 
@@ -186,6 +316,15 @@ def plot_grasps(plans, hand, path, columns=6):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If a result, object or the hand is of the wrong type.
+    ValueError
+        If ``plans`` is empty or malformed, the extension is not an image format, or ``columns`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -197,6 +336,13 @@ def plot_grasps(plans, hand, path, columns=6):
     """
     if not plans:
         raise ValueError("plot_grasps needs at least one (result, object, caption) triple")
+    _check(hand=hand)
+    path = _image_path(path)
+    for i, plan in enumerate(plans):
+        if not isinstance(plan, (tuple, list)) or len(plan) != 3:
+            raise ValueError(f"plans[{i}] must be a (result, object, caption) triple")
+        _check(result=plan[0], obj=plan[1])
+    columns = integer(columns, "columns")
     columns = max(1, min(int(columns), len(plans)))
     rows = -(-len(plans) // columns)
     fig = plt.figure(figsize=(2.6 * columns, 2.6 * rows))
@@ -235,6 +381,15 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``result``, ``obj`` or ``hand`` is of the wrong type.
+    ValueError
+        If ``path`` does not end in .gif, or ``fps`` or ``max_frames`` < 1.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -244,6 +399,9 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     >>> animate(result, obj, hand, pathlib.Path(tempfile.mkdtemp()) / "reach.gif").exists()
     True
     """
+    _check(result=result, obj=obj, hand=hand)
+    path = _image_path(path, [".gif"])
+    fps, max_frames = integer(fps, "fps"), integer(max_frames, "max_frames")
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
     fig = plt.figure(figsize=(5.5, 5.5))
@@ -261,8 +419,11 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
 
     anim = animation.FuncAnimation(fig, draw, frames=frames, blit=False)
     path = Path(path)
-    anim.save(path, writer=animation.PillowWriter(fps=fps))
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            anim.save(tmp, writer=animation.PillowWriter(fps=fps))
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -284,6 +445,11 @@ def scene(obj, hand, u):
         The object and the hand's parts as coloured meshes (``scene.show()`` opens a viewer
         where one is installed; ``scene.export("grasp.glb")`` writes a file).
 
+    Raises
+    ------
+    TypeError
+        If ``obj`` or ``hand`` is of the wrong type.
+
     Examples
     --------
     >>> from synergrasp import SynergyHand, objects
@@ -291,6 +457,7 @@ def scene(obj, hand, u):
     >>> len(scene(objects.ellipsoid(), hand, np.r_[0.0, 0.0, 150.0, np.zeros(5)]).geometry)  # object, 15 phalanges, palm
     17
     """
+    _check(obj=obj, hand=hand)
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
     geo = hand.segments(u)
@@ -328,6 +495,13 @@ def write_html(obj, hand, u, path):
     Path
         ``path``.
 
+    Raises
+    ------
+    TypeError
+        If ``obj`` or ``hand`` is of the wrong type.
+    FileNotFoundError
+        If the folder of ``path`` does not exist.
+
     Examples
     --------
     >>> import pathlib, tempfile
@@ -339,5 +513,7 @@ def write_html(obj, hand, u, path):
     from trimesh.viewer.notebook import scene_to_html
 
     path = Path(path)
-    path.write_text(scene_to_html(scene(obj, hand, u)))
+    page = scene_to_html(scene(obj, hand, u))
+    with atomic_path(path) as tmp:
+        tmp.write_text(page)
     return path

@@ -43,3 +43,114 @@ def test_bad_approach_is_rejected_by_the_parser(capsys):
     with pytest.raises(SystemExit):
         build_parser().parse_args(["plan", "--approach", "1,2"])
     assert "expected three numbers" in capsys.readouterr().err
+
+
+def test_version(capsys):
+    import synergrasp as sg
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"synergrasp {sg.__version__}"
+
+
+def write_capsule_cloud(path, scale=1.0):
+    """Points on a capsule 70 mm wide and 130 mm long, times ``scale`` (0.001: in metres), as .xyz or .npy."""
+    import numpy as np
+    import trimesh
+
+    points = trimesh.sample.sample_surface(trimesh.creation.capsule(height=60.0, radius=35.0), 1500, seed=0)[0] * scale
+    if path.suffix == ".npy":
+        np.save(path, points)
+    else:
+        np.savetxt(path, points)
+    return path
+
+
+@pytest.mark.parametrize("units", [["--units", "m"], ["--scale", "1000"]])
+def test_scale_and_units(tmp_path, capsys, units):
+    path = write_capsule_cloud(tmp_path / "capsule_m.xyz", scale=0.001)
+    out = tmp_path / "out"
+    assert main(["plan", "--object", str(path), "--out", str(out), "--quiet", "--no-animation"]) == 2
+    err = capsys.readouterr().err                                 # in metres, without the factor:
+    assert "too small to grasp" in err and "on the command line: --units m" in err
+    assert main(["plan", "--object", str(path), *units, "--max-iter", "2", "--out", str(out), "--quiet", "--no-animation"]) == 1
+    assert json.loads((out / "capsule_m_xyz_precision.json").read_text())["iterations"] == 2
+    assert main(["plan", "--object", "cup", *units, "--out", str(out), "--quiet"]) == 2
+    assert "applies to object files" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--scale", "0"], "expected a number > 0"),
+    (["--scale", "nan"], "expected a number > 0"),
+    (["--units", "inch"], "invalid choice: 'inch'"),
+    (["--scale", "10", "--units", "m"], "not allowed with argument"),
+    (["--max-iter", "0"], "expected an integer > 0"),
+    (["--approach", "1,nan,0"], "expected three finite numbers"),
+])
+def test_bad_arguments_exit_2(capsys, argv, message):
+    with pytest.raises(SystemExit) as exc:
+        main(["plan", *argv])
+    assert exc.value.code == 2 and message in capsys.readouterr().err
+
+
+def test_unwritable_out_is_found_before_planning(tmp_path, capsys, monkeypatch):
+    import synergrasp.planner
+
+    planned = []
+    monkeypatch.setattr(synergrasp.planner, "plan", lambda *a, **k: planned.append(1))
+    blocker = tmp_path / "results"
+    blocker.write_text("a file where the folder should be")
+    for out in (blocker, blocker / "sub"):
+        assert main(["plan", "--out", str(out), "--quiet"]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("synergrasp: error: cannot write to the output folder (--out)") and str(out) in err
+    assert planned == []
+
+
+def test_inputs_never_share_output_files(tmp_path, capsys):
+    out = tmp_path / "out"
+    for name in ("capsule.xyz", "capsule.npy"):
+        path = write_capsule_cloud(tmp_path / name)
+        assert main(["plan", "--object", str(path), "--max-iter", "2", "--out", str(out), "--quiet", "--no-animation"]) == 1
+    capsys.readouterr()
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["capsule_npy_precision.json", "capsule_npy_precision_poses.png", "capsule_npy_precision_status.png",
+                     "capsule_xyz_precision.json", "capsule_xyz_precision_poses.png", "capsule_xyz_precision_status.png"]
+    assert json.loads((out / "capsule_xyz_precision.json").read_text())["object_name"] == "capsule.xyz"
+
+
+def test_a_failed_plan_reports_every_attempt(tmp_path, capsys):
+    code = main(["plan", "--object", "ellipsoid", "--max-iter", "12", "--out", str(tmp_path), "--quiet", "--no-animation"])
+    out = capsys.readouterr().out
+    assert code == 1 and out.startswith("FAILED: no stable grasp found")
+    saved = json.loads((tmp_path / "ellipsoid_precision.json").read_text())
+    table = out[out.index("#  pass"):].splitlines()
+    rows = [line for line in table[1:] if line[:1].isdigit()]
+    assert len(rows) == len(saved["attempts"]) >= 1
+    for row, attempt in zip(rows, saved["attempts"]):
+        assert row.rstrip().endswith(attempt["reason"]) and f" {attempt['iterations']} " in row
+
+
+def test_no_solver_banner_on_stdout(tmp_path):
+    """Run as a user would: the HiGHS banner must not reach stdout."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(root), os.environ.get("PYTHONPATH")])))
+    proc = subprocess.run([sys.executable, "-m", "synergrasp.cli", "demo"], capture_output=True, text=True, env=env,
+                          cwd=tmp_path, timeout=120)
+    assert proc.returncode == 0 and proc.stdout.startswith("5 contacts spread") and "HiGHS" not in proc.stdout
+
+
+def test_exit_codes_are_documented(capsys):
+    from synergrasp.cli import EXIT_CODES
+
+    assert sorted(EXIT_CODES) == [0, 1, 2]
+    for argv in ([], ["plan"], ["demo"], ["validate"]):
+        with pytest.raises(SystemExit):
+            main(argv + ["--help"])
+        text = " ".join(capsys.readouterr().out.split())
+        assert all(f"{code} {' '.join(meaning.split())}" in text for code, meaning in EXIT_CODES.items())

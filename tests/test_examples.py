@@ -3,7 +3,8 @@
 Each example runs as a subprocess, ``python examples/NAME.py --out TMP``, with a timeout; the
 test checks its exit status and, where the output has a claim in it, the claim. A new example
 without an entry in CHECKS still runs (exit status 0 and no traceback). ``paper_experiments.py``
-takes minutes and is left out.
+takes minutes: it runs with ``--quick`` (one case). No example may change a file of the
+repository (they write under ``--out``; only ``--docs`` regenerates the documentation).
 """
 
 import json
@@ -19,7 +20,7 @@ import pytest
 import synergrasp as sg
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
-SKIP = {"paper_experiments.py"}
+ROOT = EXAMPLES.parent
 TIMEOUT = 120  # s per example; each takes a few seconds
 
 
@@ -61,9 +62,9 @@ def check_plan_cup(out, stdout):
 def check_plan_mesh_file(out, stdout):
     assert "loaded GraspObject('capsule.stl'" in stdout and "method 'hull'" in stdout
     assert "\nsuccess: stop criterion met" in stdout
-    result = sg.PlanResult.load(out / "capsule_precision.json")
+    result = sg.PlanResult.load(out / "capsule_stl_precision.json")
     assert result.success and result.final_q < 0
-    assert (out / "capsule_precision_poses.png").stat().st_size > 0
+    assert (out / "capsule_stl_precision_poses.png").stat().st_size > 0
 
 
 def check_compare_backends(out, stdout):
@@ -92,6 +93,14 @@ def check_synergy_plane(out, stdout):
     assert (out / "synergy_plane.png").stat().st_size > 0
 
 
+def check_paper_experiments(out, stdout):
+    rows = (out / "paper_experiments.csv").read_text().splitlines()
+    assert len(rows) == 2 and rows[1].startswith("ellipsoid,precision,True,True")
+    assert "| ellipsoid | precision | yes |" in (out / "paper_experiments.md").read_text()
+    for name in ("ellipsoid_precision_status.png", "ellipsoid_precision_poses.png"):
+        assert (out / name).stat().st_size > 0
+
+
 CHECKS = {
     "grasp_quality.py": check_grasp_quality,
     "pseudo_distance_polytopes.py": check_pseudo_distance_polytopes,
@@ -100,18 +109,31 @@ CHECKS = {
     "compare_backends.py": check_compare_backends,
     "add_a_hand.py": check_add_a_hand,
     "synergy_plane.py": check_synergy_plane,
+    "paper_experiments.py": check_paper_experiments,
 }
 
 
 def arguments(name, out):
-    if name == "synergy_plane.py":                  # takes the output file as its only argument
-        return [str(out / "synergy_plane.png")]
     if name == "compare_backends.py":
         return ["--out", str(out), "--seconds", "0.05"]
+    if name == "paper_experiments.py":
+        return ["--out", str(out), "--quick"]
     return ["--out", str(out)]
 
 
-SCRIPTS = sorted(p.name for p in EXAMPLES.glob("*.py") if p.name not in SKIP)
+SCRIPTS = sorted(p.name for p in EXAMPLES.glob("*.py"))
+
+
+def repository_files():
+    """Size and modification time of every file of the repository outside caches and output folders."""
+    skip = {".git", "__pycache__", ".pytest_cache", ".hypothesis", "examples-out", "bench-out", "synergrasp-out", "site"}
+    state = {}
+    for folder, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if d not in skip and not d.endswith(".egg-info")]
+        for name in files:
+            stat = os.stat(os.path.join(folder, name))
+            state[os.path.relpath(os.path.join(folder, name), ROOT)] = (stat.st_size, stat.st_mtime_ns)
+    return state
 
 
 def test_every_example_is_checked():
@@ -125,14 +147,18 @@ def test_example_runs(name, tmp_path):
     # the examples import the package under test, not another installed copy
     path = os.pathsep.join(filter(None, [str(EXAMPLES.parent), os.environ.get("PYTHONPATH")]))
     env = dict(os.environ, MPLBACKEND="Agg", SYNERGRASP_CACHE=str(tmp_path / "cache"), PYTHONWARNINGS="default", PYTHONPATH=path)
+    before = repository_files()
     proc = subprocess.run([sys.executable, str(EXAMPLES / name), *arguments(name, out)], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=TIMEOUT)
     assert proc.returncode == 0, f"{name} exited with {proc.returncode}:\n{proc.stdout}\n{proc.stderr}"
     assert "Traceback" not in proc.stderr, proc.stderr
     if name in CHECKS:
         CHECKS[name](out, proc.stdout)
-    # nothing written outside --out (the default ./examples-out would land in the cwd)
+    # nothing written outside --out (the default ./examples-out would land in the cwd), no file of the repository changed
     assert not (tmp_path / "examples-out").exists()
+    after = repository_files()
+    changed = sorted(k for k in before.keys() | after.keys() if before.get(k) != after.get(k))
+    assert not changed, f"{name} changed files of the repository: {changed}"
 
 
 @pytest.mark.parametrize("name", SCRIPTS)

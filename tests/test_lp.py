@@ -143,3 +143,17 @@ def test_highs_runs_with_a_global_scheduler_of_another_thread_count():
         assert sol.status == "optimal" and sol.objective == pytest.approx(2.0)
     finally:
         highspy.Highs.resetGlobalScheduler(True)
+
+
+def test_highs_prints_no_banner_on_stdout():
+    """HiGHS writes "Running HiGHS ..." to file descriptor 1 on its first instance; the backend hides it."""
+    import subprocess
+    import sys
+
+    code = ("import synergrasp as sg\n"
+            "print('before')\n"
+            "sg.q_distance([[0, 0, 10.0], [0, 0, -10.0]], [[0, 0, -1.0], [0, 0, 1.0]], backend='highs')\n"
+            "print('after')\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "before\nafter\n"

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 import trimesh
 
+import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.objects import loading
 
@@ -185,16 +186,72 @@ def test_size_warnings():
         so.from_points(ellipsoid_cloud() / 1000)
 
 
-def test_non_watertight_mesh_loads_with_a_warning(tmp_path):
-    mesh = box_mesh()
-    open_box = trimesh.Trimesh(mesh.vertices, mesh.faces[:-2])  # one side missing
-    assert not open_box.is_watertight
+def open_box(extents=(30.0, 40.0, 50.0)):
+    """A box without its top face (two triangles)."""
+    mesh = trimesh.creation.box(extents)
+    return trimesh.Trimesh(mesh.vertices, mesh.faces[mesh.face_normals[:, 2] < 0.5])
+
+
+def test_open_mesh_is_capped_and_the_repair_reported(tmp_path):
     path = tmp_path / "open.stl"
-    open_box.export(path)
-    with pytest.warns(UserWarning, match="not watertight"):
-        obj = so.load(path)
-    assert obj.info["method"].startswith("surface points") and not obj.info["watertight"]
-    assert obj.extents == pytest.approx([30, 40, 50], abs=0.5)
+    open_box().export(path)
+    with pytest.warns(UserWarning, match=r"not watertight: 1 hole\(s\) capped with 4800 mm\^2 of new surface"):
+        obj = so.load(path, scale=2.0)
+    repair = obj.info["repair"]
+    assert repair["method"] == "capped" and repair["holes_filled"] == 1
+    assert repair["cap_area"] == pytest.approx(4 * 30 * 40) and repair["volume"] == pytest.approx(8 * 30 * 40 * 50)
+    assert repair["cap_fraction"] == pytest.approx(1200 / 9400)
+    assert not obj.info["watertight"] and obj.mesh.is_watertight
+    assert obj.info["method"] == "hull" and obj.n_pieces == 1  # the box it was, not a cloud of walls
+    assert obj.extents == pytest.approx([60, 80, 100]) and obj.volume == pytest.approx(8 * 30 * 40 * 50)
+
+
+def test_open_box_cloud_is_the_whole_box():
+    """The cloud of a box without its lid: the opening is closed across, the solid is the box."""
+    mesh = open_box()
+    points = np.vstack([mesh.vertices, trimesh.sample.sample_surface(mesh, 2500, seed=0)[0]])
+    obj = so.from_points(points, cache=False)
+    assert obj.n_pieces == 1 and obj.volume == pytest.approx(30 * 40 * 50, rel=2e-3)  # within half a voxel
+    assert obj.contains([[0.0, 0.0, 20.0], [0.0, 0.0, 0.0]]).all()
+
+
+def test_mesh_that_cannot_be_capped_is_closed_on_a_voxel_grid():
+    """Two boxes sharing an edge (non-manifold) and open on top: closed as the solid their surface encloses."""
+    a, b = open_box((40.0, 40.0, 40.0)), open_box((40.0, 40.0, 40.0))
+    b.apply_translation([40.0, 40.0, 0.0])
+    with pytest.warns(UserWarning, match=r"cannot be capped \(1 edges are shared by more than two faces.*voxel grid"):
+        obj = so.from_mesh(trimesh.util.concatenate([a, b]), name="two boxes", cache=False)
+    assert obj.info["repair"]["method"] == "voxel closing" and obj.info["method"].startswith("voxel closing")
+    assert obj.contains([[0.0, 0.0, 0.0], [40.0, 40.0, 0.0], [0.0, 0.0, 15.0]]).all()  # the open boxes are filled
+    assert not obj.contains([[40.0, 0.0, 0.0], [0.0, 40.0, 0.0]]).any()  # the empty quadrants stay empty
+    assert obj.info["repair"]["filled_volume"] == pytest.approx(2 * 40.0**3, rel=0.25)
+
+
+def test_open_surface_that_encloses_nothing_is_refused():
+    """Half a tube (an arch): its edge loop is not planar, and it encloses no volume."""
+    tube = trimesh.creation.cylinder(radius=30.0, height=80.0, sections=48)
+    keep = (np.abs(tube.face_normals[:, 2]) < 0.5) & (tube.triangles_center[:, 1] > 0)
+    arch = trimesh.Trimesh(tube.vertices, tube.faces[keep])
+    with pytest.raises(ValueError, match=r"arch is not watertight and cannot be capped \(a hole's edge loop .* is not "
+                       r"planar.*encloses no volume on a voxel grid either"):
+        so.from_mesh(arch, name="arch", cache=False)
+
+
+@pytest.mark.parametrize("ext", [".obj", ".stl", ".ply", ".off"])
+def test_non_finite_vertex_in_a_file_is_refused(tmp_path, ext):
+    """The loader sees the NaN vertex (trimesh's processing would drop it with its faces) and gives from_mesh's error."""
+    mesh = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
+    vertices = mesh.vertices.copy()
+    vertices[3] = np.nan
+    with pytest.raises(ValueError, match=r"mesh vertices contains NaN or inf at rows \[3\]"):
+        so.from_mesh(trimesh.Trimesh(vertices, mesh.faces, process=False))
+    path = tmp_path / f"ball{ext}"
+    if ext == ".obj":  # trimesh's exporters write NaN differently per format: write the OBJ by hand
+        path.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in vertices) + "".join(f"f {a} {b} {c}\n" for a, b, c in mesh.faces + 1))
+    else:
+        trimesh.Trimesh(vertices, mesh.faces, process=False).export(path)
+    with pytest.raises(ValueError, match=rf"ball\{ext} vertices contains NaN or inf"):
+        so.load(path, cache=False)
 
 
 def test_bad_point_clouds():
@@ -250,3 +307,19 @@ def test_bad_files(tmp_path):
     np.savez(keys, a=np.ones(3), b=np.ones(3))
     with pytest.raises(ValueError, match="keys.npz.*'points'"):
         so.load(keys)
+
+
+def test_an_open_box_is_grasped_like_the_closed_one(tmp_path):
+    """A 60 mm box without its lid, from a file and as a point cloud, gives the closed box's plan."""
+    closed = trimesh.creation.box(extents=[60.0, 60.0, 60.0])
+    lidless = trimesh.Trimesh(closed.vertices, closed.faces[closed.face_normals[:, 2] < 0.5])
+    path = tmp_path / "open_box.stl"
+    lidless.export(path)
+    with pytest.warns(UserWarning, match="1 hole"):
+        from_file = so.load(path, cache=False)
+    cloud = np.vstack([lidless.vertices, trimesh.sample.sample_surface(lidless, 2500, seed=0)[0]])
+    plans = [sg.plan(obj, "precision") for obj in (so.from_mesh(closed, cache=False), from_file, so.from_points(cloud, cache=False))]
+    for r, obj in zip(plans, ("closed", "open file", "open cloud")):
+        assert r.success, f"{obj}: {r.reason}"
+    assert plans[1].iterations == plans[0].iterations and np.allclose(plans[1].u, plans[0].u)
+    assert plans[2].total_iterations <= 2 * plans[0].total_iterations

@@ -15,7 +15,7 @@ from synergrasp.planner import core
 from synergrasp.planner.status import Status, capsule_rows, segment_distance
 
 from .conftest import BACKENDS
-from .test_quality import hull_contains_origin
+from .test_quality import origin_strictly_inside
 
 
 @pytest.fixture(scope="module")
@@ -174,7 +174,7 @@ def verify(result, obj):
     """Independent checks of a successful plan's final grasp."""
     assert result.success, result.reason
     W = sg.contact_wrenches(result.contact_points, result.contact_normals, center=obj.center, torque_scale=obj.torque_scale)
-    assert hull_contains_origin(W)
+    assert origin_strictly_inside(W)
     on_surface = obj.contact_distance(result.contact_points).value
     assert np.abs(on_surface).max() < 1e-6
     assert result.penetration <= 3.0

@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-from scipy.spatial import ConvexHull, QhullError
 
 import synergrasp as sg
 
@@ -27,13 +26,32 @@ def box_grasp(rng, n, half=(30.0, 20.0, 15.0)):
     return P, N
 
 
-def hull_contains_origin(W, tol=1e-9):
-    """Independent force-closure test: origin strictly inside conv(W)."""
-    try:
-        hull = ConvexHull(W)
-    except QhullError:  # flat wrench set: the origin cannot be strictly inside
+def origin_strictly_inside(W, margin=1e-9):
+    """Independent force-closure test by linear programming (not qhull, not the library's LPs).
+
+    The origin is strictly inside conv(W) in R^6 when the wrenches span R^6 and some convex
+    combination of ALL of them with every weight positive is zero: maximise t subject to
+    sum_i l_i w_i = 0, sum_i l_i = 1, l_i >= t (scipy.optimize.linprog); strictly inside
+    when t > margin and W has rank 6 (with positive weights on every wrench the origin is in
+    the relative interior of conv(W), which is all of it exactly when the rank is 6).
+    """
+    from scipy.optimize import linprog
+
+    W = np.asarray(W, dtype=float)
+    k = len(W)
+    if k < 7 or np.linalg.matrix_rank(W - W.mean(axis=0)) < 6:
         return False
-    return bool((hull.equations[:, -1] < -tol).all())
+    # variables (l_1..l_k, t); l_i - t >= 0 written as -l_i + t <= 0
+    c = np.r_[np.zeros(k), -1.0]
+    A_eq = np.r_[np.c_[W.T, np.zeros(6)], [np.r_[np.ones(k), 0.0]]]
+    b_eq = np.r_[np.zeros(6), 1.0]
+    A_ub = np.c_[-np.eye(k), np.ones(k)]
+    res = linprog(c, A_ub=A_ub, b_ub=np.zeros(k), A_eq=A_eq, b_eq=b_eq,
+                  bounds=[(0, None)] * k + [(None, None)], method="highs")
+    if res.status == 2:  # infeasible: the origin is not in conv(W) at all
+        return False
+    assert res.status == 0, res.message
+    return bool(-res.fun > margin)
 
 
 def test_cone_edges():
@@ -109,12 +127,30 @@ def test_well_spread_contacts_with_friction_are_force_closed(backend, n, low, hi
     assert sg.q_distance(P, -P, mu=1e-9, backend=backend).value > -1e-6
 
 
-def test_library_hull_test_matches_the_independent_one():
+def test_the_independent_check_on_closed_forms():
+    cross = np.r_[np.eye(6), -np.eye(6)]  # the 12 signed unit wrenches: the origin is their centre
+    assert origin_strictly_inside(cross)
+    assert not origin_strictly_inside(cross[:-1])  # without -e6 the origin lies on the facet w6 = 0
+    assert not origin_strictly_inside(cross + [0, 0, 0, 0, 0, 1.0001])  # shifted off the origin
+    assert not origin_strictly_inside(np.r_[cross[:, :5], -cross[:, :5]] @ np.eye(5, 6))  # spans 5 dimensions only
+    simplex = sg.regular_simplex(6)  # 7 vertices around the origin, inradius 1/6
+    assert origin_strictly_inside(simplex) and not origin_strictly_inside(simplex[:6])
+    assert origin_strictly_inside(simplex + 0.9 * simplex[0] / 6)  # the facet opposite q0 moved to 1/60 of the origin
+    assert not origin_strictly_inside(simplex + 1.1 * simplex[0] / 6)  # ... and past it
+
+
+@pytest.mark.parametrize("closed", [True, False])
+def test_library_hull_test_matches_the_independent_one(closed):
     rng = np.random.default_rng(5)
-    for trial in range(30):
-        P, N = sphere_grasp(rng, int(rng.integers(2, 6)), noise=0.3)
+    checked = 0
+    for trial in range(60):
+        P, N = sphere_grasp(rng, int(rng.integers(3, 6)) if closed else 2, noise=0.3)
         W = sg.contact_wrenches(P, N)
-        assert sg.force_closure_by_hull(W) == hull_contains_origin(W)
+        if abs(sg.q_distance(P, N).value) < 1e-6:  # on the boundary either answer is within round-off
+            continue
+        assert sg.force_closure_by_hull(W) == origin_strictly_inside(W), f"trial {trial}"
+        checked += 1
+    assert checked >= 40
 
 
 def test_force_closure_agrees_with_convex_hull():
@@ -126,7 +162,7 @@ def test_force_closure_agrees_with_convex_hull():
         r = sg.q_distance(P, N, mu=0.3, edges=8)
         if abs(r.value) < 1e-6:  # on the boundary: either answer is within tolerance
             continue
-        assert r.force_closure == hull_contains_origin(r.wrenches), f"trial {trial}: Q = {r.value}"
+        assert r.force_closure == origin_strictly_inside(r.wrenches), f"trial {trial}: Q = {r.value}"
         checked += 1
         closed += r.force_closure
     assert checked >= 100 and 20 <= closed <= checked - 20  # both outcomes well represented
@@ -142,7 +178,7 @@ def test_force_closure_agrees_with_convex_hull():
         ({"points": np.zeros((0, 3)), "normals": np.zeros((0, 3))}, ValueError, "points is empty"),
         ({"mu": 0.0}, ValueError, "mu must be a finite number > 0"),
         ({"mu": -0.3}, ValueError, "mu must be"),
-        ({"edges": 2}, ValueError, "edges must be an integer >= 3"),
+        ({"edges": 2}, ValueError, "edges must be an integer from 3 to 1000"),
         ({"edges": 4.5}, ValueError, "edges must be an integer"),
         ({"center": [0, 0]}, ValueError, "center must have shape \\(3,\\)"),
         ({"torque_scale": 0.0}, ValueError, "torque_scale must be"),

@@ -18,6 +18,17 @@ def quick(tmp_path_factory):
     return compare.main(["--quick", "--quiet", "--out", str(out)])
 
 
+def test_runs_without_docs_write_outside_the_repository():
+    """Without --docs the harness writes under ./bench-out (the committed solvers/results only with --docs)."""
+    from solvers import profile_plan
+
+    for module in (compare, profile_plan):
+        assert not module.DEFAULT_OUT.is_absolute() and module.DEFAULT_OUT.parts[0] == "bench-out"
+        assert module.COMMITTED == compare.ROOT / "solvers" / "results"
+    with pytest.raises(SystemExit):
+        compare.main(["--quick", "--docs"])  # the committed results only from a full run
+
+
 def test_summary_has_one_row_per_backend(quick):
     names = [row["backend"] for row in quick["summary"]]
     assert names == EXPECTED

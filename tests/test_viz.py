@@ -24,3 +24,17 @@ def test_gallery_grid(tmp_path, short_plan):
 def test_gallery_needs_a_plan(tmp_path):
     with pytest.raises(ValueError, match="at least one"):
         viz.plot_grasps([], sg.SynergyHand.default(), tmp_path / "g.png")
+
+
+def test_poses_figure_explains_its_colours(tmp_path, short_plan, monkeypatch):
+    """The finger colours, the palm and the contacts are named in a legend."""
+    result, obj = short_plan
+    figures = []
+    monkeypatch.setattr(viz, "_save", lambda fig, path, dpi: figures.append(fig) or path)
+    viz.plot_poses(result, obj, sg.SynergyHand.default(), tmp_path / "poses.png")
+    legend = figures[0].axes[0].get_legend()
+    names = [text.get_text() for text in legend.get_texts()]
+    assert names[:6] == ["thumb", "index", "middle", "ring", "little", "palm"]
+    colours = [handle.get_color() for handle in legend.legend_handles[:5]]
+    assert colours == ["tab:red", "tab:orange", "tab:green", "tab:purple", "tab:brown"]
+    assert ("contacts" in names) == bool(len(result.contact_points))

@@ -142,17 +142,22 @@ class Backend:
 
         Raises
         ------
+        TypeError
+            If the data are not numeric.
         ValueError
             If the shapes do not match, an entry is not finite, or ``basic``
             is not an (n,) bool array.
         """
-        c = np.ascontiguousarray(c, dtype=float)
-        b = np.ascontiguousarray(b, dtype=float)
-        if isinstance(A, CSC):
-            values = A.data
-        else:
-            A = np.ascontiguousarray(A, dtype=float)
-            values = A
+        try:
+            c = np.ascontiguousarray(c, dtype=float)
+            b = np.ascontiguousarray(b, dtype=float)
+            if isinstance(A, CSC):
+                values = A.data
+            else:
+                A = np.ascontiguousarray(A, dtype=float)
+                values = A
+        except (TypeError, ValueError):
+            raise TypeError("LP data c, A and b must be numeric arrays (A may be a synergrasp.lp.CSC)") from None
         if A.ndim != 2 or c.shape != (A.shape[1],) or b.shape != (A.shape[0],):
             raise ValueError(
                 f"LP data of mismatched shapes: c {c.shape}, A {A.shape}, b {b.shape}; "

@@ -17,7 +17,9 @@ HiGHS completes them to a basis.
 
 from __future__ import annotations
 
+import ctypes
 import os
+import sys
 from collections import OrderedDict
 
 import highspy
@@ -48,6 +50,40 @@ BASIS_CACHE_SIZE = 64
 THREADS = max(1, ((os.cpu_count() or 1) + 1) // 2)
 
 
+def _flush_c_streams() -> None:
+    """``fflush(NULL)``: write out what the C library buffered (where the C library can be reached)."""
+    try:
+        ctypes.CDLL(None).fflush(None)
+    except (OSError, TypeError, AttributeError):
+        pass
+
+
+def _new_highs() -> highspy.Highs:
+    """A ``highspy.Highs`` instance, without the banner HiGHS prints on the process's stdout.
+
+    HiGHS writes its banner ("Running HiGHS ...") from C++ straight to file
+    descriptor 1 when the first instance is made, before any option can turn
+    output off; descriptor 1 is pointed at the null device meanwhile (the C
+    streams flushed before it is restored, so nothing buffered leaks out later).
+    """
+    try:
+        sys.stdout.flush()
+        saved = os.dup(1)
+    except (OSError, ValueError, AttributeError):  # no usable stdout: nothing to hide
+        return highspy.Highs()
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        try:
+            return highspy.Highs()
+        finally:
+            _flush_c_streams()
+    finally:
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+
+
 class HighsBackend(Backend):
     """LP backend on HiGHS (``highspy``), simplex with warm starts.
 
@@ -67,7 +103,7 @@ class HighsBackend(Backend):
     def __init__(self, warm_start: bool = True, **options):
         super().__init__(name="highs")
         self.warm_start = warm_start
-        self._h = highspy.Highs()
+        self._h = _new_highs()
         self._h.setOptionValue("output_flag", False)
         self._h.setOptionValue("presolve", "off")  # tiny dense LPs: presolve costs more than it saves
         self._h.setOptionValue("solver", "simplex")

@@ -26,8 +26,19 @@ def _no_volume(name: str, detail: str) -> ValueError:
     return ValueError(f"{name} has no volume: {detail}; a grasp object needs a 3-D solid")
 
 
+#: Object sizes (largest side, mm) outside this range are refused: no hand grasps them, and the
+#: geometry's tolerances do not fit them. (10-500 mm is the usual range; outside it, a warning.)
+SIZE_LIMITS = (1e-6, 1e6)
+
+
 def _hull(points: np.ndarray, name: str) -> ConvexHull:
-    """Convex hull of ``points`` with a clear error when they span no volume."""
+    """Convex hull of ``points`` with a clear error when they span no volume or are of an absurd size."""
+    size = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
+    lo, hi = SIZE_LIMITS
+    if size > hi or 0.0 < size < lo:
+        hint = "scale=1000 for metres" if size < lo else "scale=0.001 for micrometres"
+        raise ValueError(f"{name} is {size:.3g} mm across, outside the {lo:g}-{hi:g} mm that synergrasp works with "
+                         f"(lengths in mm): rescale it ({hint})")
     if len(points) < 4:
         raise _no_volume(name, f"it has only {len(points)} distinct point(s), at least 4 are needed")
     centred = points - points.mean(axis=0)

@@ -90,6 +90,8 @@ class GraspObject:
         )
         self.name = str(name)
         self.mesh = mesh
+        if info is not None and not isinstance(info, dict):
+            raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")
         self.info = dict(info or {})
         self._planes = np.vstack([p.planes for p in self.convex])
         self._plane_counts = np.array([len(p.planes) for p in self.convex])  # (J,) facet planes of each piece
@@ -99,6 +101,12 @@ class GraspObject:
             self.center = self._default_center()
         else:
             self.center = as_vector(center, "center", 3).copy()
+            if not self.contains([self.center])[0]:
+                raise ValueError(
+                    f"center {self.center.round(3).tolist()} is outside {self.name}: torques are taken about it and "
+                    "the sQ rays start there, so it must be inside; omit it to use the default (the volume centroid, "
+                    "moved inside if needed)"
+                )
         if torque_scale is None:
             self.torque_scale = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
         else:
@@ -366,7 +374,10 @@ class GraspObject:
         ValueError
             If ``matrix`` is not a finite 4x4 rigid transform.
         """
-        M = np.asarray(matrix, dtype=float)
+        try:
+            M = np.asarray(matrix, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError(f"matrix must be a (4, 4) array of numbers, got {type(matrix).__name__}") from None
         if M.shape != (4, 4) or not np.isfinite(M).all():
             raise ValueError(f"matrix must be a finite (4, 4) homogeneous transform, got shape {M.shape}")
         R, t = M[:3, :3], M[:3, 3]

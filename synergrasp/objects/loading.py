@@ -7,8 +7,14 @@
   the ``coacd`` package; ``COACD_PARAMS``: remeshed on a 20-voxel grid, then
   concavity threshold 0.07 with a light tree search, about 4-10 s for a 10k-face
   mesh on 2 cores). A mesh that is not watertight has no inside to
-  decompose: it loads, with a warning, as the point cloud of its vertices and
-  ``OPEN_MESH_SAMPLES`` points sampled on its surface (below).
+  decompose. It is closed first where that is sound (`close_mesh`:
+  seams welded, planar holes capped; ``info["repair"]`` says what changed)
+  and then treated like a watertight one. One that cannot be closed so (its
+  holes are not planar, its edges non-manifold) is closed on a voxel grid:
+  its vertices and ``OPEN_MESH_SAMPLES`` points sampled on its surface are a
+  point cloud whose enclosed solid is clustered (below); if that encloses no
+  volume either, the mesh is refused with the reason. Either way a warning
+  says what was done.
 * Point clouds (.ply without faces, .xyz, .npy, .npz, or an array): a small
   cloud, or a convex one (no facet of its hull farther than ``CLOUD_CONCAVITY``
   = 3 % of its size, or 4 sampling spacings, from its points), is one
@@ -16,7 +22,10 @@
   filled, and the filled voxels are clustered by k-means; k grows
   (2, 3, 4, 6, 8, 12, 16, ... up to ``max_parts``) until every cluster is
   convex by the same test, and each cluster's hull (its voxel centres and the
-  cloud points nearest to it) is a piece.
+  cloud points nearest to it) is a piece. The solid includes what an opening
+  leaves open to one side only: a voxel that sees the surface along five of
+  the six axis directions is inside (the cloud of a box without its lid, or a
+  scan that missed one side, is the whole box).
 
 Every piece keeps at most ``max_vertices`` hull vertices (farthest-point
 sampling), which bounds the LP sizes of the cP and sQ queries.
@@ -40,9 +49,10 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from .._checks import as_points, positive_scalar
+from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, _hull
 from .grasp_object import GraspObject
+from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, close_mesh
 
 #: Mesh file extensions (read with trimesh).
 MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
@@ -57,8 +67,11 @@ CONVEX_RATIO = 0.97
 #: a convex surface sampled at random leaves holes of about 3.3 median nearest-neighbour
 #: distances between its points).
 CLOUD_CONCAVITY = 0.03
-#: Surface samples of a mesh that is not watertight (loaded as a point cloud).
+#: Surface samples of a mesh that is not watertight and cannot be closed by capping (closed on a voxel grid).
 OPEN_MESH_SAMPLES = 20000
+#: A voxel is inside a cloud's solid when the cloud's voxels surround it along this many of the
+#: six axis directions (5: an opening to one side is closed across).
+ENCLOSED_DIRECTIONS = 5
 #: Clouds with fewer points are always one hull.
 SMALL_CLOUD = 64
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
@@ -177,11 +190,7 @@ def _scaled(pieces, scale):
 
 
 def _options(max_parts, max_vertices):
-    if isinstance(max_parts, bool) or not isinstance(max_parts, (int, np.integer)) or max_parts < 1:
-        raise ValueError(f"max_parts must be an integer >= 1, got {max_parts!r}")
-    if isinstance(max_vertices, bool) or not isinstance(max_vertices, (int, np.integer)) or max_vertices < 4:
-        raise ValueError(f"max_vertices must be an integer >= 4, got {max_vertices!r}")
-    return int(max_parts), int(max_vertices)
+    return integer(max_parts, "max_parts"), integer(max_vertices, "max_vertices", 4)
 
 
 def _reduce(points, max_vertices, name):
@@ -238,24 +247,27 @@ def _from_mesh(
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
     _hull(np.unique(vertices, axis=0), what)  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
+    repair, refusal = None, None
     if not watertight:
-        _warn(
-            f"{what} is not watertight (it has holes or open edges): it is loaded as the point cloud of its "
-            "surface (one hull if convex, else clusters); check the pieces (obj.piece_meshes())"
-        )
+        try:
+            mesh, repair = close_mesh(mesh, what)
+            vertices = np.asarray(mesh.vertices, dtype=float)
+        except RepairError as exc:  # not closable by capping: closed on a voxel grid below, or refused there
+            refusal = exc.reason
     ratio = None
-    if watertight:
+    if refusal is None:
         hull_volume = mesh.convex_hull.volume
         ratio = float(abs(mesh.volume) / hull_volume) if hull_volume > 0 else 0.0
 
     def compute():
         if ratio is not None and ratio > CONVEX_RATIO:
             return [_reduce(vertices, max_vertices, what)], {"method": "hull"}
-        if not watertight:  # no inside to decompose: treat its surface as a dense point cloud
+        if refusal is not None:  # no inside to decompose: the solid its surface encloses, on a voxel grid
             samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
             cloud = np.unique(np.vstack([vertices, samples]), axis=0)
-            pieces, meta = _cluster_cloud(cloud, max_parts, max_vertices, what)
-            return pieces, {**meta, "method": f"surface points: {meta['method']}"}
+            pieces, meta = _cluster_cloud(cloud, max_parts, max_vertices, what,
+                                          require_inside=f"{what} is not watertight and cannot be capped ({refusal})")
+            return pieces, {**meta, "method": f"voxel closing: {meta['method']}"}
         try:
             return _decompose(mesh, max_parts, max_vertices), {"method": "coacd"}
         except Exception as exc:  # noqa: BLE001 - the hull is a usable fallback
@@ -272,9 +284,21 @@ def _from_mesh(
         "concavity": CLOUD_CONCAVITY,
         "samples": OPEN_MESH_SAMPLES,
     }
+    if not watertight:
+        params["repair"] = {"planarity": PLANARITY, "caps": MAX_CAP_FRACTION, "weld": WELD_TOLERANCE,
+                            "enclosed": ENCLOSED_DIRECTIONS}
     pieces, meta, status = _cached(_content, params, compute, cache)
     shown = mesh.copy()
     shown.apply_scale(scale)
+    if repair is not None:
+        repair = {**repair, "cap_area": repair["cap_area"] * scale**2, "volume": repair["volume"] * scale**3}
+        _warn(f"{what} is not watertight: {_describe(repair)}. Check the pieces (obj.piece_meshes()); "
+              "contacts on a filled hole are on surface the file does not have")
+    elif refusal is not None:
+        repair = {"method": "voxel closing", "reason": refusal, "filled_volume": meta.get("filled_volume", 0.0) * scale**3}
+        _warn(f"{what} is not watertight and cannot be capped ({refusal}); it is closed "
+              f"on a voxel grid instead: the solid its surface encloses ({repair['filled_volume']:.4g} mm^3), cut into "
+              f"{len(pieces)} convex pieces. Check the pieces (obj.piece_meshes())")
     obj = GraspObject(
         _scaled(pieces, scale),
         name=what,
@@ -282,10 +306,23 @@ def _from_mesh(
         center=center,
         torque_scale=torque_scale,
         info={"source": _source or "mesh", "method": meta["method"], "cache": status, "volume_ratio": ratio,
-              "watertight": watertight, "scale": scale},
+              "watertight": watertight, "repair": repair, "scale": scale},
     )
     _check_size(obj, what)
     return obj
+
+
+def _describe(repair: dict) -> str:
+    """What `close_mesh` did, in words."""
+    done = []
+    if repair["removed_faces"]:
+        done.append(f"{repair['removed_faces']} duplicate or degenerate faces dropped")
+    if repair["welded_vertices"]:
+        done.append(f"{repair['welded_vertices']} vertices welded along open seams")
+    if repair["holes_filled"]:
+        done.append(f"{repair['holes_filled']} hole(s) capped with {repair['cap_area']:.4g} mm^2 of new surface "
+                    f"({repair['cap_fraction']:.1%} of the closed surface)")
+    return ", ".join(done) + f"; the closed mesh's volume is {repair['volume']:.4g} mm^3"
 
 
 # --------------------------------------------------------------------------- point clouds
@@ -313,6 +350,11 @@ def _concavity(members: np.ndarray, name: str) -> float:
 def _filled_voxels(points: np.ndarray, pitch: float):
     """Voxels of a cloud with its gaps closed and its inside filled.
 
+    The cloud's voxels are dilated by one (closing gaps of about two voxels);
+    the inside is what they enclose, together with every voxel that they
+    surround along `ENCLOSED_DIRECTIONS` of the six axis directions (an
+    opening to one side is closed across); the dilation is then undone.
+
     Returns
     -------
     solid : (m, 3) float
@@ -330,13 +372,23 @@ def _filled_voxels(points: np.ndarray, pitch: float):
     grid[tuple(index.T)] = True
     cube = np.ones((3, 3, 3), dtype=bool)
     closed = ndimage.binary_dilation(grid, structure=cube)
-    solid = ndimage.binary_erosion(ndimage.binary_fill_holes(closed), structure=cube) | grid
+    seen = np.zeros(closed.shape, dtype=np.int8)  # along how many axis directions a cloud voxel lies
+    for axis in range(3):
+        seen += np.logical_or.accumulate(closed, axis=axis)
+        seen += np.flip(np.logical_or.accumulate(np.flip(closed, axis=axis), axis=axis), axis=axis)
+    inside = ndimage.binary_fill_holes(closed | (seen >= ENCLOSED_DIRECTIONS))
+    solid = ndimage.binary_erosion(inside, structure=cube) | grid
     cells = np.argwhere(solid)
     return (cells - 2 + 0.5) * pitch + lo, ~closed[tuple(cells.T)]
 
 
-def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: str):
-    """Convex pieces of a cloud: its hull when it is convex, else hulls of k-means clusters."""
+def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: str, require_inside: str | None = None):
+    """Convex pieces of a cloud: its hull when it is convex, else hulls of k-means clusters of its filled solid.
+
+    ``require_inside``: the cloud samples an open mesh that could not be capped, for
+    that reason; a cloud whose voxels enclose nothing is then refused (ValueError).
+    ``meta["filled_volume"]`` is the volume of the solid (mm^3, before scaling).
+    """
     from scipy.cluster.vq import kmeans2
 
     size = float(np.ptp(points, axis=0).max())
@@ -345,11 +397,19 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
     concavity = _concavity(points, name)
     meta = {"method": "hull", "concavity": concavity, "tolerance": tolerance}
     if len(points) < SMALL_CLOUD or concavity <= tolerance or max_parts == 1:
-        return [_reduce(points, max_vertices, name)], meta
+        return [_reduce(points, max_vertices, name)], {**meta, "filled_volume": float(_hull(points, name).volume)}
     pitch = max(size / 40.0, 1.5 * spacing)
     solid, interior = _filled_voxels(points, pitch)
+    if require_inside is not None and not interior.any():
+        raise ValueError(
+            f"{require_inside}, and its surface encloses no volume on a voxel grid either (pitch {pitch:.3g} mm): "
+            "it cannot be closed soundly. Close it in a mesh editor"
+        )
     tolerance = max(tolerance, 1.5 * pitch)
     members = np.vstack([solid[interior], points])  # the surface itself comes from the cloud
+    meta["filled_volume"] = float(len(solid) * pitch**3)
+    if _concavity(members, name) <= tolerance:  # the filled solid is convex (an opening closed across)
+        return [_reduce(members, max_vertices, name)], {**meta, "method": "hull of the filled solid"}
     rng = np.random.default_rng(0)
     for k in sorted({k for k in (2, 3, 4, 6, 8, 12, 16, 24, 32) if k < max_parts} | {max_parts}):
         centroids, _ = kmeans2(solid, k, minit="++", seed=rng)
@@ -392,7 +452,7 @@ def _from_points(
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
     _hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
-              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD}
+              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS}
     pieces, meta, status = _cached(
         pts.tobytes(), params, lambda: _cluster_cloud(pts, max_parts, max_vertices, what), cache
     )
@@ -560,6 +620,22 @@ def _read_array_file(path: Path, ext: str):
     raise ValueError(f"an .npz object file needs an array 'points' (or 'vertices' and 'faces'), found keys {keys}")
 
 
+def _mesh_or_points(data, parts):
+    """("mesh", Trimesh) or ("points", array) from what trimesh read (unprocessed): meshes processed as
+    trimesh.load would (duplicate vertices merged), a scene's meshes concatenated."""
+    for part in parts:
+        if isinstance(part, trimesh.Trimesh):
+            part.process()
+    if isinstance(data, trimesh.Scene):
+        meshes = [g for g in parts if isinstance(g, trimesh.Trimesh) and len(g.faces)]
+        data = data.to_mesh() if meshes else np.vstack([g.vertices for g in parts])
+    if isinstance(data, trimesh.PointCloud) or (isinstance(data, trimesh.Trimesh) and len(data.faces) == 0):
+        data = np.asarray(data.vertices)
+    if not isinstance(data, (np.ndarray, trimesh.Trimesh)):
+        raise ValueError(f"expected a mesh or a point cloud, found a {type(data).__name__}")
+    return ("points" if isinstance(data, np.ndarray) else "mesh"), data
+
+
 def load(
     path,
     scale: float = 1.0,
@@ -642,29 +718,29 @@ def load(
     name = name or path.name
     options = dict(name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
                    center=center, torque_scale=torque_scale, _source=str(path))
+    reading = f"could not read '{path}' as a {ext} file"
     try:
         if ext in (".xyz", ".npy", ".npz"):
             kind, data = _read_array_file(path, ext)
         else:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                data = trimesh.load(str(path), file_type=ext[1:])
-            kind = "mesh"
-            if isinstance(data, trimesh.Scene):
-                if not data.geometry:
-                    raise ValueError("no geometry found in the file")
-                meshes = [g for g in data.geometry.values() if isinstance(g, trimesh.Trimesh) and len(g.faces)]
-                data = data.to_mesh() if meshes else np.vstack([g.vertices for g in data.geometry.values()])
-            if isinstance(data, trimesh.PointCloud):
-                data = np.asarray(data.vertices)
-            elif isinstance(data, trimesh.Trimesh) and len(data.faces) == 0:
-                data = np.asarray(data.vertices)
-            if isinstance(data, np.ndarray):
-                kind = "points"
+                # unprocessed, so that a vertex with NaN or inf is seen (processing drops it with its faces)
+                data = trimesh.load(str(path), file_type=ext[1:], process=False)
+            if isinstance(data, trimesh.Scene) and not data.geometry:
+                raise ValueError("no geometry found in the file")
     except (OSError, ValueError, KeyError, IndexError, TypeError, UnicodeDecodeError, EOFError) as exc:
-        raise ValueError(f"could not read '{path}' as a {ext} file: {exc}") from exc
+        raise ValueError(f"{reading}: {exc}") from exc
     except Exception as exc:  # noqa: BLE001 - third-party readers raise anything
-        raise ValueError(f"could not read '{path}' as a {ext} file: {type(exc).__name__}: {exc}") from exc
+        raise ValueError(f"{reading}: {type(exc).__name__}: {exc}") from exc
+    if ext not in (".xyz", ".npy", ".npz"):
+        parts = list(data.geometry.values()) if isinstance(data, trimesh.Scene) else [data]
+        for part in parts:  # the error from_mesh gives, before anything is dropped
+            as_points(np.asarray(getattr(part, "vertices", np.zeros((0, 3)))), f"{name} vertices", dim=3)
+        try:
+            kind, data = _mesh_or_points(data, parts)
+        except Exception as exc:  # noqa: BLE001 - third-party processing raises anything
+            raise ValueError(f"{reading}: {type(exc).__name__}: {exc}") from exc
     if kind == "points":
         data = np.asarray(data)
         if data.size == 0:
@@ -691,6 +767,8 @@ def get(name_or_path, **kwargs) -> GraspObject:
 
     Raises
     ------
+    TypeError
+        If it is neither a string nor a path.
     ValueError
         If it is neither a built-in name nor an existing file (the message
         lists the built-ins).
@@ -707,6 +785,9 @@ def get(name_or_path, **kwargs) -> GraspObject:
     """
     from .shapes import BUILTINS
 
+    if not isinstance(name_or_path, (str, os.PathLike)):
+        raise TypeError(f"an object is a built-in name ({', '.join(BUILTINS)}) or a file path, "
+                        f"got {type(name_or_path).__name__}")
     if isinstance(name_or_path, str) and name_or_path.lower() in BUILTINS:
         return BUILTINS[name_or_path.lower()](**kwargs)
     path = Path(name_or_path)

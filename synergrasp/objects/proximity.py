@@ -1117,7 +1117,10 @@ def penetration(obj, segments, radius) -> Penetration:
     if not np.isfinite(seg).all():
         raise ValueError("segments contains NaN or inf")
     k = len(seg)
-    r = np.asarray(radius, dtype=float)
+    try:
+        r = np.asarray(radius, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"radius must be a number or an array of ({k},) numbers, got {type(radius).__name__}") from None
     if r.ndim == 0:
         r = np.full(k, positive_scalar(float(r), "radius"))
     elif r.shape != (k,):

@@ -29,12 +29,14 @@ iteration goes on (``backoffs`` times).
 
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import asdict, dataclass, replace
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from .. import objects
 from .._checks import as_vector
 from ..hand import SynergyHand, rotation_xyz
 from ..lp import get_backend
@@ -647,8 +649,9 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
 
     Parameters
     ----------
-    obj : GraspObject
-        The object (``synergrasp.objects``).
+    obj : GraspObject, str or os.PathLike
+        The object (``synergrasp.objects``), or a built-in name or a file
+        path as `synergrasp.objects.get` takes them.
     grasp : {"precision", "power"}
         Fingertip pinch, or a grasp with the phalanges and the palm.
     backend : str
@@ -678,8 +681,10 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
 
     Raises
     ------
+    TypeError
+        If ``obj`` is not an object, a name or a path.
     ValueError
-        Unknown grasp type, bad ``u0`` or ``approach``, unknown option or backend.
+        Unknown object name or grasp type, bad ``u0`` or ``approach``, unknown option or backend.
 
     Examples
     --------
@@ -688,6 +693,10 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
     >>> result.success, len(result.contact_labels) >= 3, result.final_q < 0
     (True, True, True)
     """
+    if isinstance(obj, (str, os.PathLike)):
+        obj = objects.get(obj)
+    elif not isinstance(obj, objects.GraspObject):
+        raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}")
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
     unknown = set(options) - set(PlannerOptions.__dataclass_fields__)
@@ -753,7 +762,8 @@ def plan(obj, grasp="precision", *, backend="highs", u0=None, max_iter=1500, app
             total += len(traj) - 1
             solves += n_solves
             attempts.append({"start": u_start.tolist(), "standoff": standoff, "pass": number,
-                             "band": band and list(band), "iterations": len(traj) - 1, "reason": reason})
+                             "band": band and list(band), "iterations": len(traj) - 1, "reason": reason,
+                             "status": np.array(statuses).tolist()})
             if reason == "stop criterion met":
                 break
         if reason == "stop criterion met":

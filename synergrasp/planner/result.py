@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass, field, fields
+import math
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-_ARRAYS = ("u", "trajectory", "status", "target", "q_history", "contact_points", "contact_normals")
+from .._records import load_record, save_record
+
+_FORMAT = "synergrasp.PlanResult/1"
+_ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
+           "contact_points": (-1, 3), "contact_normals": (-1, 3)}
 
 
 @dataclass
@@ -113,6 +117,9 @@ class PlanResult:
     def save(self, path) -> Path:
         """Write the result as JSON (arrays as nested lists; floats round-trip exactly).
 
+        The file is written atomically: to a temporary file in the same folder,
+        then renamed, so an interrupted or failed write leaves no partial file.
+
         Parameters
         ----------
         path : str or Path
@@ -139,13 +146,7 @@ class PlanResult:
         >>> bool((again.trajectory == result.trajectory).all())   # floats round-trip exactly
         True
         """
-        data = asdict(self)
-        for name in _ARRAYS:
-            data[name] = np.asarray(data[name]).tolist()
-        data["format"] = "synergrasp.PlanResult/1"
-        path = Path(path)
-        path.write_text(json.dumps(data, indent=1))
-        return path
+        return save_record(self, path, _FORMAT, _ARRAYS)
 
     @classmethod
     def load(cls, path) -> "PlanResult":
@@ -163,8 +164,12 @@ class PlanResult:
 
         Raises
         ------
+        FileNotFoundError
+            If the file does not exist.
         ValueError
-            If the file is not a saved PlanResult.
+            If the file is not a saved PlanResult, or a field is missing or
+            has the wrong type, shape or value; the message names the file
+            and the field.
 
         Examples
         --------
@@ -177,19 +182,104 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        path = Path(path)
+        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS), path))
+
+
+def _validated(data: dict, path) -> dict:
+    """The fields of a loaded PlanResult (`load_record`), each checked; errors name the file and the field."""
+
+    def fail(name, what):
+        value = repr(data[name])
+        raise ValueError(f"{path}: field '{name}' must be {what}, got {value[:60] + '...' if len(value) > 60 else value}")
+
+    def array(name, ndim, finite=True):
         try:
-            data = json.loads(path.read_text())
-        except (OSError, json.JSONDecodeError) as exc:
-            raise ValueError(f"cannot read a PlanResult from {path}: {exc}") from exc
-        if not isinstance(data, dict) or data.pop("format", None) != "synergrasp.PlanResult/1":
-            raise ValueError(f"{path} is not a saved synergrasp PlanResult")
-        names = {f.name for f in fields(cls)}
-        missing = names - set(data)
-        if missing:
-            raise ValueError(f"{path} lacks the fields {sorted(missing)}")
-        for name in _ARRAYS:
-            data[name] = np.asarray(data[name], dtype=float)
-        data["contact_points"] = data["contact_points"].reshape(-1, 3)
-        data["contact_normals"] = data["contact_normals"].reshape(-1, 3)
-        return cls(**{k: data[k] for k in names})
+            arr = np.asarray(data[name], dtype=float)
+        except (TypeError, ValueError):
+            fail(name, f"a {ndim}-D array of numbers")
+        if arr.ndim != ndim:
+            if arr.size == 0 and ndim == 2:  # an empty list: no rows
+                return arr.reshape(0, 3)
+            fail(name, f"a {ndim}-D array of numbers (shape {arr.shape})")
+        if finite and not np.isfinite(arr).all():
+            fail(name, "finite numbers")
+        return arr
+
+    def integer(name, low=0):
+        value = data[name]
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            fail(name, f"an integer >= {low}")
+        return value
+
+    def number(name, low=None):
+        value = data[name]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                or (low is not None and value < low):
+            fail(name, "a finite number" + (f" >= {low}" if low is not None else ""))
+        return float(value)
+
+    def text(name):
+        if not isinstance(data[name], str):
+            fail(name, "a string")
+        return data[name]
+
+    out = {}
+    if not isinstance(data["success"], bool):
+        fail("success", "true or false")
+    out["success"] = data["success"]
+    for name in ("reason", "backend", "object_name"):
+        out[name] = text(name)
+    if data["grasp"] not in ("precision", "power"):
+        fail("grasp", "'precision' or 'power'")
+    out["grasp"] = data["grasp"]
+    k = out["iterations"] = integer("iterations")
+    out["lp_solves"] = integer("lp_solves")
+    out["penetration"] = number("penetration", 0.0)
+    out["time_s"] = number("time_s", 0.0)
+    u = out["u"] = array("u", 1)
+    if len(u) < 7:
+        fail("u", "a configuration of 6 + n_syn >= 7 numbers")
+    out["trajectory"] = array("trajectory", 2)
+    if out["trajectory"].shape != (k + 1, len(u)):
+        fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}")
+    out["target"] = array("target", 1)
+    m = len(out["target"])
+    out["status"] = array("status", 2)
+    if out["status"].shape != (k + 1, m):
+        fail("status", f"of shape (iterations + 1, len(target)) = ({k + 1}, {m}), not {out['status'].shape}")
+    out["q_history"] = array("q_history", 1, finite=False)  # NaN: fewer than two contacts
+    if out["q_history"].shape != (k + 1,) or np.isinf(out["q_history"]).any():
+        fail("q_history", f"{k + 1} numbers (iterations + 1), NaN where there were fewer than two contacts")
+    labels = data["contact_labels"]
+    if not isinstance(labels, list) or not all(isinstance(lab, str) for lab in labels):
+        fail("contact_labels", "a list of strings")
+    out["contact_labels"] = labels
+    for name in ("contact_points", "contact_normals"):
+        out[name] = array(name, 2)
+        if out[name].shape != (len(labels), 3):
+            fail(name, f"of shape ({len(labels)}, 3), one row per contact label")
+    if not isinstance(data["options"], dict):
+        fail("options", "an object of planner settings")
+    out["options"] = data["options"]
+    attempts = data["attempts"]
+    if not isinstance(attempts, list):
+        fail("attempts", "a list of attempts")
+    for i, attempt in enumerate(attempts):
+        where = f"attempts[{i}]"
+        if not isinstance(attempt, dict):
+            raise ValueError(f"{path}: field '{where}' must be an object, got {type(attempt).__name__}")
+        iterations = attempt.get("iterations")
+        if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 0:
+            raise ValueError(f"{path}: field '{where}.iterations' must be an integer >= 0, got {iterations!r}")
+        if not isinstance(attempt.get("reason"), str):
+            raise ValueError(f"{path}: field '{where}.reason' must be a string, got {attempt.get('reason')!r}")
+        if "status" in attempt:
+            try:
+                trace = np.asarray(attempt["status"], dtype=float)
+            except (TypeError, ValueError):
+                trace = None
+            if trace is None or trace.shape != (iterations + 1, m):
+                raise ValueError(f"{path}: field '{where}.status' must be an array of shape "
+                                 f"(iterations + 1, len(target)) = ({iterations + 1}, {m})")
+    out["attempts"] = attempts
+    return {name: out[name] for name in data}

@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._vectors import unit_rows
+from ..hand import SynergyHand
 from ..objects.proximity import group_contact_distance
 from ..quality import q_distance
 
@@ -244,6 +245,16 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     return replace(status, g=g, J=J)
 
 
+def _require(hand, obj):
+    """TypeError unless ``hand`` is a SynergyHand and ``obj`` a GraspObject."""
+    from ..objects import GraspObject
+
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
+    if not isinstance(obj, GraspObject):
+        raise TypeError(f"obj must be a GraspObject, got {type(obj).__name__}")
+
+
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
@@ -264,6 +275,11 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     -------
     Status
 
+    Raises
+    ------
+    TypeError
+        If ``hand`` is not a SynergyHand or ``obj`` not a GraspObject.
+
     Examples
     --------
     >>> from synergrasp import SynergyHand, objects
@@ -273,6 +289,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     >>> st.g.shape, st.J.shape
     ((6,), (6, 8))
     """
+    _require(hand, obj)
     if kind == "power":
         points, jac, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
         cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)

@@ -63,6 +63,11 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
     -------
     GraspCheck
 
+    Raises
+    ------
+    TypeError
+        If ``obj`` is not a GraspObject or ``status`` not a Status.
+
     Examples
     --------
     >>> from synergrasp import SynergyHand, objects
@@ -73,6 +78,12 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs
     >>> check.n_contacts, check.done
     (0, False)
     """
+    from ..objects import GraspObject
+    from .status import Status
+
+    if not isinstance(obj, GraspObject) or not isinstance(status, Status):
+        raise TypeError(f"check_grasp takes a GraspObject and a Status (grasp_status), got {type(obj).__name__} "
+                        f"and {type(status).__name__}")
     cp = status.g[:-1]
     contact = cp < eps_c
     n_c = int(contact.sum())

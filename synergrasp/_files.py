@@ -1,0 +1,103 @@
+"""Output files: atomic writes (a temporary file, then one rename) and writable folders."""
+
+from __future__ import annotations
+
+import os
+import secrets
+import tempfile
+from contextlib import contextmanager
+from pathlib import Path
+
+
+@contextmanager
+def atomic_path(path):
+    """A temporary file beside ``path`` to write to; it replaces ``path`` only when the block succeeds.
+
+    The temporary file is in the same folder (so ``os.replace`` is one atomic
+    rename) and keeps the suffix (so writers that choose the format by the
+    extension, such as matplotlib, still do). If the block raises, the
+    temporary file is removed and ``path`` is left as it was: a reader never
+    sees a half-written file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+
+    Yields
+    ------
+    Path
+        The temporary file (it exists, empty).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> with atomic_path(folder / "out.txt") as tmp:
+    ...     _ = tmp.write_text("done")
+    >>> (folder / "out.txt").read_text(), sorted(p.name for p in folder.iterdir())
+    ('done', ['out.txt'])
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"an output path must be a str or os.PathLike, got {type(path).__name__}")
+    path = Path(path)
+    if path.is_dir():
+        raise IsADirectoryError(f"cannot write '{path}': it is a folder; give a file name")
+    if not path.parent.is_dir():
+        raise FileNotFoundError(f"cannot write '{path}': the folder '{path.parent}' does not exist")
+    while True:  # like tempfile.mkstemp, but the file gets the usual permissions (0o666 less the umask)
+        tmp = path.with_name(f".{path.stem}.{secrets.token_hex(4)}.tmp{path.suffix}")
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            break
+        except FileExistsError:
+            continue
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def writable_folder(path, what: str = "output folder") -> Path:
+    """Create ``path`` if needed and check that a file can be written in it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder.
+    what : str
+        How the folder is named in the error message.
+
+    Returns
+    -------
+    Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If the folder cannot be created or written to; the message names the
+        folder and the reason.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> writable_folder(Path(tempfile.mkdtemp()) / "new" / "folder").is_dir()
+    True
+    """
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=".write-check.", dir=path)
+        os.close(fd)
+        os.unlink(name)
+    except OSError as exc:
+        reason = (exc.strerror or str(exc)).lower()
+        if path.exists() and not path.is_dir():
+            reason = "it is a file, not a folder"
+        raise ValueError(f"cannot write to the {what} '{path}' ({reason}); choose a writable folder") from None
+    return path

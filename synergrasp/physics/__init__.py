@@ -1,0 +1,48 @@
+"""Physics validation: does a planned grasp hold the object in MuJoCo?
+
+`validate` places the synergy hand at a configuration around the object in a
+MuJoCo scene (`synergrasp.physics.model`), closes the synergies a step
+further, lets the grasp settle, and pushes the object with its weight along
+six directions (`synergrasp.physics.simulate`); the `Validation` says whether
+it held, and why not. The settings are a `Protocol`, from one of two
+`PRESETS`: the project's own (default) and DexGraspBench-like ones. Grasps
+built by construction (`pinch_grasp`, `ball_pinch`) check the simulation
+itself.
+
+Importing this package does not import ``mujoco``; the first validation
+does, and says how to install it if it is missing
+(``pip install "synergrasp[sim]"``).
+"""
+
+from .figure import RenderingUnavailable, plot_validation, render_still
+from .model import GraspScene, grasp_mjcf, moving_joints
+from .probes import PINCH_Z, ball_pinch, hand_without, pinch_grasp
+from .protocol import DIRECTIONS, PRESETS, Protocol, protocol
+from .result import OUTCOMES, Validation
+from .simulate import INSTALL_HINT, build_model, mujoco_module
+from .validate import check_match, squeeze_targets, validate
+
+__all__ = [
+    "DIRECTIONS",
+    "GraspScene",
+    "INSTALL_HINT",
+    "OUTCOMES",
+    "PINCH_Z",
+    "PRESETS",
+    "Protocol",
+    "RenderingUnavailable",
+    "Validation",
+    "ball_pinch",
+    "build_model",
+    "check_match",
+    "grasp_mjcf",
+    "hand_without",
+    "moving_joints",
+    "mujoco_module",
+    "pinch_grasp",
+    "plot_validation",
+    "protocol",
+    "render_still",
+    "squeeze_targets",
+    "validate",
+]

@@ -1,0 +1,78 @@
+"""The ``synergrasp validate`` subcommand: a saved plan result tested in MuJoCo."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from .protocol import PRESETS
+
+__all__ = ["add_validate_parser"]
+
+
+def add_validate_parser(subparsers):
+    """Register ``validate`` on the ``synergrasp`` command's subparsers.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        What ``ArgumentParser.add_subparsers`` returned.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The subcommand's parser.
+    """
+    p = subparsers.add_parser(
+        "validate",
+        help="test a saved plan result in MuJoCo: squeeze, settle, push along six directions",
+        description="Test a saved PlanResult in MuJoCo (the documentation's 'Physics validation' page): the hand "
+        "squeezes, the grasp settles, and the object is pushed with its weight along -x, +x, -y, +y, -z, +z. "
+        "Writes DIR/NAME_validation.json, the displacement figure and, where MuJoCo can render offscreen, a still "
+        "of the settled grasp. Exit status 0 if the grasp holds, 1 if not. Needs pip install \"synergrasp[sim]\".",
+    )
+    p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
+    p.add_argument("--object", required=True,
+                   help="the object it was planned for: a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file")
+    p.add_argument("--preset", choices=sorted(PRESETS), default="synergrasp", help="protocol settings (default synergrasp)")
+    p.add_argument("--mu", type=float, default=None, help="friction coefficient (default: the preset's)")
+    p.add_argument("--retreat", type=float, default=0.0, metavar="MM",
+                   help="move the palm back this far after the squeeze is set: a negative control (default 0)")
+    p.add_argument("--hand", default=None, metavar="FILE", help="hand file the result was planned with (default the paper's hand)")
+    p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
+    p.add_argument("--no-still", action="store_true", help="skip the rendered still")
+    p.set_defaults(func=_validate)
+    return p
+
+
+def _validate(args) -> int:
+    if sys.platform.startswith("linux"):  # offscreen rendering without a display, if mujoco is not imported yet
+        os.environ.setdefault("MUJOCO_GL", "egl")
+    from .. import objects
+    from ..hand import SynergyHand
+    from ..planner import PlanResult
+    from .figure import RenderingUnavailable, plot_validation, render_still
+    from .validate import validate
+
+    from .._files import writable_folder
+
+    out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
+    result = PlanResult.load(args.result)
+    obj = objects.get(args.object)
+    hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
+    settings = {} if args.mu is None else {"mu": args.mu}
+    check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
+    stem = f"{Path(args.result).stem}_validation"
+    files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
+    if not args.no_still:
+        try:
+            files.append(render_still(check, obj, out / f"{stem}_still.png", hand=hand))
+        except RenderingUnavailable as exc:
+            print(f"skipped the still: {exc}")
+    print(f"{'held' if check.held else 'NOT HELD'} ({check.outcome}): {check.reason}")
+    print(f"initial penetration {check.initial_penetration:.1f} mm{' (' + check.penetration_body + ')' if check.penetration_body else ''}, "
+          f"object {check.object_mass * 1e3:.0f} g, {len(check.contact_bodies)} contacts, grip {check.grip_force:.1f} N, "
+          f"preset {check.settings.name}, {check.cpu_time:.2f} s CPU")
+    print("wrote " + ", ".join(str(f) for f in files))
+    return 0 if check.held else 1

@@ -1,0 +1,163 @@
+"""Grasps built by construction, whose physics is known: checks of the simulation itself.
+
+- `pinch_grasp`: a box between the thumb and index fingertips, their round
+  tips on opposite faces (two opposed soft-finger contacts: it holds).
+- `ball_pinch`: a ball between the same fingertips, for a hand of the thumb
+  and the index alone (it holds; without either finger it does not).
+- `hand_without`: the same hand with fingers removed.
+
+Built from the hand's kinematics alone (no planner), so they do not change
+when the planner does.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import trimesh
+
+from ..hand import SynergyHand, rotation_xyz
+from ..objects import GraspObject
+
+__all__ = ["pinch_grasp", "ball_pinch", "hand_without", "PINCH_Z"]
+
+#: Synergies of the pinches (the paper's hand): the centres of the thumb and index tips about 78 mm apart.
+PINCH_Z = (0.2, 0.3)
+
+
+def _configuration(hand, z, position, angles):
+    if hand.n_syn != len(z):
+        raise ValueError(f"these grasps are built for a hand with {len(z)} synergies, {hand.name!r} has {hand.n_syn}")
+    return np.r_[np.asarray(position, float), np.asarray(angles, float), z]
+
+
+def _pinch(hand, position, angles):
+    """The hand, the pinch configuration and the centres of the thumb's and index's round tips."""
+    hand = SynergyHand.default() if hand is None else hand
+    u = _configuration(hand, PINCH_Z, position, angles)
+    geo = hand.segments(u)
+    last = {label[0]: ends[1] for label, ends in zip(geo.labels, geo.capsules)}
+    return hand, u, last["T"], last["I"]
+
+
+def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), gap=1.0, side=20.0):
+    """A box pinched between the thumb and index fingertips.
+
+    The box's two end faces are perpendicular to the line between the centres
+    of the two fingertips' round ends, ``finger_radius + gap`` mm from them,
+    so each fingertip touches a face with the face's normal: the two
+    contacts are exactly opposed.
+
+    Parameters
+    ----------
+    hand : SynergyHand, optional
+        Default: the paper's hand (two synergies).
+    position, angles : (3,) float
+        Pose of the palm (mm, XYZ Euler angles in rad).
+    gap : float
+        Distance (mm) of each face from its fingertip.
+    side : float
+        Side (mm) of the box's square cross-section.
+
+    Returns
+    -------
+    u : (8,) float
+        The configuration, synergies `PINCH_Z`.
+    box : GraspObject
+
+    Examples
+    --------
+    >>> u, box = pinch_grasp()
+    >>> box
+    GraspObject('pinched box', 1 pieces, 26 x 64 x 30 mm, L=33.0)
+    """
+    hand, u, a, b = _pinch(hand, position, angles)
+    axis = (b - a) / np.linalg.norm(b - a)
+    across = np.cross(axis, rotation_xyz(u[3:6])[:, 2])  # one side along the palm, the other across it
+    across /= np.linalg.norm(across)
+    frame = np.c_[axis, across, np.cross(axis, across)]
+    inner = hand.finger_radius + gap
+    length = np.linalg.norm(b - a) - 2.0 * inner
+    centre = (a + b) / 2.0
+    corners = [centre + frame @ (np.array(s) * [length / 2, side / 2, side / 2])
+               for s in itertools.product((-1, 1), repeat=3)]
+    return u, GraspObject([np.array(corners)], name="pinched box")
+
+
+def ball_pinch(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), gap=1.0):
+    """A ball between the thumb and index fingertips.
+
+    The ball's centre is midway between the centres of the two fingertips'
+    round ends and its radius leaves ``gap`` mm to each: the two contacts are
+    opposed through its centre. Held by a hand of these two fingers only (see
+    `hand_without`): with the paper's five fingers, the middle finger closes
+    on the ball too and pushes it off the line of the pinch.
+
+    Parameters
+    ----------
+    hand : SynergyHand, optional
+        Default: the paper's hand; it must have a thumb ``T`` and an index ``I``.
+    position, angles : (3,) float
+        Pose of the palm (mm, rad).
+    gap : float
+        Distance (mm) of the ball from each fingertip.
+
+    Returns
+    -------
+    u : (8,) float
+        The configuration, synergies `PINCH_Z`.
+    ball : GraspObject
+        A subdivided icosahedron (642 vertices), one convex piece.
+
+    Examples
+    --------
+    >>> u, ball = ball_pinch()
+    >>> ball
+    GraspObject('pinched ball', 1 pieces, 60 x 60 x 60 mm, L=29.8)
+    """
+    hand, u, a, b = _pinch(hand, position, angles)
+    radius = np.linalg.norm(b - a) / 2.0 - hand.finger_radius - gap
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=radius)
+    return u, GraspObject([sphere.vertices + (a + b) / 2.0], name="pinched ball")
+
+
+def hand_without(hand, *fingers):
+    """The hand with fingers removed (their chains and the actuated joints only they used).
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    *fingers : str
+        Names in ``hand.finger_names``; at least one finger must remain.
+
+    Returns
+    -------
+    SynergyHand
+        Same synergies on the remaining joints, named ``"<name> without <fingers>"``.
+
+    Raises
+    ------
+    ValueError
+        If the hand has no such finger, or none would remain.
+
+    Examples
+    --------
+    >>> hand = hand_without(SynergyHand.default(), "T")
+    >>> hand.finger_names, hand.n_syn
+    (['I', 'M', 'R', 'L'], 2)
+    """
+    unknown = [f for f in fingers if f not in hand.finger_names]
+    if unknown or not fingers:
+        raise ValueError(f"hand {hand.name!r} has no finger {unknown or fingers!r}; its fingers are {hand.finger_names}")
+    if set(hand.finger_names) <= set(fingers):
+        raise ValueError(f"removing {list(fingers)} leaves hand {hand.name!r} without fingers")
+    data = hand.to_dict()
+    data["fingers"] = [f for f in data["fingers"] if f["name"] not in fingers]
+    used = {name for f in data["fingers"] for joint in f["joints"] for name, c in joint["coupling"].items() if c}
+    keep = [i for i, name in enumerate(data["actuated"]) if name in used]
+    for key in ("actuated", "mean_pose", "synergies"):
+        data[key] = [data[key][i] for i in keep]
+    removed = ", ".join(fingers)
+    data["name"] = f"{hand.name} without {removed}"
+    return SynergyHand(data, source=f"{hand.source} without {removed}")

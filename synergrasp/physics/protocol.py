@@ -1,0 +1,203 @@
+"""The validation protocol: every setting of the simulated hold test, and its two presets.
+
+The documentation's "Physics validation" page explains each setting and why it has its value.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import asdict, dataclass, fields, replace
+
+__all__ = ["Protocol", "PRESETS", "protocol", "DIRECTIONS"]
+
+#: The six push directions, in the order of `Validation.displacement` (world axes).
+DIRECTIONS = ("-x", "+x", "-y", "+y", "-z", "+z")
+
+_REFERENCES = ("settled", "planned")
+
+
+@dataclass(frozen=True)
+class Protocol:
+    """Settings of the simulated hold test (SI units unless named otherwise).
+
+    Attributes
+    ----------
+    name : str
+        The preset these settings come from (``"custom"`` once changed).
+    mu : float
+        Sliding friction coefficient of every contact.
+    torsional_friction : float
+        Torsional friction coefficient (m); 0 gives point contacts with
+        Coulomb friction (MuJoCo ``condim`` 3), the planner's contact model;
+        > 0 soft-finger contacts (``condim`` 4).
+    density : float
+        Object density (kg/m^3); its mass is the density times the volume of
+        its convex pieces. Ignored when ``mass`` is given.
+    mass : float or None
+        Object mass (kg) whatever its size, as the anchors set it.
+    acceleration : float
+        The push is ``mass * acceleration`` (N): the object's weight.
+    push_time : float
+        Duration of the push along each direction (s).
+    max_displacement : float
+        Largest displacement of the object's centre (mm) that still counts as held.
+    max_rotation : float
+        Largest rotation of the object (degrees) that still counts as held.
+    max_penetration : float
+        Deepest overlap of the hand and the object at the planned
+        configuration (mm, as MuJoCo measures it) that is simulated; a deeper
+        one fails without simulation.
+    measure_from : {"settled", "planned"}
+        Pose the push's displacement and rotation are measured from: the pose
+        after the squeeze and settling, or the planned pose (so the shift the
+        squeeze causes counts as well).
+    squeeze : float
+        How far the synergies close past the planned configuration: the mean
+        distance (mm) the hand points in contact would move into the object.
+    contact_distance : float
+        Hand points closer than this to the object (mm, the planner's cP)
+        are the contacts that set the squeeze direction.
+    kp : float
+        Stiffness of the joint position servos (N m/rad).
+    joint_damping : float
+        Viscous damping of each finger joint (N m s/rad).
+    squeeze_time : float
+        Time over which the servo targets move to the squeezed configuration (s).
+    settle_time : float
+        Time the grasp then settles before the pushes (s).
+    settle_damping : float
+        Time constant (s) of the viscous damping on the object while the
+        fingers close and settle (removed for the pushes).
+    max_speed : float
+        An object faster than this (m/s) beyond what the push alone explains
+        (``acceleration`` times the push's elapsed time) makes the run
+        unstable.
+    timestep : float
+        Integration step (s).
+    solref : (2,) float
+        MuJoCo contact ``solref`` (time constant s, damping ratio).
+    solimp : (3,) float
+        MuJoCo contact ``solimp``.
+    impratio : float
+        MuJoCo's ratio of frictional to normal constraint impedance.
+    noslip_iterations : int
+        MuJoCo's noslip solver iterations.
+    """
+
+    name: str = "synergrasp"
+    mu: float = 0.3
+    torsional_friction: float = 0.001
+    density: float = 1000.0
+    mass: float | None = None
+    acceleration: float = 9.81
+    push_time: float = 2.0
+    max_displacement: float = 10.0
+    max_rotation: float = 10.0
+    max_penetration: float = 5.0
+    measure_from: str = "settled"
+    squeeze: float = 10.0
+    contact_distance: float = 5.0
+    kp: float = 5.0
+    joint_damping: float = 0.1
+    squeeze_time: float = 0.2
+    settle_time: float = 0.3
+    settle_damping: float = 0.02
+    max_speed: float = 5.0
+    timestep: float = 0.001
+    solref: tuple = (0.005, 1.0)
+    solimp: tuple = (0.5, 0.99, 0.0001)
+    impratio: float = 10.0
+    noslip_iterations: int = 2
+
+    def __post_init__(self):
+        positive = ("mu", "density", "acceleration", "push_time", "max_displacement", "max_rotation",
+                    "squeeze", "contact_distance", "kp", "squeeze_time", "max_speed", "timestep", "impratio")
+        for name in positive:
+            value = getattr(self, name)
+            if not _real(value) or not value > 0:
+                raise ValueError(f"protocol setting {name} must be a number > 0, got {value!r}")
+        for name in ("torsional_friction", "joint_damping", "settle_time", "settle_damping", "max_penetration"):
+            value = getattr(self, name)
+            if not _real(value) or not value >= 0:  # max_penetration may be inf: no overlap check
+                raise ValueError(f"protocol setting {name} must be a number >= 0, got {value!r}")
+        if self.mass is not None and (not _real(self.mass) or not 0 < self.mass < math.inf):
+            raise ValueError(f"protocol setting mass must be None or a finite number > 0 (kg), got {self.mass!r}")
+        if self.measure_from not in _REFERENCES:
+            raise ValueError(f"protocol setting measure_from must be one of {_REFERENCES}, got {self.measure_from!r}")
+        if isinstance(self.noslip_iterations, bool) or not isinstance(self.noslip_iterations, int) or self.noslip_iterations < 0:
+            raise ValueError(f"protocol setting noslip_iterations must be an int >= 0, got {self.noslip_iterations!r}")
+        for name, size in (("solref", 2), ("solimp", 3)):
+            value = getattr(self, name)
+            if (not isinstance(value, (tuple, list)) or len(value) != size
+                    or not all(_real(v) and math.isfinite(v) for v in value)):
+                raise ValueError(f"protocol setting {name} must be {size} finite numbers, got {value!r}")
+            object.__setattr__(self, name, tuple(float(v) for v in value))
+        if self.timestep > self.push_time:
+            raise ValueError(f"protocol setting timestep ({self.timestep} s) is longer than push_time ({self.push_time} s)")
+
+    def to_dict(self) -> dict:
+        """The settings as a JSON-serialisable dict (``Protocol(**d)`` rebuilds them)."""
+        data = asdict(self)
+        data["solref"], data["solimp"] = list(self.solref), list(self.solimp)
+        return data
+
+
+def _real(value) -> bool:
+    """A real number (not a bool, not NaN)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and not math.isnan(value)
+
+
+#: The presets: the project's own (default) and settings like DexGraspBench's (BODex, ICRA 2025).
+PRESETS = {
+    "synergrasp": Protocol(),
+    "dexgraspbench": Protocol(
+        name="dexgraspbench", mu=0.6, torsional_friction=0.02, mass=0.1, acceleration=10.0,
+        max_displacement=50.0, max_rotation=15.0, max_penetration=10.0, measure_from="planned",
+    ),
+}
+
+
+def protocol(preset="synergrasp", **settings) -> Protocol:
+    """A preset's settings, with some of them changed.
+
+    Parameters
+    ----------
+    preset : str or Protocol
+        A name in `PRESETS` (``"synergrasp"``, the default, or
+        ``"dexgraspbench"``) or a `Protocol`.
+    **settings
+        Fields of `Protocol` to change; the name becomes ``"custom"`` unless
+        given.
+
+    Returns
+    -------
+    Protocol
+
+    Raises
+    ------
+    ValueError
+        An unknown preset or setting, or a setting out of its range.
+
+    Examples
+    --------
+    >>> protocol().mu, protocol("dexgraspbench").mu
+    (0.3, 0.6)
+    >>> p = protocol("dexgraspbench", mu=0.3)
+    >>> p.name, p.mu, p.mass
+    ('custom', 0.3, 0.1)
+    """
+    if isinstance(preset, Protocol):
+        base = preset
+    elif isinstance(preset, str) and preset in PRESETS:
+        base = PRESETS[preset]
+    else:
+        raise ValueError(f"unknown protocol preset {preset!r}; presets are {sorted(PRESETS)} (or pass a Protocol)")
+    known = {f.name for f in fields(Protocol)}
+    unknown = set(settings) - known
+    if unknown:
+        raise ValueError(f"unknown protocol settings {sorted(unknown)}; settings are {sorted(known - {'name'})}")
+    if not settings:
+        return base
+    settings.setdefault("name", "custom")
+    return replace(base, **settings)

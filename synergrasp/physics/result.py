@@ -1,0 +1,169 @@
+"""The result of a physics validation, with a lossless JSON round trip."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .._records import load_record, save_record
+from .protocol import DIRECTIONS, Protocol
+
+__all__ = ["Validation", "OUTCOMES"]
+
+#: What can happen to a grasp, in the order the protocol tests it.
+OUTCOMES = ("held", "penetration", "unstable", "no contact", "slip", "rotation")
+
+_FORMAT = "synergrasp.Validation/1"
+_ARRAYS = {"u": (-1,), "squeeze_z": (-1,), "displacement": (-1,), "rotation": (-1,), "contact_points": (-1, 3),
+           "contact_normals": (-1, 3), "contact_forces": (-1,), "object_pose": (-1,)}
+
+
+@dataclass(frozen=True)
+class Validation:
+    """A grasp tested in MuJoCo: does the hand hold the object when it is pushed?
+
+    Attributes
+    ----------
+    held : bool
+        The object stayed within ``protocol.max_displacement`` and
+        ``protocol.max_rotation`` under the push along each of the six
+        directions, in a stable simulation.
+    outcome : str
+        One of `OUTCOMES`: ``"held"``; ``"penetration"`` (the hand overlaps
+        the object deeper than ``protocol.max_penetration`` at the planned
+        configuration, not simulated); ``"unstable"`` (NaN, MuJoCo's
+        instability warning or an explosion); ``"no contact"`` (the hand does
+        not touch the object after the squeeze); ``"slip"`` (the object moved
+        too far under a push); ``"rotation"`` (it turned too far, without
+        moving too far).
+    reason : str
+        The outcome in words, with the numbers.
+    displacement : (6,) float
+        Largest displacement of the object's centre (mm) during the push
+        along each direction of `DIRECTIONS` (``-x, +x, -y, +y, -z, +z``,
+        world axes), from the pose ``protocol.measure_from``. A push stops
+        once a threshold is crossed. NaN where not simulated.
+    rotation : (6,) float
+        Largest rotation of the object (degrees), likewise.
+    settle_displacement, settle_rotation : float
+        How far the squeeze and settling moved (mm) and turned (degrees) the
+        object from its planned pose (NaN if not simulated).
+    initial_penetration : float
+        Deepest overlap of the hand and the object at the planned
+        configuration, as MuJoCo measures it (mm, 0 if none).
+    penetration_body : str
+        The hand geom of that overlap (``"palm"``, ``"T3"``...), "" if none.
+    contact_bodies : list of str
+        Hand geom of each contact MuJoCo found after settling.
+    contact_pieces : list of int
+        The object's convex piece of each contact.
+    contact_points : (c, 3) float
+        Contact positions (mm, world frame, the object at its settled pose).
+    contact_normals : (c, 3) float
+        Unit contact normals pointing into the object.
+    contact_forces : (c,) float
+        Normal force of each contact (N).
+    object_mass : float
+        Mass of the simulated object (kg).
+    object_pose : (7,) float
+        Settled pose of the object: its centre (mm) and orientation
+        quaternion ``w, x, y, z`` (NaN if not simulated).
+    joint_angles : dict of str to float
+        Settled angles of the hand's hinges (rad).
+    u : (6 + n_syn,) float
+        The configuration simulated (the palm moved back by ``retreat``).
+    squeeze_z : (n_syn,) float
+        The synergy targets of the squeeze.
+    retreat : float
+        How far (mm) the palm was moved back along its normal after the
+        squeeze was set (0, or the distance of a negative control).
+    protocol : dict
+        The `Protocol` used (`Protocol.to_dict`).
+    object_name, hand_name : str
+    cpu_time : float
+        CPU time of the validation (s).
+    mujoco_version : str
+    """
+
+    held: bool
+    outcome: str
+    reason: str
+    displacement: np.ndarray
+    rotation: np.ndarray
+    settle_displacement: float
+    settle_rotation: float
+    initial_penetration: float
+    penetration_body: str
+    contact_bodies: list
+    contact_pieces: list
+    contact_points: np.ndarray
+    contact_normals: np.ndarray
+    contact_forces: np.ndarray
+    object_mass: float
+    object_pose: np.ndarray
+    joint_angles: dict
+    u: np.ndarray
+    squeeze_z: np.ndarray
+    retreat: float
+    protocol: dict
+    object_name: str = ""
+    hand_name: str = ""
+    cpu_time: float = 0.0
+    mujoco_version: str = ""
+    directions: tuple = field(default=DIRECTIONS)
+
+    @property
+    def held_per_direction(self) -> np.ndarray:
+        """(6,) bool : the push along each direction stayed within both thresholds."""
+        p = self.settings
+        with np.errstate(invalid="ignore"):
+            return (self.displacement < p.max_displacement) & (self.rotation < p.max_rotation)
+
+    @property
+    def settings(self) -> Protocol:
+        """The protocol as a `Protocol`."""
+        return Protocol(**self.protocol)
+
+    @property
+    def grip_force(self) -> float:
+        """Sum of the contact normal forces after settling (N)."""
+        return float(np.sum(self.contact_forces))
+
+    def save(self, path) -> Path:
+        """Write the validation as JSON (floats round-trip exactly).
+
+        Parameters
+        ----------
+        path : str or Path
+            Output file, conventionally ``*.json``.
+
+        Returns
+        -------
+        Path
+            ``path``.
+        """
+        return save_record(self, path, _FORMAT, _ARRAYS)
+
+    @classmethod
+    def load(cls, path) -> "Validation":
+        """Read a validation written by `save`.
+
+        Parameters
+        ----------
+        path : str or Path
+
+        Returns
+        -------
+        Validation
+            Equal to the saved one.
+
+        Raises
+        ------
+        ValueError
+            If the file is not a saved Validation.
+        """
+        data = load_record(cls, path, _FORMAT, _ARRAYS)
+        data["directions"] = tuple(data["directions"])
+        return cls(**data)

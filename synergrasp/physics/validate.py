@@ -1,0 +1,225 @@
+"""`validate`: check a planned grasp (or any configuration) in MuJoCo, and the squeeze it uses."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..hand import SynergyHand, rotation_xyz
+from ..objects import GraspObject
+from ..planner import PlanResult
+from .protocol import protocol as make_protocol
+from .result import Validation
+from .simulate import mujoco_module, simulate
+
+__all__ = ["validate", "squeeze_targets", "check_match"]
+
+#: Hand point kinds whose points can set the squeeze direction.
+_KINDS = ("precision", "power")
+
+
+def check_match(result, obj, hand, tolerance):
+    """Check that a plan result belongs to this object and this hand.
+
+    Parameters
+    ----------
+    result : PlanResult
+    obj : GraspObject
+    hand : SynergyHand
+    tolerance : float
+        Largest distance (mm, the planner's cP) of the result's contact points
+        from the object's surface.
+
+    Raises
+    ------
+    ValueError
+        If the configuration does not fit the hand, the contact labels are not
+        the hand's, or the contacts lie off the object's surface.
+    """
+    u = np.asarray(result.u, dtype=float)
+    if u.shape != (hand.n_u,):
+        raise ValueError(f"the result's configuration u has {u.size} entries but hand {hand.name!r} takes {hand.n_u} "
+                         f"({hand.u_labels}): a result planned with another hand? Pass that hand as hand=")
+    labels = set(hand.point_labels(result.grasp if result.grasp in _KINDS else "precision"))
+    foreign = sorted(set(result.contact_labels) - labels)
+    if foreign:
+        raise ValueError(f"the result's contacts {foreign} are not {result.grasp} points of hand {hand.name!r} "
+                         f"({sorted(labels)}): a result planned with another hand? Pass that hand as hand=")
+    if len(result.contact_points):
+        gap = np.abs(obj.contact_distance(result.contact_points).value)
+        if gap.max() > tolerance:
+            raise ValueError(
+                f"the result's contact points lie up to {gap.max():.1f} mm from the surface of {obj.name!r} (more than "
+                f"{tolerance:g} mm): it was planned for another object ({result.object_name!r}) or another pose of it")
+
+
+def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="highs"):
+    """The synergies closed a step past ``u``: each contact pushed into the object.
+
+    The hand points (fingertips, phalanx and palm points) closer than
+    ``contact_distance`` to the object are the contacts. The direction of the
+    step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
+    the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
+    the object's inward normal at the point nearest to it), and its length
+    makes that motion ``squeeze`` mm on average over the contacts.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (6 + n_syn,) float
+    squeeze : float
+        Mean motion of the contacts into the object (mm).
+    contact_distance : float
+        Contact threshold (mm, cP).
+    backend : str
+        LP backend of the cP queries.
+
+    Returns
+    -------
+    z : (n_syn,) float
+        The squeezed synergy values (``u``'s own if the synergies cannot
+        move the contacts, e.g. when the palm point is the only one).
+    labels : list of str
+        The contacts' hand points.
+
+    Raises
+    ------
+    ValueError
+        If no hand point is within ``contact_distance`` of the object.
+
+    Examples
+    --------
+    A box pinched between the thumb and index fingertips, squeezed by 10 mm:
+
+    >>> import synergrasp as sg
+    >>> from synergrasp.physics import pinch_grasp
+    >>> hand = sg.SynergyHand.default()
+    >>> u, box = pinch_grasp(hand)
+    >>> z, labels = squeeze_targets(hand, box, u, 10.0, 5.0)
+    >>> labels                            # the two fingertips and the index's distal phalanx
+    ['T0', 'I0', 'I3']
+    >>> bool(z[1] < u[7])                 # z2 decreases: the hand closes
+    True
+    """
+    points, jacobians, labels = [], [], []
+    for kind in _KINDS:
+        p, jac = hand.points_and_jacobian(u, kind)
+        points.append(p)
+        jacobians.append(jac[:, :, 6:])
+        labels += hand.point_labels(kind)
+    points, jacobians = np.vstack(points), np.vstack(jacobians)
+    near = obj.contact_distance(points, backend=backend)
+    contact = near.value < contact_distance
+    if not contact.any():
+        raise ValueError(
+            f"no hand point is within {contact_distance:g} mm of {obj.name!r} (nearest {near.value.min():.1f} mm): "
+            "this configuration does not grasp the object (another object, or the hand is not at its grasp)")
+    normals, jac = near.normal[contact], jacobians[contact]
+    direction = np.einsum("ia,iak->k", normals, jac)
+    rate = float(np.einsum("ia,iak,k->i", normals, jac, direction).mean())  # mm per unit step, = |direction|^2 / n
+    step = direction * (squeeze / rate) if rate > 1e-9 else np.zeros(hand.n_syn)  # e.g. the palm point alone
+    return u[6:] + step, [lab for lab, c in zip(labels, contact) if c]
+
+
+def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, backend="highs", **protocol) -> Validation:
+    """Test a grasp in MuJoCo: squeeze, settle, then push the object along six directions.
+
+    The protocol (the documentation's "Physics validation" page): the hand is
+    placed at the configuration with its palm welded to the world and the
+    object free; the synergies close a step further (`squeeze_targets`) while
+    the object is damped, and the grasp settles; then, from the settled state
+    each time, a force ``mass * acceleration`` pushes the object along -x, +x,
+    -y, +y, -z and +z (world axes, no gravity). The grasp holds when the
+    object's displacement and rotation stay under the thresholds along every
+    direction.
+
+    Parameters
+    ----------
+    result_or_u : PlanResult or (6 + n_syn,) array_like
+        A plan result (checked against ``obj`` and ``hand``) or a
+        configuration ``[px, py, pz, phi1, phi2, phi3, z...]`` (mm, rad).
+    obj : GraspObject
+        The object, at the pose it was planned in.
+    hand : SynergyHand, optional
+        Default: ``SynergyHand.default()``.
+    preset : {"synergrasp", "dexgraspbench"} or Protocol
+        Settings to start from (see `synergrasp.physics.PRESETS`).
+    retreat : float
+        Move the palm this far (mm) back along its normal after the squeeze is
+        set: a negative control (40 mm must not hold).
+    backend : str
+        LP backend of the cP queries (contacts of the squeeze and the check of
+        a result's contacts).
+    **protocol
+        Fields of `synergrasp.physics.Protocol` to change.
+
+    Returns
+    -------
+    Validation
+
+    Raises
+    ------
+    ImportError
+        If MuJoCo is not installed (``pip install "synergrasp[sim]"``).
+    TypeError
+        If ``obj`` is not a GraspObject or ``hand`` not a SynergyHand.
+    ValueError
+        A result from another object or hand, a configuration that touches
+        nothing, an unknown or out-of-range protocol setting, or a bad
+        ``retreat``.
+
+    Examples
+    --------
+    A box pinched between the thumb and index fingertips holds; the same
+    hand 40 mm further back does not:
+
+    >>> import synergrasp as sg
+    >>> from synergrasp.physics import pinch_grasp
+    >>> u, box = pinch_grasp()
+    >>> check = sg.validate(u, box)
+    >>> check.held, check.outcome, check.contact_bodies
+    (True, 'held', ['T3', 'I3'])
+    >>> bool(check.displacement.max() < 1.0)            # mm, under each of the six pushes
+    True
+    >>> sg.validate(u, box, retreat=40.0).outcome
+    'no contact'
+    """
+    start = time.process_time()
+    mujoco = mujoco_module()
+    hand = SynergyHand.default() if hand is None else hand
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
+    if not isinstance(obj, GraspObject):
+        raise TypeError(f"obj must be a GraspObject (synergrasp.objects), got {type(obj).__name__}")
+    settings = make_protocol(preset, **protocol)
+    try:
+        retreat = float(retreat)
+    except (TypeError, ValueError):
+        raise ValueError(f"retreat must be a finite number of mm, got {retreat!r}") from None
+    if not np.isfinite(retreat):
+        raise ValueError(f"retreat must be a finite number of mm, got {retreat!r}")
+    if isinstance(result_or_u, PlanResult):
+        check_match(result_or_u, obj, hand, settings.contact_distance)
+        u = np.asarray(result_or_u.u, dtype=float)
+    else:
+        try:
+            u = np.asarray(result_or_u, dtype=float)
+        except (TypeError, ValueError):
+            raise TypeError(f"result_or_u must be a PlanResult or a configuration u, got {type(result_or_u).__name__}") from None
+        if u.shape != (hand.n_u,):
+            raise ValueError(f"u must have shape ({hand.n_u},) for hand {hand.name!r} ({hand.u_labels}), got {u.shape}")
+        if not np.isfinite(u).all():
+            raise ValueError("u contains NaN or inf")
+    z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
+    placed = u.copy()
+    placed[:3] -= retreat * rotation_xyz(u[3:6])[:, 2]
+    squeezed = placed.copy()
+    squeezed[6:] = z
+    measured = simulate(hand, obj, placed, hand.joint_angles(placed), hand.joint_angles(squeezed), settings)
+    return Validation(
+        held=measured["outcome"] == "held", squeeze_z=z, u=placed, retreat=retreat, protocol=settings.to_dict(),
+        object_name=obj.name, hand_name=hand.name, cpu_time=time.process_time() - start,
+        mujoco_version=mujoco.__version__, **measured,
+    )

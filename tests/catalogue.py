@@ -1,0 +1,289 @@
+"""The bad-input catalogue: every public entry point (API and command line) fed input it must refuse.
+
+Each case is run by tests/test_catalogue.py and listed on the documentation page "What
+synergrasp checks" (docs/checks.md, generated from this list by ``python -m tests.doc_pages
+--write``; a test fails if the page and the list differ). A case ends either in the documented
+exception type with a message that contains ``says`` (raised by synergrasp itself, never from
+inside numpy, a solver, trimesh, fcl or coacd), or, for ``raises=None``, in a result that
+``check`` accepts. Command-line cases run ``synergrasp`` with ``argv`` and expect exit status 2
+and ``says`` on stderr.
+
+Planner-option cases (``PlannerOptions`` fields) belong in ``PLANNER_OPTIONS`` below.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import trimesh
+
+import synergrasp as sg
+import synergrasp.objects as so
+from synergrasp import viz
+from synergrasp.planner import check_grasp, grasp_status
+
+
+@dataclass(frozen=True)
+class Case:
+    """One bad input: where it goes, what it is, and how synergrasp must answer."""
+
+    entry: str
+    what: str
+    call: Callable | None = None  # (folder) -> result; ``folder`` is an empty temporary folder
+    raises: type | None = ValueError
+    says: str = ""
+    argv: list | None = None  # a command-line case: synergrasp's arguments (``{tmp}`` is the folder)
+    check: Callable | None = field(default=None, repr=False)  # for results: result -> bool
+
+    @property
+    def id(self) -> str:
+        return f"{self.entry}: {self.what}"
+
+
+def _cloud(n=300, radius=30.0, seed=0):
+    d = np.random.default_rng(seed).normal(size=(n, 3))
+    return radius * d / np.linalg.norm(d, axis=1, keepdims=True)
+
+
+def _box_corners(half=10.0):
+    return np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
+
+
+def _write(folder, name, text=None, data=None):
+    path = Path(folder) / name
+    if text is not None:
+        path.write_text(text) if isinstance(text, str) else path.write_bytes(text)
+    elif data is not None:
+        np.save(path, data)
+    return path
+
+
+def _nan_obj(folder):
+    ball = trimesh.creation.icosphere(subdivisions=1, radius=30.0)
+    v = ball.vertices.copy()
+    v[5] = np.nan
+    text = "".join(f"v {x} {y} {z}\n" for x, y, z in v) + "".join(f"f {a} {b} {c}\n" for a, b, c in ball.faces + 1)
+    return _write(folder, "ball.obj", text)
+
+
+def _arch():
+    """Half a tube: an open surface whose rim is not planar and which encloses nothing."""
+    tube = trimesh.creation.cylinder(radius=30.0, height=80.0, sections=32)
+    keep = (np.abs(tube.face_normals[:, 2]) < 0.5) & (tube.triangles_center[:, 1] > 0)
+    return trimesh.Trimesh(tube.vertices, tube.faces[keep])
+
+
+def _plan_file(folder, **changes):
+    """A saved PlanResult (3 iterations) with some fields changed."""
+    path = sg.plan("ellipsoid", "precision", max_iter=3).save(Path(folder) / "plan.json")
+    data = json.loads(path.read_text())
+    data.update(changes)
+    path.write_text(json.dumps(data))
+    return path
+
+
+P2, N2 = [[0.0, 0.0, 10.0], [0.0, 0.0, -10.0]], [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
+A3, B3 = 10.0 * np.eye(3), 10.0 * np.eye(3) + 50.0
+HAND = sg.SynergyHand.default()
+
+
+def _q(**kw):
+    args = {"points": P2, "normals": N2, **kw}
+    return lambda tmp: sg.q_distance(args.pop("points"), args.pop("normals"), **args)
+
+
+def _pd(A=A3, B=B3, **kw):
+    return lambda tmp: sg.pseudo_distance(A, B, **kw)
+
+
+API = [
+    # ------------------------------------------------------------ pseudo_distance, regular_simplex
+    Case("sg.pseudo_distance", "A is a string", _pd(A="abc"), TypeError, "A must be a numeric array of shape (n, d)"),
+    Case("sg.pseudo_distance", "A is one flat vector", _pd(A=[1.0, 2.0, 3.0]), ValueError, "A must have shape (n, d)"),
+    Case("sg.pseudo_distance", "A and B of different dimensions", _pd(B=np.ones((3, 2))), ValueError, "B has points of dimension 2, expected 3"),
+    Case("sg.pseudo_distance", "points of dimension 1", _pd(A=[[1.0]], B=[[2.0]]), ValueError, "A has dimension 1, at least 2 is required"),
+    Case("sg.pseudo_distance", "a NaN coordinate", _pd(A=[[np.nan, 0.0, 0.0]]), ValueError, "A contains NaN or inf at rows [0]"),
+    Case("sg.pseudo_distance", "an infinite coordinate", _pd(B=[[np.inf, 0.0, 0.0]]), ValueError, "B contains NaN or inf at rows [0]"),
+    Case("sg.pseudo_distance", "an empty set", _pd(A=np.zeros((0, 3))), ValueError, "A is empty"),
+    Case("sg.pseudo_distance", "complex coordinates", _pd(A=A3 + 1j), TypeError, "got an array of dtype complex128"),
+    Case("sg.pseudo_distance", "a ragged nested list", _pd(A=[[0.0, 0.0, 0.0], [1.0, 0.0]]), TypeError, "got a ragged list"),
+    Case("sg.pseudo_distance", "points of dimension 1001", _pd(A=np.zeros((1, 1001)), B=np.ones((1, 1001))), ValueError, "at most 1000 is supported"),
+    Case("sg.pseudo_distance", "a simplex of the wrong shape", _pd(simplex=np.eye(3)), ValueError, "simplex must have d+1 = 4 vertices"),
+    Case("sg.pseudo_distance", "a simplex not around the origin", _pd(simplex=sg.regular_simplex(3) + 5.0), ValueError, "simplex must contain the origin strictly inside"),
+    Case("sg.pseudo_distance", "an unknown backend", _pd(backend="glpk"), ValueError, "unknown LP backend 'glpk'"),
+    Case("sg.pseudo_distance", "sets 1e-300 across: solved rescaled", _pd(A=A3 * 1e-300, B=B3 * 1e-300), None, "value 1.2e-298",
+         check=lambda r: r.kind == "separation" and abs(r.value / 1.2e-298 - 1) < 1e-9),
+    Case("sg.pseudo_distance", "sets 1e300 away: solved rescaled", _pd(A=A3 * 1e300, B=B3 * 1e300), None, "value 1.2e302",
+         check=lambda r: abs(r.value / 1.2e302 - 1) < 1e-9),
+    Case("sg.pseudo_distance", "values that overflow the float range", _pd(A=[[-1.7e308, 0.0]], B=[[1.7e308, 0.0]]), ValueError, "overflows the float range"),
+    Case("sg.regular_simplex", "d = 0", lambda tmp: sg.regular_simplex(0), ValueError, "d must be an integer from 2 to 1000"),
+    Case("sg.regular_simplex", "d is a string", lambda tmp: sg.regular_simplex("3"), ValueError, "d must be an integer from 2 to 1000"),
+    Case("sg.regular_simplex", "d = 10**6 (terabytes)", lambda tmp: sg.regular_simplex(10**6), ValueError, "d must be an integer from 2 to 1000"),
+    # ------------------------------------------------------------ quality
+    Case("sg.q_distance", "a zero-length normal", _q(normals=[[0.0, 0.0, 0.0], [0.0, 0.0, 1.0]]), ValueError, "normals has zero-length rows [0]"),
+    Case("sg.q_distance", "fewer normals than points", _q(normals=[[0.0, 0.0, 1.0]]), ValueError, "one normal per contact"),
+    Case("sg.q_distance", "a NaN contact point", _q(points=[[0.0, 0.0, np.nan], [1.0, 0.0, 0.0]]), ValueError, "points contains NaN"),
+    Case("sg.q_distance", "2-D contact points", _q(points=[[0.0, 0.0], [1.0, 0.0]]), ValueError, "dimension 2, expected 3"),
+    Case("sg.q_distance", "no contacts", _q(points=np.zeros((0, 3)), normals=np.zeros((0, 3))), ValueError, "points is empty"),
+    Case("sg.q_distance", "mu = 0", _q(mu=0.0), ValueError, "mu must be a finite number > 0"),
+    Case("sg.q_distance", "mu = NaN", _q(mu=np.nan), ValueError, "mu must be a finite number > 0"),
+    Case("sg.q_distance", "mu = 1e300", _q(mu=1e300), ValueError, "mu must be a number in (0, 1000]"),
+    Case("sg.q_distance", "mu is a string", _q(mu="0.3"), TypeError, "mu must be a number, got str"),
+    Case("sg.q_distance", "2 cone edges", _q(edges=2), ValueError, "edges must be an integer from 3 to 1000"),
+    Case("sg.q_distance", "4.5 cone edges", _q(edges=4.5), ValueError, "edges must be an integer"),
+    Case("sg.q_distance", "10**9 cone edges (gigabytes)", _q(edges=10**9), ValueError, "edges must be an integer from 3 to 1000"),
+    Case("sg.q_distance", "a 2-D centre", _q(center=[0.0, 0.0]), ValueError, "center must have shape (3,)"),
+    Case("sg.q_distance", "torque_scale = 0", _q(torque_scale=0.0), ValueError, "torque_scale must be a finite number > 0"),
+    Case("sg.q_distance", "every contact at the centre", _q(points=[[0.0, 0.0, 0.0]], normals=[[0.0, 0.0, 1.0]]), ValueError, "pass torque_scale"),
+    Case("sg.q_distance", "an unknown backend", _q(backend="glpk"), ValueError, "unknown LP backend"),
+    Case("sg.q_distance", "one contact: a result, not force-closed", _q(points=[[0.0, 0.0, 10.0]], normals=[[0.0, 0.0, -1.0]]), None,
+         "Q > 0", check=lambda r: r.value > 0 and not r.force_closure),
+    Case("sg.q_distance", "the same contact four times: a result", _q(points=[[0.0, 0.0, 10.0]] * 4, normals=[[0.0, 0.0, -1.0]] * 4),
+         None, "the value of one contact", check=lambda r: abs(r.value - sg.q_distance([[0.0, 0.0, 10.0]], [[0.0, 0.0, -1.0]]).value) < 1e-9),
+    Case("sg.friction_cone_edges", "one flat normal vector", lambda tmp: sg.friction_cone_edges([0.0, 0.0, 1.0]), ValueError, "normals must have shape (n, d)"),
+    Case("sg.friction_cone_edges", "a negative mu", lambda tmp: sg.friction_cone_edges([[0.0, 0.0, 1.0]], mu=-1.0), ValueError, "mu must be a finite number > 0"),
+    Case("sg.contact_wrenches", "more points than normals", lambda tmp: sg.contact_wrenches(P2, N2[:1]), ValueError, "one normal per contact"),
+    Case("sg.force_closure_by_hull", "3-D wrenches", lambda tmp: sg.force_closure_by_hull(np.ones((10, 3))), ValueError, "wrenches has points of dimension 3, expected 6"),
+    Case("sg.force_closure_by_hull", "NaN wrenches", lambda tmp: sg.force_closure_by_hull(np.full((8, 6), np.nan)), ValueError, "wrenches contains NaN or inf"),
+    Case("sg.force_closure_by_hull", "a string tolerance", lambda tmp: sg.force_closure_by_hull(np.eye(6), tol="0"), ValueError, "tol must be a finite number >= 0"),
+    # ------------------------------------------------------------ plan and its results
+    Case("sg.plan", "an unknown grasp type", lambda tmp: sg.plan("ellipsoid", "pinch"), ValueError, "grasp must be one of ('precision', 'power')"),
+    Case("sg.plan", "an object that is a number", lambda tmp: sg.plan(3), TypeError, "obj must be a GraspObject, a built-in name or a file path"),
+    Case("sg.plan", "an unknown object name", lambda tmp: sg.plan("teapot"), ValueError, "unknown object 'teapot'"),
+    Case("sg.plan", "an object 1 mm wide (metres?)", lambda tmp: sg.plan(so.ellipsoid(0.5, 0.5, 0.5)), ValueError, "too small to grasp"),
+    Case("sg.plan", "an object 600 mm wide", lambda tmp: sg.plan(so.ellipsoid(300.0, 300.0, 300.0)), ValueError, "too large for the hand"),
+    Case("sg.plan", "u0 of 3 numbers", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 1.0]), ValueError, "u0 must have shape (8,)"),
+    Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),
+    Case("sg.plan", "a zero approach direction", lambda tmp: sg.plan("ellipsoid", approach=[0.0, 0.0, 0.0]), ValueError, "approach must be a non-zero direction"),
+    Case("sg.plan", "an approach that is a word", lambda tmp: sg.plan("ellipsoid", approach="up"), TypeError, "approach must be a numeric vector"),
+    Case("sg.plan", "an unknown option", lambda tmp: sg.plan("ellipsoid", foo=1), ValueError, "unknown planner options ['foo']"),
+    Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "max_iter must be >= 1"),
+    Case("PlanResult.save", "a path that is a number", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(3), TypeError, "an output path must be a str or os.PathLike"),
+    Case("PlanResult.save", "a path that is a folder", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(tmp), IsADirectoryError, "it is a folder; give a file name"),
+    Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
+    Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
+    Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
+    Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be an array of numbers of shape (n,)"),
+    Case("sg.PlanResult.load", "success = \"maybe\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, success="maybe")), ValueError, "field 'success' must be true or false"),
+    Case("sg.PlanResult.load", "iterations = -3", lambda tmp: sg.PlanResult.load(_plan_file(tmp, iterations=-3)), ValueError, "field 'iterations' must be an integer >= 0"),
+    Case("sg.PlanResult.load", "a NaN penetration", lambda tmp: sg.PlanResult.load(_plan_file(tmp, penetration=float("nan"))), ValueError, "field 'penetration' must be a finite number"),
+    # ------------------------------------------------------------ objects: files
+    Case("sg.objects.load", "a missing file", lambda tmp: so.load(Path(tmp) / "none.stl"), FileNotFoundError, "object file not found"),
+    Case("sg.objects.load", "a folder", lambda tmp: so.load(tmp), FileNotFoundError, "object file not found"),
+    Case("sg.objects.load", "an unknown extension", lambda tmp: so.load(_write(tmp, "o.abc", "1 2 3\n")), ValueError, "unknown format '.abc'; supported extensions"),
+    Case("sg.objects.load", "an .stl of garbage bytes", lambda tmp: so.load(_write(tmp, "g.stl", b"\x00\x01garbage" * 7)), ValueError, "could not read"),
+    Case("sg.objects.load", "an .xyz of words", lambda tmp: so.load(_write(tmp, "w.xyz", "no numbers here\n")), ValueError, "could not read"),
+    Case("sg.objects.load", "an empty .npy", lambda tmp: so.load(_write(tmp, "e.npy", data=np.zeros((0, 3)))), ValueError, "it contains no points"),
+    Case("sg.objects.load", "an .obj with a NaN vertex", lambda tmp: so.load(_nan_obj(tmp), cache=False), ValueError, "ball.obj vertices contains NaN or inf at rows [5]"),
+    Case("sg.objects.load", "an .npy of NaN points", lambda tmp: so.load(_write(tmp, "n.npy", data=np.full((10, 3), np.nan)), cache=False), ValueError, "contains NaN or inf"),
+    Case("sg.objects.load", "scale = 0", lambda tmp: so.load(_write(tmp, "c.npy", data=_cloud()), scale=0), ValueError, "scale must be a finite number > 0"),
+    Case("sg.objects.get", "an unknown name", lambda tmp: so.get("teapot"), ValueError, "not a built-in (ellipsoid, cup, bell, goblet) and no such file"),
+    Case("sg.objects.get", "a number", lambda tmp: so.get(3), TypeError, "an object is a built-in name"),
+    Case("sg.objects.get", "an option the built-in lacks", lambda tmp: so.get("cup", foo=1), TypeError, "unexpected keyword argument 'foo'"),
+    # ------------------------------------------------------------ objects: arrays and meshes
+    Case("sg.objects.from_points", "no points", lambda tmp: so.from_points(np.zeros((0, 3))), ValueError, "points is empty"),
+    Case("sg.objects.from_points", "an infinite point", lambda tmp: so.from_points([[0, 0, 0], [1, 0, 0], [0, np.inf, 0], [0, 0, 1]]), ValueError, "NaN or inf"),
+    Case("sg.objects.from_points", "points on a plane", lambda tmp: so.from_points(np.c_[_cloud()[:, :2], np.zeros(300)]), ValueError, "no volume: all its points lie on a plane"),
+    Case("sg.objects.from_points", "points on a line", lambda tmp: so.from_points(np.outer(np.arange(10.0), [1.0, 2.0, 3.0])), ValueError, "no volume: all its points lie on a line"),
+    Case("sg.objects.from_points", "one point ten times", lambda tmp: so.from_points([[1.0, 2.0, 3.0]] * 10), ValueError, "only 1 distinct point(s)"),
+    Case("sg.objects.from_points", "4 columns", lambda tmp: so.from_points(np.ones((10, 4))), ValueError, "dimension 4, expected 3"),
+    Case("sg.objects.from_points", "max_parts = 0", lambda tmp: so.from_points(_cloud(), max_parts=0), ValueError, "max_parts must be an integer >= 1"),
+    Case("sg.objects.from_points", "a cloud 1e200 mm across", lambda tmp: so.from_points(_cloud() * 1e198), ValueError, "mm across, outside the 1e-06-1e+06 mm"),
+    Case("sg.objects.from_points", "a cloud 1e-200 mm across", lambda tmp: so.from_points(_cloud() * 1e-202), ValueError, "rescale it (scale=1000 for metres)"),
+    Case("sg.objects.from_points", "a centre outside the cloud", lambda tmp: so.from_points(_cloud(), center=[500.0, 0.0, 0.0]), ValueError, "is outside point cloud"),
+    Case("sg.objects.from_points", "every point twice: a result", lambda tmp: so.from_points(np.vstack([_cloud(), _cloud()]), cache=False),
+         None, "the pieces of the points once", check=lambda o: o.n_pieces == 1 and abs(o.volume - so.from_points(_cloud(), cache=False).volume) < 1e-9),
+    Case("sg.objects.from_mesh", "None", lambda tmp: so.from_mesh(None), TypeError, "mesh must be a trimesh.Trimesh or Scene"),
+    Case("sg.objects.from_mesh", "a mesh without faces", lambda tmp: so.from_mesh(trimesh.Trimesh(vertices=np.eye(3))), ValueError, "has no faces"),
+    Case("sg.objects.from_mesh", "a flat mesh", lambda tmp: so.from_mesh(trimesh.Trimesh([[0, 0, 0], [50, 0, 0], [50, 50, 0], [0, 50, 0]], [[0, 1, 2], [0, 2, 3]])),
+         ValueError, "no volume"),
+    Case("sg.objects.from_mesh", "a NaN vertex", lambda tmp: so.from_mesh(trimesh.Trimesh(np.r_[_box_corners(), [[np.nan] * 3]], [[0, 1, 8]], process=False)),
+         ValueError, "mesh vertices contains NaN or inf at rows [8]"),
+    Case("sg.objects.from_mesh", "an open surface that encloses nothing", lambda tmp: so.from_mesh(_arch(), name="arch", cache=False), ValueError,
+         "arch is not watertight and cannot be capped"),
+    Case("sg.objects.from_mesh", "a negative scale", lambda tmp: so.from_mesh(trimesh.creation.box((30.0, 30.0, 30.0)), scale=-1.0), ValueError, "scale must be a finite number > 0"),
+    Case("sg.objects.GraspObject", "no pieces", lambda tmp: so.GraspObject([]), ValueError, "pieces is empty"),
+    Case("sg.objects.GraspObject", "a flat piece", lambda tmp: so.GraspObject([np.eye(3)]), ValueError, "pieces[0] has no volume"),
+    Case("sg.objects.GraspObject", "a ragged piece", lambda tmp: so.GraspObject([[[0, 0, 0], [1, 0]]]), TypeError, "pieces[0] must be a numeric array"),
+    Case("sg.objects.GraspObject", "a centre outside", lambda tmp: so.GraspObject([_box_corners()], center=[30.0, 0.0, 0.0]), ValueError, "is outside object"),
+    Case("sg.objects.GraspObject", "a negative torque scale", lambda tmp: so.GraspObject([_box_corners()], torque_scale=-1.0), ValueError, "torque_scale must be a finite number > 0"),
+    Case("sg.objects.GraspObject", "info that is not a dict", lambda tmp: so.GraspObject([_box_corners()], info="scan"), TypeError, "info must be a dict"),
+    Case("sg.objects.revolve", "one knot", lambda tmp: so.revolve([[10.0, 0.0]]), ValueError, "profile needs at least 2 knots"),
+    Case("sg.objects.revolve", "heights going down", lambda tmp: so.revolve([[10.0, 10.0], [10.0, 0.0]]), ValueError, "strictly increasing"),
+    Case("sg.objects.revolve", "a negative radius", lambda tmp: so.revolve([[-10.0, 0.0], [10.0, 10.0]]), ValueError, "negative radii at knots [0]"),
+    Case("sg.objects.ellipsoid", "a negative semi-axis", lambda tmp: so.ellipsoid(-1.0), ValueError, "a must be a finite number > 0"),
+    Case("GraspObject.contact_distance", "a NaN hand point", lambda tmp: so.ellipsoid().contact_distance([[np.nan, 0.0, 0.0]]), ValueError, "points contains NaN or inf"),
+    Case("GraspObject.contact_distance", "2-D hand points", lambda tmp: so.ellipsoid().contact_distance([[0.0, 0.0]]), ValueError, "hand points must be an (n, 3) array in mm"),
+    Case("GraspObject.scaled_contacts", "a point at the centre", lambda tmp: so.ellipsoid().scaled_contacts([[0.0, 0.0, 0.0]]), ValueError, "coincide with the object's centre"),
+    Case("GraspObject.penetration", "a negative capsule radius", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), -1.0), ValueError, "radius must be a finite number > 0"),
+    Case("GraspObject.penetration", "a radius that is a word", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), "thick"), TypeError, "radius must be a number"),
+    Case("GraspObject.transformed", "a matrix that is a word", lambda tmp: so.ellipsoid().transformed("identity"), TypeError, "matrix must be a (4, 4) array of numbers"),
+    Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
+    Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
+    Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
+    # ------------------------------------------------------------ hand, LP, figures
+    Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
+    Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
+    Case("SynergyHand.points", "a NaN u", lambda tmp: HAND.points(np.full(8, np.nan)), ValueError, "u must be finite"),
+    Case("SynergyHand.segments", "u is a word", lambda tmp: HAND.segments("open"), TypeError, "u must be a numeric vector of 8 numbers"),
+    Case("SynergyHand.from_file", "a missing file", lambda tmp: sg.SynergyHand.from_file(Path(tmp) / "none.json"), FileNotFoundError, "hand file not found"),
+    Case("SynergyHand.from_file", "a file that is not JSON", lambda tmp: sg.SynergyHand.from_file(_write(tmp, "h.json", "{")), ValueError, "not valid JSON"),
+    Case("SynergyHand", "a hand without a name", lambda tmp: sg.SynergyHand({}), ValueError, "field 'name' is missing"),
+    Case("sg.lp.get_backend", "an unknown name", lambda tmp: sg.lp.get_backend("gurobi"), ValueError, "unknown LP backend 'gurobi'; available"),
+    Case("Backend.solve", "mismatched shapes", lambda tmp: sg.lp.get_backend("highs").solve([1.0, 1.0], [[1.0, 1.0, 1.0]], [1.0]), ValueError, "LP data of mismatched shapes"),
+    Case("Backend.solve", "a NaN cost", lambda tmp: sg.lp.get_backend("highs").solve([np.nan, 1.0], [[1.0, 1.0]], [1.0]), ValueError, "LP data contains NaN or inf"),
+    Case("Backend.solve", "a cost that is a word", lambda tmp: sg.lp.get_backend("highs").solve("cheap", [[1.0, 1.0]], [1.0]), TypeError, "LP data c, A and b must be numeric"),
+    Case("viz.plot_status", "not a PlanResult", lambda tmp: viz.plot_status("plan.json", Path(tmp) / "s.png"), TypeError, "result must be a PlanResult"),
+    Case("viz.plot_status", "an unknown image format", lambda tmp: viz.plot_status(sg.plan("ellipsoid", max_iter=1), Path(tmp) / "s.xyz"), ValueError, ".xyz is not a supported format"),
+    Case("viz.plot_status", "a missing folder", lambda tmp: viz.plot_status(sg.plan("ellipsoid", max_iter=1), Path(tmp) / "no" / "s.png"), FileNotFoundError, "does not exist"),
+    Case("viz.animate", "an .mp4 file", lambda tmp: viz.animate(sg.plan("ellipsoid", max_iter=1), so.ellipsoid(), HAND, Path(tmp) / "a.mp4"), ValueError, "use one of .gif"),
+]
+
+CLI = [
+    Case("synergrasp plan", "an unknown object", argv=["plan", "--object", "teapot"], says="unknown object 'teapot'"),
+    Case("synergrasp plan", "a missing file", argv=["plan", "--object", "{tmp}/none.stl"], says="unknown object"),
+    Case("synergrasp plan", "an unknown backend", argv=["plan", "--backend", "gurobi"], says="unknown LP backend 'gurobi'"),
+    Case("synergrasp plan", "an approach of two numbers", argv=["plan", "--approach", "1,2"], says="expected three numbers x,y,z"),
+    Case("synergrasp plan", "a NaN approach", argv=["plan", "--approach", "1,nan,0"], says="expected three finite numbers"),
+    Case("synergrasp plan", "--scale 0", argv=["plan", "--scale", "0"], says="expected a number > 0"),
+    Case("synergrasp plan", "--units inch", argv=["plan", "--units", "inch"], says="invalid choice: 'inch'"),
+    Case("synergrasp plan", "--scale and --units together", argv=["plan", "--scale", "10", "--units", "m"], says="not allowed with argument"),
+    Case("synergrasp plan", "--scale for a built-in", argv=["plan", "--object", "cup", "--scale", "2"], says="applies to object files"),
+    Case("synergrasp plan", "--max-iter 0", argv=["plan", "--max-iter", "0"], says="expected an integer > 0"),
+    Case("synergrasp plan", "--out is a file", argv=["plan", "--out", "{tmp}/file.txt"], says="cannot write to the output folder (--out)"),
+    Case("synergrasp plan", "an .obj with a NaN vertex", argv=["plan", "--object", "{tmp}/ball.obj"], says="ball.obj vertices contains NaN or inf"),
+    Case("synergrasp plan", "a cloud in metres without --units", argv=["plan", "--object", "{tmp}/metres.npy"], says="on the command line: --units m"),
+    Case("synergrasp demo", "a negative mu", argv=["demo", "--mu", "-1"], says="mu must be a finite number > 0"),
+    Case("synergrasp demo", "--contacts 0", argv=["demo", "--contacts", "0"], says="expected an integer > 0"),
+    Case("synergrasp validate", "a missing result file", argv=["validate", "{tmp}/none.json", "--object", "ellipsoid", "--no-still"],
+         says="PlanResult file not found"),
+    Case("synergrasp validate", "an image for the result", argv=["validate", "{tmp}/image.png", "--object", "ellipsoid", "--no-still"],
+         says="cannot read a PlanResult from"),
+    Case("synergrasp validate", "a NaN retreat", argv=["validate", "{tmp}/plan.json", "--object", "ellipsoid", "--retreat", "nan",
+                                                      "--no-still", "--out", "{tmp}/out"], says="retreat must be a finite number"),
+    Case("synergrasp validate", "--out is a file", argv=["validate", "{tmp}/plan.json", "--object", "ellipsoid", "--out", "{tmp}/file.txt"],
+         says="cannot write to the output folder (--out)"),
+    Case("synergrasp validate", "the plan of another object", argv=["validate", "{tmp}/plan.json", "--object", "cup", "--no-still",
+                                                                   "--out", "{tmp}/out"], says="does not grasp the object"),
+    Case("synergrasp", "no command", argv=[], says="the following arguments are required: command"),
+]
+
+
+def cli_files(folder):
+    """The files the command-line cases name: a plain file, an .obj with a NaN vertex, a cloud in metres, a
+    saved plan of the ellipsoid and an image."""
+    _write(folder, "file.txt", "not a folder")
+    sg.plan("ellipsoid", "precision", max_iter=3).save(Path(folder) / "plan.json")
+    _write(folder, "image.png", b"\x89PNG\r\n\x1a\n" + bytes(64))
+    _nan_obj(folder)
+    _write(folder, "metres.npy", data=_cloud(radius=0.03))
+
+
+#: Cases of the planner's options (``sg.plan(obj, **options)``, the fields of PlannerOptions).
+PLANNER_OPTIONS: list[Case] = []
+
+CASES = API + PLANNER_OPTIONS + CLI

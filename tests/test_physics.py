@@ -1,0 +1,296 @@
+"""Physics validation in MuJoCo: the model, the protocol's verdicts on grasps of known physics, bad input."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+import synergrasp as sg
+from synergrasp.cli import main
+from synergrasp.physics import (DIRECTIONS, PRESETS, Protocol, RenderingUnavailable, Validation, ball_pinch,
+                                build_model, hand_without, moving_joints, pinch_grasp, plot_validation, protocol,
+                                squeeze_targets, validate)
+
+HAND = sg.SynergyHand.default()
+#: A palm pose away from the world frame, so that frame mistakes show.
+POSE = dict(position=(10.0, 20.0, 30.0), angles=(0.3, -0.2, 0.5))
+
+
+@pytest.fixture(scope="module")
+def pinch():
+    return pinch_grasp(HAND, **POSE)
+
+
+@pytest.fixture(scope="module")
+def pinch_check(pinch):
+    return validate(*pinch)
+
+
+def pinch_result(u, obj, labels=("T0", "I0"), hand=HAND):
+    """A PlanResult of the pinch (no planner): the fingertips' nearest points on the object."""
+    tips = hand.points(np.asarray(u)[: hand.n_u])[[0, 1]]  # a 9-entry u: a result of another hand
+    near = obj.contact_distance(tips)
+    return sg.PlanResult(success=True, reason="built by hand", iterations=0, u=np.asarray(u, float),
+                         trajectory=np.asarray(u, float)[None], status=np.zeros((1, 6)), target=np.zeros(6),
+                         q_history=np.array([-0.1]), contact_points=near.nearest, contact_normals=near.normal,
+                         contact_labels=list(labels), penetration=0.0, time_s=0.0, lp_solves=0, backend="highs",
+                         grasp="precision", object_name=obj.name)
+
+
+# ---------------------------------------------------------------------- the model
+
+
+def test_mujoco_capsules_and_palm_match_the_hand_kinematics():
+    """MuJoCo's forward kinematics of the MJCF hand reproduces SynergyHand.segments (an independent chain)."""
+    rng = np.random.default_rng(7)
+    for _ in range(3):
+        u = np.r_[rng.uniform(-50, 50, 3), rng.uniform(-1, 1, 3), rng.uniform(-1, 1, 2)]
+        _, ball = ball_pinch(HAND)
+        mujoco, model, scene = build_model(HAND, ball, u, PRESETS["synergrasp"])
+        data = mujoco.MjData(model)
+        for name, angle in HAND.joint_angles(u).items():
+            if name in scene.joints:
+                data.joint(name).qpos[0] = angle
+        mujoco.mj_forward(model, data)
+        geo = HAND.segments(u)
+        assert scene.capsules == geo.labels
+        for label, ends in zip(geo.labels, geo.capsules):
+            axis = data.geom(label).xmat.reshape(3, 3)[:, 2] * model.geom(label).size[1]
+            got = 1e3 * (data.geom(label).xpos + np.array([-axis, axis]))
+            assert min(np.abs(got - ends).max(), np.abs(got[::-1] - ends).max()) < 1e-9
+            assert model.geom(label).size[0] * 1e3 == pytest.approx(HAND.finger_radius)
+        assert 1e3 * data.geom("palm").xpos == pytest.approx(geo.palm_center, abs=1e-9)
+        assert data.geom("palm").xmat.reshape(3, 3) == pytest.approx(geo.palm_axes, abs=1e-12)
+        assert 1e3 * model.geom("palm").size == pytest.approx(geo.palm_half_extents)
+
+
+def test_moving_joints_are_the_eleven_of_the_paper():
+    assert moving_joints(HAND) == ["T_rot", "T_abd", "T_mcp", "I_mcp", "I_pip", "M_mcp", "M_pip", "R_mcp", "R_pip",
+                                   "L_mcp", "L_pip"]
+
+
+def test_object_mass_from_density_or_fixed(pinch):
+    u, box = pinch
+    _, model, _ = build_model(HAND, box, u, PRESETS["synergrasp"])
+    assert model.body("object").mass[0] == pytest.approx(1000.0 * box.volume * 1e-9, rel=1e-6)  # MuJoCo stores meshes in float32
+    _, model, _ = build_model(HAND, box, u, PRESETS["dexgraspbench"])
+    assert model.body("object").mass[0] == pytest.approx(0.1, rel=1e-6)
+
+
+@pytest.mark.parametrize("overlap", [2.0, 7.0])
+def test_initial_penetration_is_the_overlap_and_agrees_with_fcl(overlap):
+    """The fingertips cut ``overlap`` mm into the box's faces; python-fcl measures the same depth."""
+    u, box = pinch_grasp(HAND, gap=-overlap, **POSE)
+    check = validate(u, box)
+    geo = HAND.segments(u)
+    assert check.initial_penetration == pytest.approx(overlap, abs=0.01)
+    assert check.initial_penetration == pytest.approx(box.penetration(geo.capsules, geo.radius).depth, abs=0.01)
+    assert check.penetration_body in ("T3", "I3")
+    if overlap > PRESETS["synergrasp"].max_penetration:  # too deep: reported, not simulated
+        assert (check.outcome, check.held) == ("penetration", False)
+        assert "max_penetration 5 mm" in check.reason and np.isnan(check.displacement).all()
+
+
+def test_squeeze_moves_the_contacts_into_the_object_by_the_squeeze_on_average(pinch):
+    """First order: a squeeze of s mm moves the contacts s mm along their inward normals, on average."""
+    u, box = pinch
+    s = 1e-3
+    z, labels = squeeze_targets(HAND, box, u, s, 5.0)
+    squeezed = np.r_[u[:6], z]
+    points = {**dict(zip(HAND.point_labels("precision"), HAND.points(u))),
+              **dict(zip(HAND.point_labels("power"), HAND.points(u, "power")))}
+    moved = {**dict(zip(HAND.point_labels("precision"), HAND.points(squeezed))),
+             **dict(zip(HAND.point_labels("power"), HAND.points(squeezed, "power")))}
+    start = np.array([points[k] for k in labels])
+    normals = box.contact_distance(start).normal
+    inward = np.einsum("ij,ij->i", np.array([moved[k] for k in labels]) - start, normals)
+    assert inward.mean() == pytest.approx(s, rel=1e-4)
+
+
+# ---------------------------------------------------------------------- verdicts on known physics
+
+
+def test_box_pinched_by_two_opposed_fingertips_holds(pinch, pinch_check):
+    u, box = pinch
+    c = pinch_check
+    assert c.held and c.outcome == "held", c.reason
+    assert (c.displacement < 1.0).all() and (c.rotation < 1.0).all()
+    assert c.held_per_direction.all() and c.directions == DIRECTIONS
+    assert {"T3", "I3"} <= set(c.contact_bodies)
+    assert c.contact_bodies == ["T3", "I3"]
+    assert c.contact_normals[0] @ c.contact_normals[1] < -0.99  # opposed
+    centre = c.object_pose[:3]  # settled
+    for point, normal in zip(c.contact_points, c.contact_normals):
+        assert normal @ (centre - point) > 10.0  # into the box, towards its centre
+    assert c.grip_force > 2 * c.object_mass * 9.81 / c.settings.mu  # enough to hold its weight by friction
+    assert c.object_mass == pytest.approx(box.volume * 1e-6, rel=1e-6)  # 1000 kg/m^3
+    assert c.initial_penetration == 0.0 and c.penetration_body == ""
+
+
+def test_the_same_hand_40mm_back_does_not_hold(pinch, pinch_check):
+    u, box = pinch
+    c = validate(u, box, retreat=40.0)
+    assert not c.held and c.outcome == "no contact", c.reason
+    assert (c.displacement > c.settings.max_displacement).all()
+    normal = sg.hand.rotation_xyz(u[3:6])[:, 2]
+    assert c.u[:3] == pytest.approx(u[:3] - 40.0 * normal)
+    assert c.squeeze_z == pytest.approx(pinch_check.squeeze_z)  # the squeeze of the grasp itself
+
+
+def test_ball_pinch_slips_without_either_finger():
+    u, ball = ball_pinch(HAND, **POSE)
+    two = hand_without(HAND, "M", "R", "L")
+    assert validate(u, ball, hand=two).held
+    for finger in ("T", "I"):
+        check = validate(u, ball, hand=hand_without(two, finger))
+        assert not check.held and check.outcome in ("no contact", "slip"), (finger, check.reason)
+
+
+def test_dexgraspbench_preset_holds_the_pinch_and_not_its_negative_control(pinch):
+    c = validate(*pinch, preset="dexgraspbench")
+    assert c.held and c.object_mass == pytest.approx(0.1) and c.settings.mu == 0.6, c.reason
+    assert not validate(*pinch, preset="dexgraspbench", retreat=40.0).held
+
+
+def test_unstable_simulation_is_reported_with_its_reason(pinch):
+    c = validate(*pinch, timestep=0.05, kp=1e4)  # stiff servos, coarse step: MuJoCo diverges
+    assert (c.held, c.outcome) == (False, "unstable")
+    assert "MuJoCo's instability warning" in c.reason and "QACC" in c.reason
+
+
+def test_object_thrown_faster_than_max_speed_is_an_explosion():
+    u, box = pinch_grasp(HAND, gap=-15.0, **POSE)  # 15 mm overlaps, released undamped
+    c = validate(u, box, max_penetration=np.inf, settle_damping=0.0, max_speed=0.2)
+    assert (c.held, c.outcome) == (False, "unstable")
+    assert "explosion during the squeeze" in c.reason
+
+
+# ---------------------------------------------------------------------- bad input
+
+
+def test_result_of_another_object_or_hand_is_refused(pinch):
+    u, box = pinch
+    result = pinch_result(u, box)
+    assert validate(result, box).held  # the result itself is fine
+    moved = box.transformed(np.r_[np.c_[np.eye(3), [50.0, 0, 0]], [[0, 0, 0, 1]]])
+    with pytest.raises(ValueError, match="planned for another object"):
+        validate(result, moved)
+    with pytest.raises(ValueError, match="another hand"):
+        validate(pinch_result(np.r_[u, 0.0], box), box)
+    with pytest.raises(ValueError, match=r"another hand.*hand="):
+        validate(pinch_result(u, box, labels=("X0", "I0")), box)
+
+
+def test_configuration_away_from_the_object_is_refused(pinch):
+    u, box = pinch
+    with pytest.raises(ValueError, match="no hand point is within 5 mm"):
+        validate(u + np.r_[300.0, 0, 0, 0, 0, 0, 0, 0], box)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(mu=-1.0), ValueError, "mu must be a number > 0"),
+    (dict(friction=0.5), ValueError, "unknown protocol settings"),
+    (dict(preset="isaac"), ValueError, "unknown protocol preset"),
+    (dict(measure_from="start"), ValueError, "measure_from"),
+    (dict(solref=(0.005,)), ValueError, "solref must be 2 finite numbers"),
+    (dict(mass=0.0), ValueError, "mass must be None or a finite number > 0"),
+    (dict(retreat=float("nan")), ValueError, "retreat must be a finite number"),
+    (dict(hand="paper_hand"), TypeError, "hand must be a SynergyHand"),
+])
+def test_bad_settings_are_refused(pinch, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        validate(*pinch, **kwargs)
+
+
+def test_bad_configuration_or_object_is_refused(pinch):
+    u, box = pinch
+    with pytest.raises(ValueError, match=r"u must have shape \(8,\)"):
+        validate(u[:7], box)
+    with pytest.raises(ValueError, match="NaN"):
+        validate(np.r_[u[:7], np.nan], box)
+    with pytest.raises(TypeError, match="GraspObject"):
+        validate(u, box.pieces[0])
+    with pytest.raises(TypeError, match="PlanResult or a configuration"):
+        validate({"u": u}, box)
+    with pytest.raises(ValueError, match="has no finger"):
+        hand_without(HAND, "X")
+
+
+def test_missing_mujoco_names_the_extra(pinch, monkeypatch):
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # `import mujoco` now raises ImportError
+    with pytest.raises(ImportError, match=r'pip install "synergrasp\[sim\]"'):
+        validate(*pinch)
+
+
+def test_importing_synergrasp_does_not_import_mujoco():
+    code = "import sys, synergrasp; print('mujoco' in sys.modules, callable(synergrasp.validate))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=Path(__file__).resolve().parents[1]).stdout
+    assert out.split() == ["False", "True"]
+
+
+# ---------------------------------------------------------------------- results, figures, command line
+
+
+def test_validation_round_trips_through_json(pinch_check, tmp_path):
+    again = Validation.load(pinch_check.save(tmp_path / "v.json"))
+    for name, value in vars(pinch_check).items():
+        if isinstance(value, np.ndarray):
+            assert np.array_equal(getattr(again, name), value), name
+        else:
+            assert getattr(again, name) == value, name
+    not_simulated = validate(*pinch_grasp(HAND, gap=-7.0))
+    again = Validation.load(not_simulated.save(tmp_path / "nan.json"))
+    assert np.isnan(again.displacement).all() and again.outcome == "penetration"
+    (tmp_path / "other.json").write_text(json.dumps({"format": "synergrasp.PlanResult/1"}))
+    with pytest.raises(ValueError, match="not a saved synergrasp Validation"):
+        Validation.load(tmp_path / "other.json")
+
+
+def test_protocol_settings_round_trip():
+    for p in (*PRESETS.values(), protocol(mu=0.5, mass=0.2, max_penetration=float("inf"))):
+        assert Protocol(**json.loads(json.dumps(p.to_dict()))) == p
+    assert protocol("dexgraspbench", mu=0.3).name == "custom"
+
+
+def test_figure_shows_each_direction(pinch_check, tmp_path):
+    path = plot_validation(pinch_check, tmp_path / "v.png")
+    assert path.stat().st_size > 10_000
+
+
+def test_still_without_opengl_says_what_to_set(tmp_path):
+    """No display and MUJOCO_GL=glfw: rendering is unavailable, and the error says how to get it."""
+    code = ("from synergrasp.physics import *\n"
+            "u, box = pinch_grasp()\n"
+            "try:\n    render_still(validate(u, box), box, 'still.png')\n"
+            "except RenderingUnavailable as exc:\n    print('unavailable:', exc)\n")
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    env.update(MUJOCO_GL="glfw", PYTHONPATH=str(Path(__file__).resolve().parents[1]))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path,
+                         timeout=120).stdout
+    last = out.strip().splitlines()[-1]
+    assert last.startswith("unavailable:") and "MUJOCO_GL=egl" in last
+    assert not (tmp_path / "still.png").exists()
+
+
+def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
+    u, box = pinch
+    path = pinch_result(u, box).save(tmp_path / "pinch.json")
+    mesh = tmp_path / "box.stl"
+    trimesh.Trimesh(box.pieces[0], box.convex[0].facets).export(mesh)
+    out = tmp_path / "out"
+    assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still"]) == 0
+    printed = capsys.readouterr().out
+    assert printed.startswith("held (held)") and "wrote" in printed
+    check = Validation.load(out / "pinch_validation.json")
+    assert check.held and (out / "pinch_validation.png").stat().st_size > 0
+    assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still",
+                 "--retreat", "40"]) == 1
+    assert "NOT HELD (no contact)" in capsys.readouterr().out
+    assert main(["validate", str(path), "--object", "ellipsoid", "--out", str(out), "--no-still"]) == 2
+    assert "planned for another object" in capsys.readouterr().err

@@ -1,0 +1,55 @@
+"""The physics benchmark scripts run in their quick modes and say what they measure."""
+
+import csv
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run(script, *args, cwd):
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])))
+    proc = subprocess.run([sys.executable, str(ROOT / "benchmarks" / script), *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "Traceback" not in proc.stderr
+    return proc.stdout
+
+
+def test_bench_validate_quick(tmp_path):
+    out = run("bench_validate.py", "--quick", cwd=tmp_path)
+    rows = [line for line in out.splitlines() if line.startswith(("box pinch", "ball pinch"))]
+    outcomes = {line[:44].strip(): line[45:57].strip() for line in rows}
+    assert outcomes == {"box pinch": "held", "box pinch, 40 mm back": "no contact",
+                        "ball pinch (thumb and index)": "held"}
+    assert "one validation: median" in out and "over 3 cases" in out
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """One quick run of the study: its folder, output folder and printed text."""
+    folder = tmp_path_factory.mktemp("physics_study")
+    return folder, folder / "study", run("physics_study.py", "--quick", "--out", str(folder / "study"), cwd=folder)
+
+
+@pytest.mark.parametrize("grasp", ["precision", "power"])
+def test_physics_study_quick(study, grasp):
+    tmp_path, out_dir, out = study
+    with open(out_dir / "rows.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [(r["object"], r["grasp"]) for r in rows] == [("ellipsoid", "precision"), ("ellipsoid", "power")]
+    row = next(r for r in rows if r["grasp"] == grasp)
+    for variant in ("synergrasp, 40 mm back", "dexgraspbench, 40 mm back"):  # negative controls never hold
+        assert row[f"{variant}: held"] == "False"
+    assert row["synergrasp: outcome"] in ("held", "penetration", "unstable", "no contact", "slip", "rotation")
+    assert f"paper, {grasp}: LP verdict" in out
+    assert re.search(r"40 mm back\) held: synergrasp 0/1, overlap ignored ./1, dexgraspbench 0/1", out)
+    assert "precision" in out and "recall" in out
+    assert (out_dir / "q_vs_held.png").stat().st_size > 0
+    assert (out_dir / "cases" / f"paper_ellipsoid_{grasp}" / "synergrasp.json").exists()
+    assert not (tmp_path / "bench-out").exists()  # nothing written outside --out

@@ -1,0 +1,150 @@
+"""PlanResult files: atomic saves, and loads that check every field and name the file and the field."""
+
+import json
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+import synergrasp as sg
+from synergrasp import viz
+from synergrasp._files import atomic_path, writable_folder
+
+
+@pytest.fixture(scope="module")
+def failed_plan():
+    """A plan that finds no grasp in three short attempts."""
+    return sg.plan("ellipsoid", "precision", max_iter=12, iterations_per_attempt=4)
+
+
+@pytest.fixture
+def saved(failed_plan, tmp_path):
+    path = failed_plan.save(tmp_path / "plan.json")
+    return path, json.loads(path.read_text())
+
+
+def test_plan_takes_a_name_or_a_path(tmp_path):
+    by_name = sg.plan("ellipsoid", "precision", max_iter=3)
+    assert by_name.object_name == "ellipsoid 30/40/50" and by_name.iterations == 3
+    cloud = tmp_path / "ball.npy"
+    t = np.random.default_rng(0).normal(size=(400, 3))
+    np.save(cloud, 35.0 * t / np.linalg.norm(t, axis=1, keepdims=True))
+    by_path = sg.plan(cloud, "precision", max_iter=3)
+    assert by_path.object_name == "ball.npy" and sg.plan(str(cloud), "precision", max_iter=3).object_name == "ball.npy"
+    with pytest.raises(ValueError, match="unknown object 'teapot'"):
+        sg.plan("teapot")
+
+
+def test_every_attempt_keeps_its_status_trace(failed_plan, saved):
+    assert not failed_plan.success and len(failed_plan.attempts) == 3
+    for attempt in failed_plan.attempts:
+        assert np.shape(attempt["status"]) == (attempt["iterations"] + 1, 6)
+    np.testing.assert_array_equal(failed_plan.attempts[-1]["status"], failed_plan.status)  # the returned reach
+    back = sg.PlanResult.load(saved[0])
+    assert back.attempts == failed_plan.attempts
+
+
+def test_the_status_figure_of_a_failed_plan_shows_every_attempt(failed_plan):
+    lengths = [len(a["status"]) for a in failed_plan.attempts]
+    fig = viz.status_figure(failed_plan)
+    try:
+        sq = [line for line in fig.axes[1].lines if line.get_label() == "$g_{sQ}$"][0]
+        x, y = sq.get_data()
+        assert np.isnan(y).sum() == len(lengths) - 1  # one break between consecutive attempts
+        expected = np.concatenate([np.r_[np.asarray(a["status"])[:, -1], np.nan] for a in failed_plan.attempts])[:-1]
+        np.testing.assert_array_equal(y, expected)
+        assert np.nanmax(x) == sum(lengths) - 1
+        assert "attempts 1-3" in fig.axes[0].get_title()
+    finally:
+        plt.close(fig)
+    last = viz.status_figure(failed_plan, attempts="last")
+    try:
+        assert len(last.axes[1].lines[0].get_xdata()) == lengths[-1]
+    finally:
+        plt.close(last)
+    with pytest.raises(ValueError, match="attempts must be 'all', 'last' or None"):
+        viz.status_figure(failed_plan, attempts="first")
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("u", "garbage", "field 'u' must be an array of numbers of shape \\(n,\\), got 'garbage'"),
+    ("u", [1.0, 2.0], "field 'u' must be a configuration"),
+    ("success", "maybe", "field 'success' must be true or false, got 'maybe'"),
+    ("iterations", -3, "field 'iterations' must be an integer >= 0, got -3"),
+    ("iterations", 2.5, "field 'iterations' must be an integer >= 0"),
+    ("trajectory", [[0.0] * 8], "field 'trajectory' must be of shape \\(iterations \\+ 1, len\\(u\\)\\)"),
+    ("status", [[1.0, 2.0]], "field 'status' must be of shape"),
+    ("target", "x", "field 'target' must be an array of numbers of shape \\(n,\\)"),
+    ("q_history", [0.0], "field 'q_history' must be 5 numbers"),
+    ("trajectory", "x", "field 'trajectory' must be an array of numbers, got 'x'"),
+    ("contact_points", [[0.0, 0.0, 0.0]], "field 'contact_points' must be of shape"),
+    ("contact_normals", [[np.nan, 0.0, 1.0]] * 5, "field 'contact_normals' must be finite numbers"),
+    ("contact_labels", "T0", "field 'contact_labels' must be a list of strings"),
+    ("penetration", -1.0, "field 'penetration' must be a finite number >= 0.0"),
+    ("time_s", "fast", "field 'time_s' must be a finite number"),
+    ("lp_solves", True, "field 'lp_solves' must be an integer >= 0"),
+    ("backend", 3, "field 'backend' must be a string"),
+    ("reason", None, "field 'reason' must be a string"),
+    ("grasp", "pinch", "field 'grasp' must be 'precision' or 'power'"),
+    ("object_name", ["x"], "field 'object_name' must be a string"),
+    ("options", [], "field 'options' must be an object"),
+    ("attempts", {}, "field 'attempts' must be a list"),
+    ("attempts", [3], "field 'attempts\\[0\\]' must be an object"),
+    ("attempts", [{"iterations": "4", "reason": "x"}], "field 'attempts\\[0\\].iterations' must be an integer"),
+    ("attempts", [{"iterations": 4}], "field 'attempts\\[0\\].reason' must be a string"),
+    ("attempts", [{"iterations": 1, "reason": "x", "status": [[0.0]]}], "field 'attempts\\[0\\].status' must be"),
+])
+def test_load_checks_every_field_and_names_it(saved, field, value, message):
+    path, data = saved
+    data[field] = value
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=message) as info:
+        sg.PlanResult.load(path)
+    assert str(info.value).startswith(f"{path}: ")
+
+
+def test_load_names_the_file_for_missing_fields_and_bad_files(saved, tmp_path):
+    path, data = saved
+    del data["u"]
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"plan.json lacks the fields \['u'\]"):
+        sg.PlanResult.load(path)
+    path.write_text("{not json")
+    with pytest.raises(ValueError, match="cannot read a PlanResult from .*plan.json"):
+        sg.PlanResult.load(path)
+    path.write_text(json.dumps({"format": "something else"}))
+    with pytest.raises(ValueError, match="plan.json is not a saved synergrasp PlanResult"):
+        sg.PlanResult.load(path)
+    with pytest.raises(FileNotFoundError, match="missing.json"):
+        sg.PlanResult.load(tmp_path / "missing.json")
+
+
+def test_writes_are_atomic(failed_plan, tmp_path, monkeypatch):
+    """A write that fails half-way leaves neither a partial file nor a temporary one."""
+    target = tmp_path / "plan.json"
+    target.write_text("the previous result")
+    with pytest.raises(RuntimeError, match="disk full"):
+        with atomic_path(target) as tmp:
+            tmp.write_text("half of it")
+            raise RuntimeError("disk full")
+    assert target.read_text() == "the previous result" and [p.name for p in tmp_path.iterdir()] == ["plan.json"]
+
+    def broken_savefig(self, fname, **kwargs):
+        with open(fname, "w") as f:
+            f.write("partial")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(plt.Figure, "savefig", broken_savefig)
+    with pytest.raises(OSError, match="No space left"):
+        viz.plot_status(failed_plan, tmp_path / "status.png")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.json"]
+
+
+def test_writable_folder(tmp_path):
+    assert writable_folder(tmp_path / "a" / "b").is_dir()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(ValueError, match=r"cannot write to the output folder '.*file' \(it is a file, not a folder\)"):
+        writable_folder(blocker)
+    with pytest.raises(ValueError, match=r"cannot write to the results folder '.*file/sub' \(not a directory\)"):
+        writable_folder(blocker / "sub", "results folder")
