@@ -76,7 +76,7 @@ def loop(tasks, out):
     store.check_writable()
     start, writing = time.perf_counter(), 0.0
     for task in tasks:
-        outcome, _ = plan_task(task.source, task.grasp)  # loads each object once, as a worker does
+        outcome, _, _ = plan_task(task.source, task.grasp)  # loads each object once, as a worker does
         cpu = time.process_time()
         store.write_result(task.key, task.grasp, outcome)
         writing += time.process_time() - cpu
@@ -117,8 +117,9 @@ def q_gap(a, b):
 
 
 def results(out):
-    """Result and failure files under ``out``, relative paths."""
-    return sorted(p.relative_to(out).as_posix() for p in Path(out).glob("results/**/*.json") if p.name != "object.json")
+    """Result, validation and failure files under ``out``, relative paths."""
+    return sorted(p.relative_to(out).as_posix() for p in Path(out).glob("results/**/*.json")
+                  if p.name != "object.json" and not p.name.startswith("."))  # not temporary files
 
 
 def differing(a, b):

@@ -11,7 +11,7 @@ table and a gallery of the final grasps. The command line has the same as
 
 from .report import write_report
 from .runner import BatchInterrupted, BatchReport, local_cluster, run
-from .store import COLUMNS, STATUSES, ResultStore, TaskFailure, grasp_summary, write_atomic
+from .store import COLUMNS, STATUSES, ResultStore, TaskFailure, grasp_summary
 from .tasks import Task, expand
 from .worker import load_object, pin_blas, plan_task, prepare_object
 
@@ -31,6 +31,5 @@ __all__ = [
     "plan_task",
     "prepare_object",
     "run",
-    "write_atomic",
     "write_report",
 ]

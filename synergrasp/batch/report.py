@@ -12,6 +12,7 @@ import html
 import math
 from pathlib import Path
 
+from .._files import atomic_path
 from ..hand import SynergyHand
 from ..planner.result import PlanResult
 from .store import COLUMNS, ResultStore, TaskFailure, grasp_summary
@@ -76,7 +77,8 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
         raise FileNotFoundError(f"no batch results in '{store.results}': run `synergrasp batch OBJECTS... --out {out}` first")
     pictures = _gallery(store, rows, gallery, hand or SynergyHand.default())
     page = store.out / "report.html"
-    page.write_text(_page(store, rows, pictures), encoding="utf-8")
+    with atomic_path(page) as tmp:
+        tmp.write_text(_page(store, rows, pictures), encoding="utf-8")
     return page
 
 
@@ -118,16 +120,21 @@ def _page(store, rows, pictures) -> str:
              f"<h1>Batch report</h1><p>{len(rows)} tasks in <code>{e(str(store.out.resolve()))}</code>; "
              "table: <a href='summary.csv'>summary.csv</a>.</p>",
              "<h2>Per grasp type</h2><table><tr><th>grasp</th><th>tasks</th><th>grasps found</th><th>success</th>"
-             "<th>failed</th><th>timeouts</th><th>median s</th><th>p90 s</th><th>plans/s per worker</th></tr>"]
+             "<th>failed</th><th>timeouts</th><th>median s</th><th>p90 s</th><th>plans/s per worker</th>"
+             "<th>held in MuJoCo / validated</th></tr>"]
     for s in grasp_summary(rows):
+        held = f"{s['held']} / {s['validated']}" if s["validated"] else "-"
         parts.append(f"<tr><td>{e(s['grasp'])}</td><td>{s['tasks']}</td><td>{s['success']}</td>"
                      f"<td>{100 * s['rate']:.1f} %</td><td>{s['failed']}</td><td>{s['timeouts']}</td>"
-                     f"<td>{_cell(s['median_s'])}</td><td>{_cell(s['p90_s'])}</td><td>{_cell(s['plans_per_s'])}</td></tr>")
+                     f"<td>{_cell(s['median_s'])}</td><td>{_cell(s['p90_s'])}</td><td>{_cell(s['plans_per_s'])}</td>"
+                     f"<td>{held}</td></tr>")
     parts.append("</table>")
     if pictures:
         parts.append(f"<h2>Final grasps</h2><p>{len(pictures)} plans, the successful ones first.</p><div class='gallery'>")
         for row, picture, note in pictures:
             verdict = "grasp" if row["success"] else "no grasp"
+            if row["held"] != "":
+                verdict += ", held in MuJoCo" if row["held"] else f", not held in MuJoCo ({e(row['physics'])})"
             caption = (f"<b>{e(row['object'])}</b>, {e(row['grasp'])}: {verdict}, Q {_cell(row['q'])}, "
                        f"{row['contacts']} contacts, {_cell(row['time_s'])} s")
             image = f"<a href='{e(picture)}'><img src='{e(picture)}' alt='{e(row['object'])} {e(row['grasp'])}'></a>" if picture else e(note)

@@ -21,7 +21,7 @@ from pathlib import Path
 from .._checks import positive_scalar
 from ..lp import get_backend
 from ..objects import ellipsoid
-from ..planner import plan
+from ..planner import PlanResult, plan
 from .store import ResultStore, TaskFailure, grasp_summary
 from .tasks import expand
 from .worker import plan_task, prepare_object
@@ -90,10 +90,11 @@ class BatchReport:
         lines.append(f"{self.tasks} tasks: {self.skipped} done before this run, {self.finished} now"
                      + (", interrupted: rerun the same command to plan the rest" if self.interrupted else ""))
         lines.append(f"{'grasp':10s} {'tasks':>6s} {'grasps':>7s} {'success':>8s} {'failed':>7s} {'timeout':>8s} "
-                     f"{'median s':>9s} {'p90 s':>7s} {'plans/s/worker':>15s}")
+                     f"{'median s':>9s} {'p90 s':>7s} {'plans/s/worker':>15s} {'held/validated':>15s}")
         for s in self.per_grasp:
+            held = f"{s['held']}/{s['validated']}" if s["validated"] else "-"
             lines.append(f"{s['grasp']:10s} {s['tasks']:6d} {s['success']:7d} {100 * s['rate']:7.1f}% {s['failed']:7d} "
-                         f"{s['timeouts']:8d} {s['median_s']:9.2f} {s['p90_s']:7.2f} {s['plans_per_s']:15.2f}")
+                         f"{s['timeouts']:8d} {s['median_s']:9.2f} {s['p90_s']:7.2f} {s['plans_per_s']:15.2f} {held:>15s}")
         lines.append(f"summary table: {self.out / 'summary.csv'}")
         if self.warnings:
             lines.append(f"{self.warnings} warnings: {self.out / 'warnings.log'}")
@@ -104,7 +105,8 @@ class BatchReport:
 
 
 def run(objects, grasps=("precision",), out="batch-out", *, workers=None, scheduler=None, backend="highs",
-        options=None, time_limit=None, scale=1.0, retry_failed=False, progress=True, connect_timeout=10.0):
+        options=None, time_limit=None, scale=1.0, validate=None, retry_failed=False, progress=True,
+        connect_timeout=10.0):
     """Plan every object with every grasp type on a Dask cluster, writing each result as it finishes.
 
     Parameters
@@ -132,6 +134,12 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         exceeds it is recorded as ``"timeout"``. None: no limit.
     scale : float
         Factor applied to the coordinates of object files (1000 for files in metres).
+    validate : str, optional
+        Test every successful plan in MuJoCo with this preset of
+        ``synergrasp.validate`` (``"synergrasp"``, ``"dexgraspbench"``); the
+        verdict goes to the ``held`` and ``physics`` columns. A rerun with it
+        validates the successful plans of earlier runs without planning them
+        again. Needs the ``sim`` extra. None: no validation.
     retry_failed : bool
         Plan again the tasks recorded as failed (load or plan error, timeout,
         worker lost); by default a rerun plans only the tasks without any record.
@@ -150,10 +158,12 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     ------
     ValueError
         Bad objects or grasps (see `synergrasp.batch.tasks.expand`), an unknown
-        backend, planner options the planner rejects, a bad ``time_limit``,
-        ``scale`` or ``workers``.
-    PermissionError
-        If ``out`` cannot be created or written (before anything is planned).
+        backend or validation preset, planner options the planner rejects, a
+        bad ``time_limit``, ``scale`` or ``workers``; an ``out`` that cannot
+        be created or written, or that another run is writing to (all before
+        anything is planned).
+    ImportError
+        With ``validate``, if MuJoCo is not installed.
     ConnectionError
         If ``scheduler`` does not answer, or has no worker, within ``connect_timeout``.
     BatchInterrupted
@@ -172,25 +182,41 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     tasks = expand(objects, grasps)
     store = ResultStore(out)
     store.check_writable()
-    _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler)
-    rows, unreadable = store.scan()
-    for path in unreadable:
-        os.replace(path, path.with_name(path.name + ".unreadable"))
-    done = {(r["object"], r["grasp"]) for r in rows if r["status"] == "planned" or not retry_failed}
-    todo = [t for t in tasks if (t.key, t.grasp) not in done]
-    report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), unreadable=unreadable)
-    try:
-        if todo:
-            _plan_all(todo, store, report, workers, scheduler, backend, options, time_limit, scale, progress,
-                      connect_timeout)
-    finally:
-        report.rows, _ = store.scan()
-        store.write_summary(report.rows)
+    _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate)
+    with store.lock():
+        rows, unreadable = store.scan()
+        for path in unreadable:
+            os.replace(path, path.with_name(path.name + ".unreadable"))
+        done = {(r["object"], r["grasp"]): r for r in rows if r["status"] == "planned" or not retry_failed}
+        todo, to_validate = [], {}
+        for task in tasks:
+            row = done.get((task.key, task.grasp))
+            if row is None:
+                todo.append(task)
+            elif validate is not None and row["success"] and row["held"] == "":
+                todo.append(task)
+                to_validate[task] = store.result_path(task.key, task.grasp)
+        report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), unreadable=unreadable)
+        try:
+            if todo:
+                _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale,
+                          validate, progress, connect_timeout)
+        finally:
+            report.rows, _ = store.scan()
+            store.write_summary(report.rows)
     return report
 
 
-def _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler):
+def _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate):
     get_backend(backend)
+    if validate is not None:
+        from ..physics import PRESETS
+        from ..physics.simulate import mujoco_module
+
+        if validate not in PRESETS:
+            raise ValueError(f"validate must be a preset of synergrasp.validate ({', '.join(sorted(PRESETS))}) "
+                             f"or None, got {validate!r}")
+        mujoco_module()
     if time_limit is not None:
         positive_scalar(time_limit, "time_limit")
     positive_scalar(scale, "scale")
@@ -268,8 +294,8 @@ def _connect(workers, scheduler, connect_timeout):
     return client, cluster, threads
 
 
-def _plan_all(todo, store, report, workers, scheduler, backend, options, time_limit, scale, progress,
-              connect_timeout):
+def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale, validate,
+              progress, connect_timeout):
     from distributed import as_completed
     from tqdm import tqdm
 
@@ -288,13 +314,17 @@ def _plan_all(todo, store, report, workers, scheduler, backend, options, time_li
             store.write_object(key, source, scale)
             prepared = client.submit(prepare_object, source, scale, key=f"load-{token}-{key}", pure=False)
             for task in its_tasks:
+                earlier = PlanResult.load(to_validate[task]) if task in to_validate else None
                 future = client.submit(plan_task, source, task.grasp, backend, options, time_limit, scale, prepared,
-                                       key=f"plan-{token}-{task.grasp}-{key}", pure=False)
+                                       validate, earlier, key=f"plan-{token}-{task.grasp}-{key}", pure=False)
                 futures[future] = task
         for future in as_completed(list(futures)):
             task = futures.pop(future)
-            outcome, messages = _outcome(future)
-            store.write_result(task.key, task.grasp, outcome)
+            outcome, messages, validation = _outcome(future)
+            if task not in to_validate:
+                store.write_result(task.key, task.grasp, outcome, validation)
+            elif validation is not None:  # an earlier plan, validated now
+                store.write_validation(task.key, task.grasp, validation)
             store.log_warnings(task.key, task.grasp, messages)
             report.finished += 1
             report.warnings += len(messages)
@@ -316,7 +346,7 @@ def _plan_all(todo, store, report, workers, scheduler, backend, options, time_li
 
 
 def _outcome(future):
-    """(PlanResult or TaskFailure, warnings) of a finished future."""
+    """(PlanResult or TaskFailure, warnings, Validation or None) of a finished future."""
     from distributed import KilledWorker
 
     if future.status == "finished":
@@ -326,5 +356,5 @@ def _outcome(future):
                               "are kept: rerun the same command to plan the rest")
     exc = future.exception()
     if isinstance(exc, KilledWorker):
-        return TaskFailure("worker lost", f"the workers running it died repeatedly ({exc})"), []
-    return TaskFailure("plan error", f"{type(exc).__name__}: {exc}"), []
+        return TaskFailure("worker lost", f"the workers running it died repeatedly ({exc})"), [], None
+    return TaskFailure("plan error", f"{type(exc).__name__}: {exc}"), [], None

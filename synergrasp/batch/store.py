@@ -1,17 +1,22 @@
-"""The output folder of a batch: result files, atomic writes, what is done, the summary table.
+"""The output folder of a batch: result files, what is done, the summary table, one run at a time.
 
 Layout of ``OUT``::
 
-    OUT/results/KEY/object.json          where the object came from (source, scale)
-    OUT/results/KEY/GRASP.json           a finished plan: one PlanResult (PlanResult.save)
-    OUT/results/KEY/GRASP.failed.json    a task that gave no PlanResult: its status and reason
-    OUT/summary.csv                      one row per task, rebuilt from the files above
-    OUT/warnings.log                     warnings raised while loading or planning, per task
+    OUT/results/KEY/object.json            where the object came from (source, scale)
+    OUT/results/KEY/GRASP.json             a finished plan: one PlanResult (PlanResult.save)
+    OUT/results/KEY/GRASP.validation.json  its physics validation, if asked for (Validation.save)
+    OUT/results/KEY/GRASP.failed.json      a task that gave no PlanResult: its status and reason
+    OUT/summary.csv                        one row per task, rebuilt from the files above
+    OUT/warnings.log                       warnings raised while loading, planning or validating
 
 ``KEY`` names the object (see `synergrasp.batch.tasks`). Every file is written to a
-temporary file in the same folder, then renamed over its final name (``os.replace``), so
-a file under its final name is always whole: an interrupted run leaves no partial result.
-A task is done when one of its two files exists.
+temporary file in the same folder, then renamed over its final name
+(`synergrasp._files.atomic_path`), so a file under its final name is always whole: an
+interrupted run leaves no partial result. A task is done when its result or failure file
+exists (and, when validation is asked for, a successful plan's validation file). A run holds
+a lock on ``OUT/.lock`` (released by the system when its process ends, however it ends), so
+two runs never write one folder at the same time, and a run that holds it may remove the
+temporary files a killed run left behind.
 """
 
 from __future__ import annotations
@@ -20,24 +25,33 @@ import csv
 import io
 import json
 import os
-import socket
+import re
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from .._files import atomic_path, writable_folder
 from ..planner.result import PlanResult
 
-#: Columns of ``summary.csv``, in order.
+#: Columns of ``summary.csv``, in order. ``held`` and ``physics`` (the validation's outcome)
+#: are empty for a task without a validation.
 COLUMNS = (
     "object", "grasp", "status", "success", "reason", "q", "sq", "time_s", "iterations", "attempts",
-    "contacts", "penetration_mm", "lp_solves", "backend", "object_name", "file",
+    "contacts", "penetration_mm", "lp_solves", "backend", "held", "physics", "object_name", "file",
 )
 #: Values of the ``status`` column: a PlanResult was written (``planned``, whether or not it
 #: found a grasp), or the task gave none.
 STATUSES = ("planned", "load error", "plan error", "timeout", "worker lost")
 _FAILURE_FORMAT = "synergrasp.BatchFailure/1"
-_TMP = ".tmp"
+#: Temporary files of `atomic_path`: ``.STEM.XXXXXXXX.tmpSUFFIX``.
+_TEMPORARY = re.compile(r"^\..+\.[0-9a-f]{8}\.tmp(\.\w+)?$")
+
+try:
+    import fcntl
+except ImportError:  # not on POSIX: runs are not locked against each other
+    fcntl = None
 
 
 @dataclass
@@ -64,55 +78,6 @@ class TaskFailure:
     warnings: list = field(default_factory=list)
 
 
-def write_atomic(path, content) -> Path:
-    """Write a file through a temporary file in the same folder and a rename (``os.replace``).
-
-    Parameters
-    ----------
-    path : str or Path
-        Final file name; its folder is created if needed.
-    content : str or callable
-        The text, or a function that writes the file at the path it is given
-        (e.g. ``PlanResult.save``).
-
-    Returns
-    -------
-    Path
-        ``path``, which holds either its old content or all of the new one, never
-        a part: a process killed mid-write leaves at most a hidden temporary file
-        (``.NAME.HOST-PID.tmp``), which `ResultStore.check_writable` removes later.
-        The content is flushed to disk (``os.fsync``) before the rename.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> from pathlib import Path
-    >>> folder = Path(tempfile.mkdtemp())
-    >>> write_atomic(folder / "a" / "b.txt", "hello").read_text()
-    'hello'
-    >>> sorted(p.name for p in (folder / "a").iterdir())     # no temporary file left
-    ['b.txt']
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{_writer_id()}{_TMP}")
-    try:
-        if callable(content):
-            content(tmp)
-        else:
-            tmp.write_text(content, encoding="utf-8")
-        with open(tmp, "rb") as handle:  # on disk before it takes the final name
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
-
-
-def _writer_id() -> str:
-    return f"{socket.gethostname()}-{os.getpid()}"
-
-
 class ResultStore:
     """The output folder of a batch (layout in the module docstring).
 
@@ -136,34 +101,56 @@ class ResultStore:
         """File of the failure record of task (``key``, ``grasp``)."""
         return self.results / key / f"{grasp}.failed.json"
 
-    def check_writable(self) -> None:
-        """Create the folder if needed and write (then remove) a probe file in it.
+    def validation_path(self, key: str, grasp: str) -> Path:
+        """File of the physics validation of task (``key``, ``grasp``)."""
+        return self.results / key / f"{grasp}.validation.json"
 
-        Also removes the temporary files that writers of this host left behind
-        when they were killed mid-write (their process no longer exists).
+    def check_writable(self) -> None:
+        """Create the folder and ``results/`` if needed and check that files can be written there.
 
         Raises
         ------
-        PermissionError
-            If the folder cannot be created or written; the message names it.
+        ValueError
+            If the folder cannot be created or written; the message names it and the reason.
         """
-        try:
-            self.results.mkdir(parents=True, exist_ok=True)
-            write_atomic(self.out / ".probe", "").unlink()
-        except OSError as exc:
-            raise PermissionError(
-                f"output folder '{self.out}' cannot be created or written ({exc}); choose another output folder"
-            ) from None
-        host = socket.gethostname()
-        for tmp in self.results.rglob(f".*{_TMP}"):
-            writer = tmp.name[: -len(_TMP)].rsplit(".", 1)[-1]
-            owner, _, pid = writer.rpartition("-")
-            if owner == host and pid.isdigit() and not _alive(int(pid)):
-                tmp.unlink(missing_ok=True)
+        writable_folder(self.out, "output folder")
+        writable_folder(self.results, "output folder")
+
+    @contextmanager
+    def lock(self):
+        """Hold the folder's lock for the block, and remove the temporary files of killed runs.
+
+        Raises
+        ------
+        ValueError
+            If another run holds the lock (the message gives its process id).
+        """
+        if fcntl is None:
+            yield
+            return
+        with open(self.out / ".lock", "a+", encoding="utf-8") as handle:
+            try:
+                fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                handle.seek(0)
+                raise ValueError(f"another batch ({handle.read().strip() or 'a process'}) is writing to "
+                                 f"'{self.out}'; wait for it to end or choose another output folder") from None
+            handle.truncate(0)
+            handle.write(f"process {os.getpid()}")
+            handle.flush()
+            for path in self.out.rglob(".*"):
+                if _TEMPORARY.match(path.name):
+                    path.unlink(missing_ok=True)
+            try:
+                yield
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
 
     def write_object(self, key: str, source: str, scale: float) -> None:
         """Record where object ``key`` comes from (``results/KEY/object.json``)."""
-        write_atomic(self.results / key / "object.json", json.dumps({"source": source, "scale": scale}))
+        path = self.results / key / "object.json"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        _write_text(path, json.dumps({"source": source, "scale": scale}))
 
     def object_source(self, key: str) -> tuple[str, float] | None:
         """(source, scale) recorded for object ``key``, or None if there is no readable record."""
@@ -173,26 +160,36 @@ class ResultStore:
         except (OSError, ValueError, KeyError, TypeError):
             return None
 
-    def write_result(self, key: str, grasp: str, outcome) -> Path:
-        """Write a task's outcome atomically and drop a failure record it replaces.
+    def write_result(self, key: str, grasp: str, outcome, validation=None) -> Path:
+        """Write a task's outcome (and validation) and drop a failure record it replaces.
 
         Parameters
         ----------
         key, grasp : str
             The task.
         outcome : PlanResult or TaskFailure
+        validation : Validation, optional
+            The plan's physics validation, written before the plan.
 
         Returns
         -------
         Path
-            The file written.
+            The file of the outcome.
         """
-        if isinstance(outcome, PlanResult):
-            path = write_atomic(self.result_path(key, grasp), outcome.save)
-            self.failure_path(key, grasp).unlink(missing_ok=True)
-            return path
-        record = {"format": _FAILURE_FORMAT, "object": key, "grasp": grasp, **asdict(outcome)}
-        return write_atomic(self.failure_path(key, grasp), json.dumps(record, indent=1))
+        path = self.failure_path(key, grasp) if isinstance(outcome, TaskFailure) else self.result_path(key, grasp)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if validation is not None:
+            self.write_validation(key, grasp, validation)
+        if isinstance(outcome, TaskFailure):
+            record = {"format": _FAILURE_FORMAT, "object": key, "grasp": grasp, **asdict(outcome)}
+            return _write_text(path, json.dumps(record, indent=1))
+        outcome.save(path)
+        self.failure_path(key, grasp).unlink(missing_ok=True)
+        return path
+
+    def write_validation(self, key: str, grasp: str, validation) -> Path:
+        """Write the physics validation of task (``key``, ``grasp``) (``Validation.save``)."""
+        return validation.save(self.validation_path(key, grasp))
 
     def log_warnings(self, key: str, grasp: str, messages) -> None:
         """Append a task's warnings to ``warnings.log`` (one line each)."""
@@ -214,18 +211,25 @@ class ResultStore:
             Files under a final name that are not a valid record (never written
             by `write_result`; e.g. edited by hand or damaged on disk).
         """
+        from ..physics.result import Validation
+
         rows, unreadable = {}, []
         if not self.results.is_dir():
             return [], []
         for path in sorted(self.results.rglob("*.json")):
-            if path.name.startswith(".") or path.name == "object.json":
+            if path.name.startswith(".") or path.name == "object.json" or path.name.endswith(".validation.json"):
                 continue
             key = path.parent.relative_to(self.results).as_posix()
             failed = path.name.endswith(".failed.json")
             grasp = path.name[: -len(".failed.json")] if failed else path.stem
             if not failed:
                 try:
-                    rows[key, grasp] = _plan_row(key, grasp, PlanResult.load(path), path.relative_to(self.out))
+                    row = _plan_row(key, grasp, PlanResult.load(path), path.relative_to(self.out))
+                    checked = self.validation_path(key, grasp)
+                    if checked.is_file():
+                        validation = Validation.load(checked)
+                        row.update(held=bool(validation.held), physics=validation.outcome)
+                    rows[key, grasp] = row
                 except (ValueError, TypeError, KeyError):
                     unreadable.append(path)
                 continue
@@ -241,7 +245,7 @@ class ResultStore:
         return [rows[k] for k in sorted(rows)], unreadable
 
     def write_summary(self, rows) -> Path:
-        """Write ``summary.csv`` (atomically) from `scan`'s rows.
+        """Write ``summary.csv`` from `scan`'s rows.
 
         Returns
         -------
@@ -251,17 +255,13 @@ class ResultStore:
         writer = csv.DictWriter(buffer, fieldnames=COLUMNS, lineterminator="\n")
         writer.writeheader()
         writer.writerows(rows)
-        return write_atomic(self.summary_path, buffer.getvalue())
+        return _write_text(self.summary_path, buffer.getvalue())
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
+def _write_text(path, text) -> Path:
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return Path(path)
 
 
 def _plan_row(key, grasp, result: PlanResult, file) -> dict:
@@ -270,8 +270,8 @@ def _plan_row(key, grasp, result: PlanResult, file) -> dict:
         "reason": result.reason, "q": result.final_q, "sq": result.final_sq, "time_s": float(result.time_s),
         "iterations": int(result.total_iterations), "attempts": len(result.attempts) or 1,
         "contacts": len(result.contact_labels), "penetration_mm": float(result.penetration),
-        "lp_solves": int(result.lp_solves), "backend": result.backend, "object_name": result.object_name,
-        "file": Path(file).as_posix(),
+        "lp_solves": int(result.lp_solves), "backend": result.backend, "held": "", "physics": "",
+        "object_name": result.object_name, "file": Path(file).as_posix(),
     }
 
 
@@ -283,7 +283,7 @@ def _failure_row(key, grasp, data: dict, file) -> dict:
 
 
 def grasp_summary(rows) -> list[dict]:
-    """Per grasp type: tasks, grasps found, success rate, failures, plan times.
+    """Per grasp type: tasks, grasps found, success rate, failures, plan times, physics verdicts.
 
     Parameters
     ----------
@@ -296,18 +296,19 @@ def grasp_summary(rows) -> list[dict]:
         One dict per grasp type (in order of first appearance) with ``grasp``,
         ``tasks``, ``success`` (grasps found), ``rate`` (success / tasks),
         ``failed`` (tasks without a PlanResult), ``timeouts``, ``median_s`` and
-        ``p90_s`` (over the plans' own times, NaN without plans) and
+        ``p90_s`` (over the plans' own times, NaN without plans),
         ``plans_per_s`` (plans one worker finishes per second: plans / their
-        summed time).
+        summed time), ``validated`` (grasps tested in MuJoCo) and ``held``
+        (of those, the ones that held).
 
     Examples
     --------
-    >>> rows = [{"grasp": "power", "status": "planned", "success": True, "time_s": 1.0},
-    ...         {"grasp": "power", "status": "planned", "success": False, "time_s": 3.0},
-    ...         {"grasp": "power", "status": "timeout", "success": False, "time_s": 9.0}]
+    >>> rows = [{"grasp": "power", "status": "planned", "success": True, "time_s": 1.0, "held": True},
+    ...         {"grasp": "power", "status": "planned", "success": False, "time_s": 3.0, "held": ""},
+    ...         {"grasp": "power", "status": "timeout", "success": False, "time_s": 9.0, "held": ""}]
     >>> s = grasp_summary(rows)[0]
-    >>> s["tasks"], s["success"], round(s["rate"], 3), s["timeouts"], s["median_s"], s["plans_per_s"]
-    (3, 1, 0.333, 1, 2.0, 0.5)
+    >>> s["tasks"], s["success"], round(s["rate"], 3), s["timeouts"], s["median_s"], s["plans_per_s"], s["held"]
+    (3, 1, 0.333, 1, 2.0, 0.5, 1)
     """
     out = []
     for grasp in dict.fromkeys(r["grasp"] for r in rows):
@@ -321,5 +322,7 @@ def grasp_summary(rows) -> list[dict]:
             "median_s": float(np.median(times)) if len(times) else float("nan"),
             "p90_s": float(np.percentile(times, 90)) if len(times) else float("nan"),
             "plans_per_s": float(len(times) / times.sum()) if len(times) and times.sum() > 0 else float("nan"),
+            "validated": sum(r.get("held", "") != "" for r in mine),
+            "held": sum(r.get("held", "") is True for r in mine),
         })
     return out

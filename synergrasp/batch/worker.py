@@ -15,7 +15,8 @@ of the tasks, and the same as ``sg.plan`` on a freshly loaded object.
 
 Both task functions catch every exception of the work they do and return it as a
 `TaskFailure`, so a bad object or a plan that raises is recorded and never stops the batch.
-`plan_task` also limits BLAS to one thread in its process (once) before it plans.
+`plan_task` also limits BLAS to one thread in its process (once) before it plans, and
+tests a successful plan in MuJoCo when the batch asks for it (``synergrasp.validate``).
 """
 
 from __future__ import annotations
@@ -127,8 +128,8 @@ class _TimeLimit(Exception):
 
 
 def plan_task(source: str, grasp: str, backend: str = "highs", options=None, time_limit=None, scale: float = 1.0,
-              prepared=None):
-    """Plan one task of a batch (on a worker).
+              prepared=None, validate=None, result=None):
+    """Plan one task of a batch (on a worker), and test its grasp in MuJoCo if asked.
 
     Parameters
     ----------
@@ -148,6 +149,11 @@ def plan_task(source: str, grasp: str, backend: str = "highs", options=None, tim
     prepared : tuple, optional
         What `prepare_object` returned for the object: its load failure is
         returned as this task's outcome, its warnings with it.
+    validate : str, optional
+        A preset of ``synergrasp.validate`` (``"synergrasp"``, ``"dexgraspbench"``):
+        a successful plan is tested in MuJoCo with it. None: no validation.
+    result : PlanResult, optional
+        A plan made before: only validate it (the task's plan is not made again).
 
     Returns
     -------
@@ -155,11 +161,14 @@ def plan_task(source: str, grasp: str, backend: str = "highs", options=None, tim
         The plan (successful or not), or a ``"load error"``, ``"plan error"``
         or ``"timeout"`` failure.
     warnings : list of str
-        Warnings raised while loading the object and planning.
+        Warnings raised while loading the object, planning and validating; a
+        validation that raised is reported here.
+    validation : Validation or None
+        The physics validation of a successful plan, with ``validate``.
 
     Examples
     --------
-    >>> result, _ = plan_task("ellipsoid", "precision")
+    >>> result, _, _ = plan_task("ellipsoid", "precision")
     >>> result.success, result.contact_labels
     (True, ['T0', 'I0', 'R0', 'L0'])
     >>> plan_task("ellipsoid", "precision", time_limit=1e-6)[0].status
@@ -168,13 +177,37 @@ def plan_task(source: str, grasp: str, backend: str = "highs", options=None, tim
     pin_blas()
     failure, messages = prepared if prepared is not None else (None, None)
     if failure is not None:
-        return failure, messages
+        return failure, messages, None
     loaded, load_messages = _kept_object(source, scale)
-    messages = load_messages if messages is None else messages
+    messages = list(load_messages if messages is None else messages)
     if isinstance(loaded, TaskFailure):
-        return loaded, messages
-    obj = objects.GraspObject(list(loaded.convex), center=loaded.center, torque_scale=loaded.torque_scale,
-                              name=loaded.name, mesh=loaded.mesh, info=loaded.info)
+        return loaded, messages, None
+    outcome = result if result is not None else _plan(_fresh(loaded), grasp, backend, options, time_limit, messages)
+    validation = None
+    if validate is not None and not isinstance(outcome, TaskFailure) and outcome.success:
+        from ..physics import validate as physics_validate
+
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                validation = physics_validate(outcome, _fresh(loaded), preset=validate,
+                                              backend=type(get_backend(backend))())
+            except Exception as exc:  # noqa: BLE001 - the plan is kept; the next run tries again
+                messages.append(f"validation failed: {_describe(exc)}")
+        messages += [str(w.message) for w in caught]
+    if isinstance(outcome, TaskFailure):
+        outcome.warnings = messages
+    return outcome, messages, validation
+
+
+def _fresh(loaded):
+    """A new GraspObject over a loaded object's convex pieces: the same object, without the warm starts of earlier queries."""
+    return objects.GraspObject(list(loaded.convex), center=loaded.center, torque_scale=loaded.torque_scale,
+                               name=loaded.name, mesh=loaded.mesh, info=loaded.info)
+
+
+def _plan(obj, grasp, backend, options, time_limit, messages):
+    """``synergrasp.plan`` on a new backend instance, its failure as a TaskFailure; appends its warnings to ``messages``."""
     start = time.perf_counter()
 
     def progress(check, status):
@@ -191,10 +224,8 @@ def plan_task(source: str, grasp: str, backend: str = "highs", options=None, tim
             outcome = TaskFailure("timeout", f"no result within the time limit of {time_limit:g} s", elapsed)
         except Exception as exc:  # noqa: BLE001 - a plan that raises is recorded, the batch goes on
             outcome = TaskFailure("plan error", _describe(exc), time.perf_counter() - start)
-    messages = messages + [str(w.message) for w in caught]
-    if isinstance(outcome, TaskFailure):
-        outcome.warnings = messages
-    return outcome, messages
+    messages += [str(w.message) for w in caught]
+    return outcome
 
 
 def _describe(exc: BaseException) -> str:
