@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/physics_study.py [--set paper household] [--meshes DIR [--scale S]]
+    python benchmarks/physics_study.py [--set paper household test] [--meshes DIR [--scale S]]
                                        [--out DIR] [--quick] [--docs]
 
 Plans a precision and a power grasp of every object of the chosen sets
@@ -90,6 +90,10 @@ def object_sets(names, meshes=None, scale=1.0, quick=False):
         sets["paper"] = {name: sg.objects.get(name) for name in (PAPER[:1] if quick else PAPER)}
     if "household" in names:
         sets["household"] = {**mesh_files(MESHES, 1.0), **household_objects()}
+    if "test" in names:  # the generalisation benchmark's test split (benchmarks/objectset.py)
+        from objectset import select
+
+        sets["test"] = {e.name: e.make() for e in select("test")}
     if meshes is not None:
         sets[str(meshes)] = mesh_files(meshes, scale)
     return sets
@@ -294,8 +298,8 @@ def write_csv(rows, path):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--set", nargs="+", choices=["paper", "household"], default=["paper", "household"],
-                        help="object sets (default both)")
+    parser.add_argument("--set", nargs="+", choices=["paper", "household", "test"], default=["paper", "household"],
+                        help="object sets (default paper and household; test: the generalisation benchmark's test split)")
     parser.add_argument("--meshes", type=Path, help="also every mesh or point-cloud file of this folder")
     parser.add_argument("--scale", type=float, default=1.0, help="scale of the files in --meshes (1000 for metres)")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "physics_study", help="output folder")

@@ -4,13 +4,15 @@ Grasp quality by the pseudo-distance formulation (separation and penetration
 distances, the Q distance in wrench space) with exact dual-based derivatives,
 on interchangeable LP backends (``synergrasp.lp``); the synergy hand
 (``SynergyHand``), objects (``synergrasp.objects``) and the reach-to-grasp
-planner (``plan``); physics validation of a grasp in MuJoCo (``validate``,
-``synergrasp.physics``, with the ``sim`` extra).
+planner (``plan``), whose result includes an executable reach checked for
+collisions (``PlanResult.path``); physics validation of a grasp in MuJoCo
+(``validate``, ``replay_reach``, ``synergrasp.physics``, with the ``sim``
+extra).
 """
 
 from . import batch, lp, objects
 from .hand import SynergyHand
-from .physics import Validation, validate
+from .physics import Replay, Validation, replay_reach, validate
 from .planner import PlanResult, plan
 from .pseudo_distance import PseudoDistance, pseudo_distance, regular_simplex
 from .quality import QDistance, contact_wrenches, force_closure_by_hull, friction_cone_edges, q_distance
@@ -21,6 +23,7 @@ __all__ = [
     "PlanResult",
     "PseudoDistance",
     "QDistance",
+    "Replay",
     "SynergyHand",
     "batch",
     "Validation",
@@ -33,5 +36,6 @@ __all__ = [
     "pseudo_distance",
     "q_distance",
     "regular_simplex",
+    "replay_reach",
     "validate",
 ]

@@ -161,6 +161,9 @@ def _plan(args) -> int:
     q = "-" if result.final_q != result.final_q else f"{result.final_q:+.4f}"
     print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {q}, "
           f"contacts {', '.join(result.contact_labels) or 'none'}, penetration {result.penetration:.1f} mm")
+    if len(result.path):
+        print(f"executable reach: {len(result.path)} poses, clearance {result.clearance[0]:.1f} mm at the pre-grasp, "
+              f"smallest {result.clearance.min():+.1f} mm; {result.reach['reason']}")
     print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
     if not result.success:
         print(f"attempts ({result.total_iterations} iterations in all; every attempt's status trace is in "
@@ -201,7 +204,8 @@ def build_parser() -> argparse.ArgumentParser:
         "plan",
         help="plan a reach-to-grasp motion and write the result and its figures",
         description="Plan a precision or power grasp of an object with the synergy hand (paper Sec. 3.2). "
-        "Writes DIR/NAME_GRASP.json (the PlanResult), the status figure, the poses figure, a GIF of the reach "
+        "Writes DIR/NAME_GRASP.json (the PlanResult, with its executable reach and the reach's clearance), the "
+        "status figure, the poses figure, a GIF of the reach "
         "and an interactive 3-D page of the final grasp; NAME is the built-in's name or the file's stem and "
         "extension (capsule.xyz: capsule_xyz), so inputs never share output files. Every file is written "
         "to a temporary file first and then renamed. The output folder is checked before planning. "

@@ -45,6 +45,9 @@ _DEFAULT_FILE = "paper_hand.json"
 #: Skin points of a segment: fractions along its axis, and angles round it from the palmar side.
 SKIN_ALONG = (0.0, 0.5, 1.0)
 SKIN_AROUND = (-math.pi / 2, 0.0, math.pi / 2)
+#: Palm skin points besides the palm point P: the corners and edge midpoints of the palm box's
+#: front face, as fractions of its half extents along the palm frame's x and y.
+PALM_SKIN = tuple((sx, sy) for sx in (-1.0, 0.0, 1.0) for sy in (-1.0, 0.0, 1.0) if (sx, sy) != (0.0, 0.0))
 
 
 def rotation_xyz(phi):
@@ -243,6 +246,9 @@ class SynergyHand:
         if np.any(self.palm_half_extents <= 0):
             spec.fail("palm.size", "must be positive")
         self.palm_point = spec.array(palm, "point", "palm.point", (3,))
+        face = self._palm_center[2] + self.palm_half_extents[2]
+        self._palm_skin = np.array([[self._palm_center[0] + sx * self.palm_half_extents[0],
+                                     self._palm_center[1] + sy * self.palm_half_extents[1], face] for sx, sy in PALM_SKIN])
         self._load_chains(spec, spec.items(data, "fingers", "fingers"))
         self._precompute()
 
@@ -316,22 +322,23 @@ class SynergyHand:
         self._q_z_flat = self._q_z.reshape(n_c * n_j, self.n_syn)
 
         # Nodes: each chain's base and the end of each of its links, then the palm point.
-        n_nodes = n_c * (n_j + 1) + 1
-        node = np.arange(n_nodes - 1).reshape(n_c, n_j + 1)
+        palm = n_c * (n_j + 1)  # the palm point's node, then the palm skin's
+        n_nodes = palm + 1 + len(PALM_SKIN)
+        node = np.arange(palm).reshape(n_c, n_j + 1)
         segments = [(c, k + 1, j) for c in range(n_c) for k, j in enumerate(np.flatnonzero(self._lengths[c] > 0))]
         self._segment_nodes = np.array([[node[c, j], node[c, j + 1]] for c, _, j in segments])
         points = {  # kind -> (label, {node: weight}, chain, number of joints upstream)
             "precision": [(f"{f}0", {node[c, -1]: 1.0}, c, n_j) for c, f in enumerate(self.finger_names)],
             "power": [(f"{self.finger_names[c]}{k}", {node[c, j]: 0.5, node[c, j + 1]: 0.5}, c, j + 1)
                       for c, k, j in segments]
-                     + [("P", {n_nodes - 1: 1.0}, 0, 0)],
+                     + [("P", {palm: 1.0}, 0, 0)],
             # the two ends of every capsule (on the axis), for collision avoidance
             "_capsules": [(f"{self.finger_names[c]}{k}{end}", {node[c, j + e]: 1.0}, c, j + 1)
                           for c, k, j in segments for e, end in ((0, "a"), (1, "b"))],
-            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then the palm point
+            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then of the palm
             "_skin": [(f"{self.finger_names[c]}{k}", {node[c, j]: 1.0 - t, node[c, j + 1]: t}, c, j + 1)
                       for c, k, j in segments for t in SKIN_ALONG for _ in SKIN_AROUND]
-                     + [("P", {n_nodes - 1: 1.0}, 0, 0)],
+                     + [("P", {palm + i: 1.0}, 0, 0) for i in range(1 + len(PALM_SKIN))],
         }
         # the palmar side of link j: where its far end moves when joint j flexes, axis_j x e_y
         palmar = np.cross(self._axes, [0.0, 1.0, 0.0])
@@ -341,7 +348,8 @@ class SynergyHand:
             "precision": [(c, last[c]) for c in range(n_c)],
             "power": [(c, j) for c, _, j in segments] + [None],
             "_capsules": [None] * (2 * len(segments)),
-            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND] + [None],
+            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND]
+                     + [None] * (1 + len(PALM_SKIN)),
         }
         self._kinds = {}
         for kind, rows in points.items():
@@ -541,8 +549,8 @@ class SynergyHand:
 
         Returns
         -------
-        nodes : (n_c * (n_j + 1) + 1, 3) float
-            Chain bases, link ends and the palm point.
+        nodes : (n_c * (n_j + 1) + 1 + len(PALM_SKIN), 3) float
+            Chain bases, link ends, the palm point and the palm skin points.
         frames : (n_c * (n_j + 1), 3, 3) float
             Orientation of each chain's base and of each link (after its joint).
         axes : (n_c * n_j, 3) float
@@ -558,9 +566,11 @@ class SynergyHand:
         rot[:, 0] = self._base_rot
         for j in range(n_j):
             np.matmul(rot[:, j], joint_rot[:, j], out=rot[:, j + 1])
-        nodes = np.empty((n_c * (n_j + 1) + 1, 3))
-        nodes[-1] = self.palm_point
-        pos = nodes[:-1].reshape(n_c, n_j + 1, 3)
+        palm = n_c * (n_j + 1)
+        nodes = np.empty((palm + 1 + len(PALM_SKIN), 3))
+        nodes[palm] = self.palm_point
+        nodes[palm + 1:] = self._palm_skin
+        pos = nodes[:palm].reshape(n_c, n_j + 1, 3)
         pos[:, 0] = self._base_pos
         # each link runs along its own +y: its step is length * the frame's second column
         np.cumsum(self._lengths[..., None] * rot[:, 1:, :, 1], axis=1, out=pos[:, 1:])
@@ -681,14 +691,15 @@ class SynergyHand:
         return points.reshape(-1, 2, 3), jac.reshape(-1, 2, 3, self.n_u)
 
     def skin_and_jacobian(self, u):
-        """Points on the skin of every segment and the palm point, with their Jacobians.
+        """Points on the skin of every segment and of the palm, with their Jacobians.
 
         Each segment carries ``len(SKIN_ALONG) * len(SKIN_AROUND)`` points:
         at the fractions `SKIN_ALONG` of its axis, ``contact_offset`` mm from
         the axis towards the angles `SKIN_AROUND` (0: the palmar side, where
         the power point sits; +-pi/2: the two lateral sides, along the joint
         axis). With ``contact_offset`` equal to the finger radius they lie on
-        the phalanx capsule's surface.
+        the phalanx capsule's surface. The palm carries the palm point P and
+        the corners and edge midpoints of the palm box's front face (`PALM_SKIN`).
 
         Parameters
         ----------
@@ -698,11 +709,11 @@ class SynergyHand:
         -------
         skin : (k, m, 3) float
             The k segments' m skin points, segments in the order of the power points.
-        palm : (3,) float
-            The palm point P.
+        palm : (p, 3) float
+            The palm's skin points, the palm point P first (p = 9).
         jacobian : (k, m, 3, 6 + n_syn) float
             ``d skin / d u``.
-        palm_jacobian : (3, 6 + n_syn) float
+        palm_jacobian : (p, 3, 6 + n_syn) float
             ``d palm / d u``.
 
         Examples
@@ -731,7 +742,7 @@ class SynergyHand:
         -------
         points, jacobian : (n, 3), (n, 3, 6 + n_syn) float
             As ``points_and_jacobian(u, "power")``.
-        skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (3,), (k, m, 3, 6 + n_syn), (3, 6 + n_syn) float
+        skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (p, 3), (k, m, 3, 6 + n_syn), (p, 3, 6 + n_syn) float
             As `skin_and_jacobian`.
 
         Examples
@@ -749,9 +760,9 @@ class SynergyHand:
 
     def _split_skin(self, points, jac):
         """`skin_and_jacobian`'s arrays from the rows of the ``"_skin"`` points and their Jacobian."""
-        m = len(SKIN_ALONG) * len(SKIN_AROUND)
-        k = (len(points) - 1) // m
-        return points[:-1].reshape(k, m, 3), points[-1], jac[:-1].reshape(k, m, 3, self.n_u), jac[-1]
+        m, p = len(SKIN_ALONG) * len(SKIN_AROUND), 1 + len(PALM_SKIN)
+        k = (len(points) - p) // m
+        return points[:-p].reshape(k, m, 3), points[-p:], jac[:-p].reshape(k, m, 3, self.n_u), jac[-p:]
 
     def segments(self, u):
         """Capsules of the phalanges and the palm box, in the world frame.

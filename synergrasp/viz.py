@@ -72,12 +72,15 @@ def plot_status(result, path, labels=None, attempts=None):
 
 
 def status_figure(result, labels=None, attempts=None):
-    """The figure of `plot_status`: the status vector against iterations.
+    """The figure of `plot_status`: the status vector against iterations, and the clearance along the reach.
 
-    Top: every cP row (mm) with the contact threshold eps_c; bottom: g_sQ and
+    Top: every cP row (mm) with the contact threshold eps_c; middle: g_sQ and
     g_Q with the -0.1 level of a good grasp. With every attempt shown, the
     attempts follow one another along the iteration axis, separated by grey
     lines and numbered; g_Q is known for the returned (last) attempt only.
+    Bottom, when the result has an executable reach (`PlanResult.path`): the
+    smallest signed distance of the phalanx capsules and the palm box to the
+    object along the path, with the tolerance it must stay above.
 
     Parameters
     ----------
@@ -95,7 +98,8 @@ def status_figure(result, labels=None, attempts=None):
     Returns
     -------
     matplotlib.figure.Figure
-        Two axes (cP rows, Q distances); close it with ``plt.close(fig)``.
+        Two axes (cP rows, Q distances), three with the clearance along the
+        executable reach; close it with ``plt.close(fig)``.
 
     Raises
     ------
@@ -128,7 +132,12 @@ def status_figure(result, labels=None, attempts=None):
     # one polyline per row, broken (NaN) between attempts
     k = np.concatenate([np.r_[s + np.arange(len(t)), np.nan] for s, t in zip(starts, traces)])[:-1]
     status = np.vstack([np.vstack([t, np.full((1, t.shape[1]), np.nan)]) for t in traces])[:-1]
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True, gridspec_kw={"height_ratios": [3, 2]})
+    reach = len(result.path) > 0
+    fig, axes = plt.subplots(3 if reach else 2, 1, figsize=(8, 9.0 if reach else 6.5),
+                             gridspec_kw={"height_ratios": [3, 2, 2] if reach else [3, 2]})
+    top, bottom = axes[0], axes[1]
+    bottom.sharex(top)
+    top.tick_params(labelbottom=False)
     for i, label in enumerate(labels):
         top.plot(k, status[:, i], color=_FINGER_COLORS.get(label[0], "gray"), lw=1.4,
                  ls=["-", "--", ":", "-."][int(label[1]) % 4] if label[1:].isdigit() else "-", label=f"$g_{{{label}}}$")
@@ -160,8 +169,28 @@ def status_figure(result, labels=None, attempts=None):
     bottom.set_ylabel("Q distance")
     bottom.set_xlabel("iteration k" + (" (attempts one after another)" if len(traces) > 1 else ""))
     bottom.legend(fontsize=8, loc="upper right")
+    if reach:
+        _plot_clearance(axes[2], result)
     fig.tight_layout()
     return fig
+
+
+def _plot_clearance(ax, result):
+    """The clearance along the executable reach, on its own axes."""
+    rows = np.arange(len(result.clearance))
+    tolerance = result.reach.get("tolerance", result.options.get("max_penetration", 3.0))
+    ax.plot(rows, result.clearance, color="tab:green", lw=1.6, marker=".", ms=3, label="clearance (capsules and palm)")
+    ax.axhline(0.0, color="gray", lw=0.6)
+    ax.axhline(-tolerance, color="k", lw=0.8, ls="--", label=f"-{tolerance:g} mm (tolerance)")
+    deepest = int(np.argmin(result.clearance))
+    where = result.reach.get("deepest") or "none"
+    ax.plot(deepest, result.clearance[deepest], "v", color="tab:red", label=f"deepest: {where}")
+    ax.set_yscale("symlog", linthresh=10.0)
+    ax.set_ylabel("clearance (mm)")
+    ax.set_xlabel("row of the executable reach (pre-grasp to grasp)")
+    ax.set_title(f"executable reach: {'collision-free' if result.collision_free else 'NOT collision-free'}, "
+                 f"deepest {max(0.0, -float(result.clearance.min())):.1f} mm", fontsize=10)
+    ax.legend(fontsize=8, loc="upper right")
 
 
 def _check(result=None, obj=None, hand=None):

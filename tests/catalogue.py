@@ -24,7 +24,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
-from synergrasp.planner import check_grasp, grasp_status
+from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance
 
 
 @dataclass(frozen=True)
@@ -161,7 +161,7 @@ API = [
     Case("sg.plan", "a zero approach direction", lambda tmp: sg.plan("ellipsoid", approach=[0.0, 0.0, 0.0]), ValueError, "approach must be a non-zero direction"),
     Case("sg.plan", "an approach that is a word", lambda tmp: sg.plan("ellipsoid", approach="up"), TypeError, "approach must be a numeric vector"),
     Case("sg.plan", "an unknown option", lambda tmp: sg.plan("ellipsoid", foo=1), ValueError, "unknown planner options ['foo']"),
-    Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "max_iter must be >= 1"),
+    Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "PlannerOptions.max_iter must be in [1, inf]"),
     Case("PlanResult.save", "a path that is a number", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(3), TypeError, "an output path must be a str or os.PathLike"),
     Case("PlanResult.save", "a path that is a folder", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(tmp), IsADirectoryError, "it is a folder; give a file name"),
     Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
@@ -225,6 +225,24 @@ API = [
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
     Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
+    # ------------------------------------------------------------ the executable reach
+    Case("planner.hand_clearance", "a hand given by name", lambda tmp: hand_clearance("paper_hand", so.ellipsoid(), np.zeros(8)), TypeError, "hand must be a SynergyHand"),
+    Case("planner.hand_clearance", "u of 7 numbers", lambda tmp: hand_clearance(HAND, so.ellipsoid(), np.zeros(7)), ValueError, "u must have shape (8,)"),
+    Case("planner.hand_clearance", "a NaN u", lambda tmp: hand_clearance(HAND, so.ellipsoid(), np.full(8, np.nan)), ValueError, "u contains NaN or inf"),
+    Case("planner.path_clearance", "a trimesh for the object", lambda tmp: path_clearance(HAND, trimesh.creation.box(), [np.zeros(8)]), TypeError, "obj must be a GraspObject"),
+    Case("planner.path_clearance", "poses of 7 numbers", lambda tmp: path_clearance(HAND, so.ellipsoid(), np.zeros((2, 7))), ValueError, "path has points of dimension 7, expected 8"),
+    Case("planner.path_clearance", "an infinite pose", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8), np.r_[np.zeros(7), np.inf]]), ValueError, "path contains NaN or inf at rows [1]"),
+    Case("planner.path_clearance", "resolution = 0", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8)], resolution=0.0), ValueError, "resolution must be a finite number > 0"),
+    Case("planner.path_clearance", "stop_below of two numbers", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8)], stop_below=[0.0, 1.0]), ValueError, "stop_below must be a number or one per shape (16"),
+    Case("planner.executable_reach", "u_grasp of 6 numbers", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(6)), ValueError, "u_grasp must have shape (8,)"),
+    Case("planner.executable_reach", "a negative margin", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), margin=-1.0), ValueError, "margin must be a finite number > 0"),
+    Case("planner.executable_reach", "budget = 0", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), budget=0), ValueError, "budget must be an integer >= 1"),
+    Case("planner.executable_reach", "an opening of 1.5", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), openings=[0.5, 1.5]), ValueError, "openings must be fractions in [0, 1]"),
+    Case("planner.executable_reach", "a trajectory of points", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), trajectory=np.zeros((4, 3))), ValueError, "trajectory has points of dimension 3, expected 8"),
+    Case("sg.replay_reach", "a plan without a grasp", lambda tmp: sg.replay_reach(sg.plan("ellipsoid", max_iter=1), so.ellipsoid()), ValueError, "the result has no executable reach"),
+    Case("sg.replay_reach", "speed = 0", lambda tmp: sg.replay_reach([np.zeros(8)], so.ellipsoid(), speed=0.0), ValueError, "speed must be a finite number > 0"),
+    Case("sg.replay_reach", "a path of 7 columns", lambda tmp: sg.replay_reach(np.zeros((2, 7)), so.ellipsoid()), ValueError, "path has points of dimension 7, expected 8"),
+    Case("sg.replay_reach", "a trimesh for the object", lambda tmp: sg.replay_reach([np.zeros(8)], trimesh.creation.box()), TypeError, "obj must be a GraspObject"),
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
@@ -275,16 +293,69 @@ CLI = [
 
 def cli_files(folder):
     """The files the command-line cases name: a plain file, an .obj with a NaN vertex, a cloud in metres, a
-    saved plan of the ellipsoid and an image."""
+    saved plan of the ellipsoid (3 iterations from 400 mm away: nowhere near any other object) and an image."""
     _write(folder, "file.txt", "not a folder")
-    sg.plan("ellipsoid", "precision", max_iter=3).save(Path(folder) / "plan.json")
+    far = sg.planner.start_configuration(HAND, so.ellipsoid(), (0.0, 1.0, 0.0), 400.0)
+    sg.plan("ellipsoid", "precision", u0=far, max_iter=3).save(Path(folder) / "plan.json")
     _write(folder, "image.png", b"\x89PNG\r\n\x1a\n" + bytes(64))
     _nan_obj(folder)
     _write(folder, "metres.npy", data=_cloud(radius=0.03))
 
 
+def _option(name, value, says):
+    """A PlannerOptions field out of its range: refused on creation, naming the field and its range."""
+    return Case("sg.planner.PlannerOptions", f"{name}={value!r}", lambda tmp: sg.planner.PlannerOptions(**{name: value}),
+                ValueError, says)
+
+
 #: Cases of the planner's options (``sg.plan(obj, **options)``, the fields of PlannerOptions).
-PLANNER_OPTIONS: list[Case] = []
+PLANNER_OPTIONS: list[Case] = [
+    _option("eps_c", -1, "PlannerOptions.eps_c must be in"),
+    _option("mu", float("nan"), "PlannerOptions.mu must be a number"),
+    _option("edges", 2, "PlannerOptions.edges must be in"),
+    _option("edges", 8.5, "PlannerOptions.edges must be an integer"),
+    _option("contact_target", 7.0, "PlannerOptions.contact_target must be in"),
+    _option("contact_band", (4.0, 2.0), "PlannerOptions.contact_band must be"),
+    _option("contact_band", (1.0, np.inf), "PlannerOptions.contact_band must be"),
+    _option("contact_band", None, "PlannerOptions.contact_band must be"),
+    _option("clearance", -0.5, "PlannerOptions.clearance must be in"),
+    _option("sq_step", float("nan"), "PlannerOptions.sq_step must be a number"),
+    _option("sq_step", 0.0, "PlannerOptions.sq_step must be in"),
+    _option("smoothing", -1.0, "PlannerOptions.smoothing must be in"),
+    _option("radius", 5.0, "PlannerOptions.radius must be in"),
+    _option("radius_min", 0.0, "PlannerOptions.radius_min must be in"),
+    _option("radius_max", 0.001, "PlannerOptions.radius_max must be in"),
+    _option("stall_window", -3, "PlannerOptions.stall_window must be in"),
+    _option("crawl_window", 2.5, "PlannerOptions.crawl_window must be an integer"),
+    _option("crawl_fraction", 2.0, "PlannerOptions.crawl_fraction must be in"),
+    _option("touch_window", -1, "PlannerOptions.touch_window must be in"),
+    _option("iterations_per_attempt", 0, "PlannerOptions.iterations_per_attempt must be in"),
+    _option("restarts", 0, "PlannerOptions.restarts must be in"),
+    _option("max_iter", "10", "PlannerOptions.max_iter must be an integer"),
+    _option("max_iter", 0, "PlannerOptions.max_iter must be in"),
+    _option("time_limit", 0, "PlannerOptions.time_limit must be in"),
+    _option("time_limit", "1 s", "PlannerOptions.time_limit must be a number"),
+    _option("q_margin", 0.5, "PlannerOptions.q_margin must be in"),
+    _option("refine_iterations", -1, "PlannerOptions.refine_iterations must be in"),
+    _option("max_penetration", -1.0, "PlannerOptions.max_penetration must be in"),
+    _option("start_distance", 0.0, "PlannerOptions.start_distance must be in"),
+    _option("start_clearance", np.inf, "PlannerOptions.start_clearance must be a number"),
+    _option("seed_opening", -2.0, "PlannerOptions.seed_opening must be in"),
+    _option("seed_retreat", "far", "PlannerOptions.seed_retreat must be a number"),
+    _option("power_preshape", "open", "PlannerOptions.power_preshape must be one finite value per synergy"),
+    _option("power_wide_preshape", (np.nan, 1.0), "PlannerOptions.power_wide_preshape must be one finite value per synergy"),
+    _option("power_free_reach", 1, "PlannerOptions.power_free_reach must be True or False"),
+    _option("power_sq_hold", "low", "PlannerOptions.power_sq_hold must be a number"),
+    _option("seed", -1, "PlannerOptions.seed must be in"),
+    _option("q_accept", 0.5, "PlannerOptions.q_accept must be in"),
+    _option("q_margin", 0.0, "PlannerOptions.q_margin must be in"),
+    Case("sg.plan", "options that are not a PlannerOptions", lambda tmp: sg.plan("ellipsoid", options={"max_iter": 3}),
+         TypeError, "options must be a PlannerOptions"),
+    Case("sg.plan", "a hand that is not a SynergyHand", lambda tmp: sg.plan("ellipsoid", hand="paper"), TypeError,
+         "hand must be a SynergyHand"),
+    Case("sg.plan", "a progress that cannot be called", lambda tmp: sg.plan("ellipsoid", progress=3), TypeError,
+         "progress must be callable"),
+]
 
 
 def _batch(objects=("ellipsoid",), out="out", **kw):

@@ -62,8 +62,9 @@ def cli_reference() -> str:
         "`NAME` is the built-in's name, or the file's stem and extension (`scans/capsule.xyz` gives `capsule_xyz`), "
         "so two inputs never write to the same files; `GRASP` is `precision` or `power`.", "",
         "| file | content |", "|---|---|",
-        "| `NAME_GRASP.json` | the `PlanResult` (read it back with `sg.PlanResult.load`) |",
-        "| `NAME_GRASP_status.png` | the status vector against iterations; for a failed plan every attempt, one after another |",
+        "| `NAME_GRASP.json` | the `PlanResult`, with the executable reach (read it back with `sg.PlanResult.load`) |",
+        "| `NAME_GRASP_status.png` | the status vector against iterations; for a failed plan every attempt, one after another; "
+        "for a successful one the clearance along the executable reach |",
         "| `NAME_GRASP_poses.png` | the hand at several iterations around the object, with a legend of the fingers |",
         "| `NAME_GRASP_reach.gif` | the reach, animated (not with `--no-animation`) |",
         "| `NAME_GRASP_grasp.html` | an interactive 3-D view of the final grasp (not with `--no-animation`) |", "",

@@ -18,3 +18,55 @@ def test_large_mesh_quick(tmp_path, capsys):
 def test_torus_has_the_faces_asked_for():
     mesh = bench_large_mesh.torus(330_000)
     assert 320_000 <= len(mesh.faces) <= 340_000 and mesh.is_watertight
+
+
+# --------------------------------------------------------------------------- generalisation benchmark
+
+from types import SimpleNamespace  # noqa: E402
+
+import numpy as np  # noqa: E402
+import trimesh  # noqa: E402
+
+import synergrasp as sg  # noqa: E402
+from benchmarks import generalise, objectset  # noqa: E402
+
+
+def test_the_benchmark_has_over_200_objects_in_a_fixed_split_by_shape():
+    entries = objectset.catalogue()
+    names = [e.name for e in entries]
+    assert len(entries) >= 200 and len(set(names)) == len(names)
+    assert {e.source for e in entries} == {"household", "urdf", "procedural"}
+    by_base = {}
+    for e in entries:
+        by_base.setdefault(e.base, set()).add(e.split)
+    assert all(len(splits) == 1 for splits in by_base.values())  # both sizes of a shape in one split
+    counts = {s: sum(e.split == s for e in entries) for s in objectset.SPLITS}
+    assert min(counts.values()) >= 100
+    assert [e.name for e in objectset.select("test")] == [e.name for e in entries if e.split == "test"]
+    assert [e.split for e in objectset.catalogue()] == [e.split for e in entries]  # the same split every time
+
+
+def test_procedural_objects_are_seeded():
+    a, b = objectset.select("all", ["procedural/blob_2"])[0].make(), objectset.select("all", ["procedural/blob_2"])[0].make()
+    np.testing.assert_array_equal(a.mesh.vertices, b.mesh.vertices)
+    assert a.mesh.is_watertight and 10.0 < a.size < 200.0
+
+
+def test_verification_is_on_the_true_surface():
+    box = sg.objects.from_mesh(trimesh.creation.box((60.0, 50.0, 90.0)), name="box", cache=False)
+    r = sg.plan(box, "precision")
+    assert generalise.verify(r, box)["verified"]
+    off = SimpleNamespace(success=True, penetration=0.0, contact_points=r.contact_points + [0.0, 0.0, 100.0])
+    assert not generalise.verify(off, box)["verified"] and generalise.verify(off, box)["gap"] > 5.0
+    one_side = SimpleNamespace(success=True, penetration=0.0, contact_points=[[30.0, y, z] for y in (-10, 10) for z in (-10, 10)])
+    check = generalise.verify(one_side, box)  # four contacts on one face: on the surface, not force-closed
+    assert check["gap"] < 1e-9 and not check["closed"] and not check["verified"]
+
+
+def test_generalise_quick(tmp_path, capsys):
+    generalise.main(["--quick", "--grasp", "precision", "--out", str(tmp_path)])
+    rows = [json.loads(line) for line in (tmp_path / "test_precision.jsonl").read_text().splitlines()]
+    assert [r["name"] for r in rows] == list(generalise.QUICK)
+    assert all(r["verified"] for r in rows)
+    out = capsys.readouterr().out
+    assert "precision: 2/2 verified" in out and "median Q on the true surface" in out

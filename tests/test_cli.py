@@ -1,7 +1,9 @@
 """The synergrasp command line."""
 
 import json
+import re
 
+import numpy as np
 import pytest
 
 from synergrasp.cli import build_parser, main
@@ -22,6 +24,12 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
     assert code == 0 and out.startswith("success")
     saved = json.loads((tmp_path / "ellipsoid_precision.json").read_text())
     assert saved["success"] and saved["grasp"] == "precision"
+    clearance = np.array(saved["clearance"])
+    printed = re.search(r"executable reach: (\d+) poses, clearance ([-\d.]+) mm at the pre-grasp, smallest ([-+\d.]+) mm; "
+                        r"(collision-free|not collision-free)", out)
+    assert printed and int(printed.group(1)) == len(saved["path"]) == len(clearance)
+    assert float(printed.group(2)) == round(clearance[0], 1) and float(printed.group(3)) == round(clearance.min(), 1)
+    assert (printed.group(4) == "collision-free") == saved["collision_free"]
     for name in ("ellipsoid_precision_status.png", "ellipsoid_precision_poses.png"):
         assert (tmp_path / name).stat().st_size > 10_000
 

@@ -350,10 +350,15 @@ def test_skin_points_lie_on_the_capsules_and_their_jacobians_match_finite_differ
         to_axis = np.linalg.norm(skin - (a + t[..., None] * (b - a)), axis=-1)
         np.testing.assert_allclose(to_axis, hand.finger_radius, atol=1e-9)  # on the capsule surface
         np.testing.assert_allclose(skin[:, 4], hand.points(u, "power")[:-1], atol=1e-12)  # palmar middle = power point
-        np.testing.assert_allclose(palm, hand.points(u, "power")[-1], atol=1e-12)
+        np.testing.assert_allclose(palm[0], hand.points(u, "power")[-1], atol=1e-12)  # the palm point P first
+        geo = hand.segments(u)  # the rest on the rim of the palm box's front face
+        local = (palm[1:] - geo.palm_center) @ geo.palm_axes
+        np.testing.assert_allclose(local[:, 2], geo.palm_half_extents[2], atol=1e-9)
+        assert np.all(np.abs(local[:, :2]) <= geo.palm_half_extents[:2] + 1e-9)
+        np.testing.assert_allclose(np.abs(local[:, :2]).max(axis=0), geo.palm_half_extents[:2], atol=1e-9)
         for k in range(len(u)):
             step = np.zeros(len(u))
             step[k] = 1e-6
             plus, minus = hand.skin_and_jacobian(u + step), hand.skin_and_jacobian(u - step)
             np.testing.assert_allclose(jac[..., k], (plus[0] - minus[0]) / 2e-6, atol=1e-6)
-            np.testing.assert_allclose(palm_jac[:, k], (plus[1] - minus[1]) / 2e-6, atol=1e-6)
+            np.testing.assert_allclose(palm_jac[..., k], (plus[1] - minus[1]) / 2e-6, atol=1e-6)

@@ -38,7 +38,7 @@ def test_plan_takes_a_name_or_a_path(tmp_path):
 def test_every_attempt_keeps_its_status_trace(failed_plan, saved):
     assert not failed_plan.success and len(failed_plan.attempts) == 3
     for attempt in failed_plan.attempts:
-        assert np.shape(attempt["status"]) == (attempt["iterations"] + 1, 6)
+        assert np.shape(attempt["status"]) == (attempt["iterations"] + 1, failed_plan.status.shape[1])
     np.testing.assert_array_equal(failed_plan.attempts[-1]["status"], failed_plan.status)  # the returned reach
     back = sg.PlanResult.load(saved[0])
     assert back.attempts == failed_plan.attempts

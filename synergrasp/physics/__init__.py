@@ -4,8 +4,10 @@
 MuJoCo scene (`synergrasp.physics.model`), closes the synergies a step
 further, lets the grasp settle, and pushes the object with its weight along
 six directions (`synergrasp.physics.simulate`); the `Validation` says whether
-it held, and why not. The settings are a `Protocol`, from one of two
-`PRESETS`: the project's own (default) and DexGraspBench-like ones. Grasps
+it held, and why not. `replay_reach` runs a plan's executable reach with the
+object free and says how far the hand moved it before closing (`Replay`).
+The settings are a `Protocol`, from one of two `PRESETS`: the project's own
+(default) and DexGraspBench-like ones. Grasps
 built by construction (`pinch_grasp`, `ball_pinch`) check the simulation
 itself.
 
@@ -18,8 +20,9 @@ from .figure import RenderingUnavailable, plot_validation, render_still
 from .model import GraspScene, grasp_mjcf, moving_joints
 from .probes import PINCH_Z, ball_pinch, hand_without, pinch_grasp
 from .protocol import DIRECTIONS, PRESETS, Protocol, protocol
+from .replay import Replay, replay_reach
 from .result import OUTCOMES, Validation
-from .simulate import INSTALL_HINT, build_model, mujoco_module
+from .simulate import INSTALL_HINT, build_model, mujoco_module, simulate_reach
 from .validate import check_match, squeeze_targets, validate
 
 __all__ = [
@@ -31,6 +34,7 @@ __all__ = [
     "PRESETS",
     "Protocol",
     "RenderingUnavailable",
+    "Replay",
     "Validation",
     "ball_pinch",
     "build_model",
@@ -43,6 +47,8 @@ __all__ = [
     "plot_validation",
     "protocol",
     "render_still",
+    "replay_reach",
+    "simulate_reach",
     "squeeze_targets",
     "validate",
 ]

@@ -5,7 +5,9 @@
 synergrasp's are millimetres: every length is divided by 1000 on the way in.
 
 - The palm is a box welded to the world at the configuration's pose (a static
-  body: it does not move however hard the fingers squeeze).
+  body: it does not move however hard the fingers squeeze), or a mocap body
+  that a replay moves along a path (``mocap=True``: it still yields to
+  nothing).
 - Each finger chain is a tree of bodies, one per joint of the hand file. A
   joint whose angle depends on the synergies is a hinge with a position servo;
   a joint that the synergies do not move (the paper's hand: T_ip and the dips,
@@ -27,7 +29,7 @@ import numpy as np
 
 from ..hand import rotation_xyz
 
-__all__ = ["GraspScene", "grasp_mjcf", "moving_joints", "PALM", "OBJECT"]
+__all__ = ["GraspScene", "grasp_mjcf", "moving_joints", "mujoco_quat", "PALM", "OBJECT"]
 
 #: Name of the palm's body and box geom.
 PALM = "palm"
@@ -98,8 +100,17 @@ def _vec(values):
     return " ".join(_num(v) for v in values)
 
 
-def _quat(rotation):
-    """MuJoCo quaternion ``w x y z`` of a rotation matrix."""
+def mujoco_quat(rotation):
+    """MuJoCo's quaternion ``(w, x, y, z)`` of a rotation matrix.
+
+    Parameters
+    ----------
+    rotation : (3, 3) float
+
+    Returns
+    -------
+    tuple of 4 float
+    """
     from scipy.spatial.transform import Rotation
 
     x, y, z, w = Rotation.from_matrix(rotation).as_quat()
@@ -113,7 +124,7 @@ def _axis_rotation(axis, angle):
 
 
 def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joint_damping, kp,
-               impratio=10.0, noslip_iterations=2):
+               impratio=10.0, noslip_iterations=2, mocap=False):
     """The MJCF scene of a hand at configuration ``u`` around an object.
 
     Parameters
@@ -140,6 +151,9 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
     impratio, noslip_iterations : float, int
         MuJoCo's friction-to-normal impedance ratio and noslip iterations
         (elliptic friction cones in any case).
+    mocap : bool
+        Make the palm a mocap body, placed at ``u`` and moved by
+        ``data.mocap_pos`` and ``data.mocap_quat`` (a replay of a path).
 
     Returns
     -------
@@ -176,7 +190,8 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
         "  </asset>",
         "  <worldbody>",
         '    <light pos="0 0 1" dir="0 0 -1" directional="true"/>',
-        f'    <body name="{PALM}" pos="{_vec(u[:3] * MM)}" quat="{_vec(_quat(rot))}" childclass="hand">',
+        f'    <body name="{PALM}" pos="{_vec(u[:3] * MM)}" quat="{_vec(mujoco_quat(rot))}" childclass="hand"'
+        + (' mocap="true">' if mocap else ">"),
         f'      <geom name="{PALM}" type="box" pos="{_vec(rest.palm_center * MM)}" '
         f'size="{_vec(rest.palm_half_extents * MM)}"/>',
     ]
@@ -192,12 +207,12 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
             if previous is not None:
                 pos, frame = np.array([0.0, previous, 0.0]), np.eye(3)
             if name in moving:
-                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(_quat(frame))}">')
+                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(frame))}">')
                 lines.append(f'{indent}  <joint name="{name}" axis="{_vec(axis)}"/>')
                 joints.append(name)
             else:
                 fixed = frame @ _axis_rotation(axis, angles[name])
-                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(_quat(fixed))}">')
+                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(fixed))}">')
             length = float(joint["length"])
             if length > 0:
                 segment += 1

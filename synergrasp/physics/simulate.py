@@ -10,10 +10,11 @@ import contextlib
 
 import numpy as np
 
-from .model import OBJECT, grasp_mjcf
+from ..hand import rotation_xyz
+from .model import MM, OBJECT, PALM, grasp_mjcf, mujoco_quat
 from .protocol import DIRECTIONS
 
-__all__ = ["mujoco_module", "build_model", "simulate", "INSTALL_HINT"]
+__all__ = ["mujoco_module", "build_model", "simulate", "simulate_reach", "INSTALL_HINT"]
 
 INSTALL_HINT = 'pip install "synergrasp[sim]"'
 #: Simulated time between two checks of the object during a push (s).
@@ -48,7 +49,7 @@ def mujoco_module():
     return mujoco
 
 
-def build_model(hand, obj, u, protocol):
+def build_model(hand, obj, u, protocol, mocap=False):
     """Compile the MuJoCo model of a hand configuration around an object.
 
     Parameters
@@ -59,6 +60,8 @@ def build_model(hand, obj, u, protocol):
     protocol : Protocol
         Friction, contact softness, servos, time step and the object's
         density (or mass).
+    mocap : bool
+        The palm is a mocap body (moved by a replay) instead of a static one.
 
     Returns
     -------
@@ -78,12 +81,56 @@ def build_model(hand, obj, u, protocol):
     density = p.density if p.mass is None else p.mass / (obj.volume * 1e-9)  # volume in m^3
     scene = grasp_mjcf(hand, obj, u, density=density, friction=(p.mu, p.torsional_friction, 0.0), solref=p.solref,
                        solimp=p.solimp, timestep=p.timestep, joint_damping=p.joint_damping, kp=p.kp,
-                       impratio=p.impratio, noslip_iterations=p.noslip_iterations)
+                       impratio=p.impratio, noslip_iterations=p.noslip_iterations, mocap=mocap)
     try:
         model = mujoco.MjModel.from_xml_string(scene.xml)
     except ValueError as exc:
         raise ValueError(f"MuJoCo could not build the grasp model of {obj.name!r}: {exc}") from None
     return mujoco, model, scene
+
+
+def simulate_reach(hand, obj, path, squeeze_angles, protocol, speed) -> dict:
+    """Simulate a reach: the palm follows a path, the finger servos its synergies, then the squeeze.
+
+    The palm is a mocap body moved along ``path`` (straight lines in ``u``
+    between rows, each taking the time for the hand's fastest capsule end or
+    palm corner to move at ``speed``); the servo targets follow the joint
+    angles of the path. Then the targets ramp to ``squeeze_angles`` over
+    ``protocol.squeeze_time`` and hold for ``protocol.settle_time``. The
+    object is free and undamped throughout, without gravity.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    path : (k, 6 + n_syn) float
+        The reach, pre-grasp first, grasp last.
+    squeeze_angles : dict of str to float
+        Servo targets of the squeeze (rad).
+    protocol : Protocol
+    speed : float
+        mm/s.
+
+    Returns
+    -------
+    dict
+        ``moved`` and ``turned`` (k,): the object's displacement (mm) and
+        rotation (degrees) from its planned pose when the hand reaches each
+        row; ``first_contact``: the row the hand was moving to when it first
+        touched the object (0: touching at the start, -1: never before the
+        squeeze); ``moved_after_squeeze``, ``turned_after_squeeze``;
+        ``contact_bodies``: the hand geoms touching the object at the end;
+        ``duration``: simulated time (s); ``outcome`` (``"done"`` or
+        ``"unstable"``) and ``reason``.
+
+    Raises
+    ------
+    ImportError
+        If MuJoCo is not installed.
+    ValueError
+        If MuJoCo cannot build the model.
+    """
+    return _simulated(hand, obj, path[0], protocol, True, lambda sim: sim.follow(hand, path, squeeze_angles, speed))
 
 
 class _Unstable(Exception):
@@ -132,12 +179,16 @@ def simulate(hand, obj, u, start_angles, squeeze_angles, protocol) -> dict:
     ValueError
         If MuJoCo cannot build the model.
     """
+    return _simulated(hand, obj, u, protocol, False, lambda sim: sim.run(start_angles, squeeze_angles))
+
+
+def _simulated(hand, obj, u, protocol, mocap, phases):
+    """``phases(simulation)`` on a new model of the hand at u around the object, MuJoCo's warnings collected."""
     messages = []
     mujoco = mujoco_module()
     with _warnings_caught(mujoco, messages):
-        mujoco, model, scene = build_model(hand, obj, u, protocol)
-        data = mujoco.MjData(model)
-        return _Simulation(mujoco, model, data, scene, protocol, messages).run(start_angles, squeeze_angles)
+        mujoco, model, scene = build_model(hand, obj, u, protocol, mocap=mocap)
+        return phases(_Simulation(mujoco, model, mujoco.MjData(model), scene, protocol, messages))
 
 
 class _Simulation:
@@ -297,6 +348,57 @@ class _Simulation:
         k = int(np.flatnonzero(turned)[0])
         return "rotation", (f"turned under the push along {where}: {rotation[k]:.1f} deg along {DIRECTIONS[k]} "
                             f"(max_rotation {p.max_rotation:g} deg)")
+
+    # ------------------------------------------------------------------ a reach
+
+    def follow(self, hand, path, squeeze_angles, speed):
+        """Move the mocap palm and the servos along the path, then squeeze; the object's motion (see `simulate_reach`)."""
+        mj, m, d, p = self.mj, self.model, self.data, self.p
+        mocap = int(m.body(PALM).mocapid[0])
+        angles = np.array([[hand.joint_angles(u)[j] for j in self.joints] for u in path])
+        target = np.array([squeeze_angles[j] for j in self.joints])
+        d.qpos[self.hinges] = d.ctrl[:] = angles[0]
+        mj.mj_forward(m, d)
+        planned = self.pose()
+        moved, turned, first = [0.0], [0.0], (0 if self.contacts() else -1)
+        geometry = [hand.segments(u) for u in path]
+        points = [np.vstack([g.capsules.reshape(-1, 3), g.palm_corners]) for g in geometry]
+        try:
+            for i in range(1, len(path)):
+                travel = float(np.linalg.norm(points[i] - points[i - 1], axis=1).max())
+                steps = max(1, round(travel / speed / p.timestep))
+                for k in range(1, steps + 1):
+                    t = k / steps
+                    u = path[i - 1] + t * (path[i] - path[i - 1])
+                    d.mocap_pos[mocap] = u[:3] * MM
+                    d.mocap_quat[mocap] = mujoco_quat(rotation_xyz(u[3:6]))
+                    d.ctrl[:] = angles[i - 1] + t * (angles[i] - angles[i - 1])
+                    mj.mj_step(m, d)
+                    self.check("the reach")
+                    if first < 0 and d.ncon and self.contacts():
+                        first = i
+                pose = self.pose()
+                moved.append(float(np.linalg.norm(pose[:3] - planned[:3])) * 1e3)
+                turned.append(_angle(planned[3:], pose[3:]))
+            steps = max(1, round(p.squeeze_time / p.timestep))
+            for k in range(steps):
+                d.ctrl[:] = angles[-1] + (target - angles[-1]) * (k + 1) / steps
+                mj.mj_step(m, d)
+                self.check("the squeeze")
+            for _ in range(round(p.settle_time / p.timestep)):
+                mj.mj_step(m, d)
+                self.check("settling")
+        except _Unstable as exc:
+            nan = np.full(len(path) - len(moved), np.nan)
+            return dict(moved=np.r_[moved, nan], turned=np.r_[turned, nan], first_contact=first,
+                        moved_after_squeeze=np.nan, turned_after_squeeze=np.nan, contact_bodies=[],
+                        duration=float(d.time), outcome="unstable", reason=f"unstable simulation: {exc}")
+        pose = self.pose()
+        return dict(moved=np.array(moved), turned=np.array(turned), first_contact=first,
+                    moved_after_squeeze=float(np.linalg.norm(pose[:3] - planned[:3])) * 1e3,
+                    turned_after_squeeze=_angle(planned[3:], pose[3:]),
+                    contact_bodies=sorted({c[0] for c in self.contacts()}), duration=float(d.time), outcome="done",
+                    reason="simulated the approach, the close and the squeeze")
 
     def unsimulated(self, outcome, reason, measured):
         nan = np.full(len(DIRECTIONS), np.nan)

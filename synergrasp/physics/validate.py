@@ -6,9 +6,8 @@ import time
 
 import numpy as np
 
-from ..hand import SynergyHand, rotation_xyz
-from ..objects import GraspObject
-from ..planner import PlanResult
+from ..hand import rotation_xyz
+from ..planner import PlanResult, hand_and_object
 from .protocol import protocol as make_protocol
 from .result import Validation
 from .simulate import mujoco_module, simulate
@@ -188,11 +187,7 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     """
     start = time.process_time()
     mujoco = mujoco_module()
-    hand = SynergyHand.default() if hand is None else hand
-    if not isinstance(hand, SynergyHand):
-        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
-    if not isinstance(obj, GraspObject):
-        raise TypeError(f"obj must be a GraspObject (synergrasp.objects), got {type(obj).__name__}")
+    hand = hand_and_object(hand, obj)
     settings = make_protocol(preset, **protocol)
     try:
         retreat = float(retreat)

@@ -1,25 +1,47 @@
-"""The reach-to-grasp planner (paper Sec. 3.2): status vector, step, stop rules, results."""
+"""The reach-to-grasp planner (paper Sec. 3.2): options, starts, attempts, status vector, step, stop rules, results; the executable reach and its clearance."""
 
-from .core import APPROACHES, GRASPS, POWER_APPROACHES, POWER_WIDE_APPROACHES, STANDOFF_APPROACHES, PlannerOptions, attempt_schedule, plan, power_schedule, start_configuration
+from .attempt import AttemptResult, Outcome, run_attempt, sq_request
+from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
+from .core import plan
+from .options import GRASPS, PlannerOptions
+from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
-from .status import Status, grasp_status, smoothed_normals
+from .starts import Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts
+from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
 __all__ = [
-    "APPROACHES",
-    "POWER_APPROACHES",
-    "POWER_WIDE_APPROACHES",
-    "STANDOFF_APPROACHES",
-    "attempt_schedule",
-    "power_schedule",
     "GRASPS",
+    "OPENINGS",
+    "AttemptResult",
     "GraspCheck",
+    "HandClearance",
+    "Outcome",
+    "PathClearance",
     "PlanResult",
     "PlannerOptions",
+    "Reach",
+    "Start",
     "Status",
     "check_grasp",
+    "clearance_labels",
+    "direction_starts",
+    "executable_reach",
     "grasp_status",
+    "hand_and_object",
+    "hand_clearance",
+    "open_synergies",
+    "path_clearance",
+    "pinch_seeds",
     "plan",
+    "power_schedule",
+    "principal_directions",
+    "retreat_directions",
+    "run_attempt",
     "smoothed_normals",
+    "sq_request",
     "start_configuration",
+    "starts",
+    "status_rows",
+    "widest_opening",
 ]

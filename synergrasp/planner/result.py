@@ -12,7 +12,7 @@ from .._records import load_record, save_record
 
 _FORMAT = "synergrasp.PlanResult/1"
 _ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
-           "contact_points": (-1, 3), "contact_normals": (-1, 3)}
+           "contact_points": (-1, 3), "contact_normals": (-1, 3), "pregrasp": (-1,), "path": None, "clearance": (-1,)}
 
 
 @dataclass
@@ -31,10 +31,15 @@ class PlanResult:
         Final configuration ``[px, py, pz, phi1, phi2, phi3, z1, z2]`` (mm, rad; 8 entries
         for the paper's two-synergy hand).
     trajectory : (k+1, 6 + n_syn) float
-        Configuration at every iteration, start included.
-    status : (k+1, 6) or (k+1, 17) float
-        Status vector g at every iteration: cP of each hand point (mm), then g_sQ.
-    target : (6,) or (17,) float
+        Configuration at every iteration of the planner's search, start
+        included. It is how the grasp was found, not a motion to execute:
+        the iteration watches a few points per phalanx, and phalanges may
+        pass through the object between them. The motion to execute is
+        ``path``.
+    status : (k+1, n+1) float
+        Status vector g at every iteration: the cP rows (mm; 16 for the paper's
+        hand, see `synergrasp.planner.status.status_rows`), then g_sQ.
+    target : (n+1,) float
         Target status ``[0 ... 0, -1]``.
     q_history : (k+1,) float
         g_Q (Q distance of the real contacts) at every iteration; NaN with
@@ -61,21 +66,56 @@ class PlanResult:
         Planner settings used.
     attempts : list of dict
         Every attempt made, in order: ``start`` (its start configuration),
-        ``standoff`` (mm), ``pass`` (1, or 2 for the second pass over the
-        schedule), ``band`` (the contact band of a precision plan's second
-        pass, else None), ``iterations`` and ``reason`` (why it ended).
-        An attempt that stalls is followed by one from another approach
-        direction; the trajectory is the last one's.
+        ``kind`` (how the start was placed, `synergrasp.planner.Start`) and
+        its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
+        ``direction`` of a direction start), ``outcome`` (the name of its
+        `synergrasp.planner.Outcome`, lower case), ``reason`` (the outcome
+        in words), ``iterations`` and ``status`` (its status at every
+        iteration); with ``plan(..., validate=True)`` an accepted grasp's
+        ``held`` and ``physics`` (the validation's reason). The trajectory is the successful
+        attempt's, or the last one's.
+    surface_q : float
+        Q distance of the final contacts moved to the object's true surface,
+        with its normals there (`synergrasp.planner.stop.surface_check`): the
+        grasp's margin as accepted; NaN without a grasp.
+    held : bool or None
+        With ``plan(..., validate=True)``: whether the returned grasp held in
+        the physics validation (`synergrasp.validate`); None when not tested.
+    pregrasp : (6 + n_syn,) float
+        The first configuration of ``path``: the hand open and clear of the
+        object (NaN when no grasp was found).
+    path : (p, 6 + n_syn) float
+        The executable reach to the final grasp (`executable_reach`):
+        approach from ``pregrasp`` with the hand open, then close; dense
+        enough that between two rows (a straight line in ``u``) no part of
+        the hand crosses the object unseen. Empty when no grasp was found.
+    clearance : (p,) float
+        Smallest signed distance (mm) of the phalanx capsules and the palm
+        box to the object at each row of ``path``; negative inside.
+    collision_free : bool
+        No row of ``path`` is deeper in the object than the planner's
+        ``max_penetration`` (False when no grasp was found).
+    reach : dict
+        How ``path`` was made and checked (`Reach.summary`): ``reason``,
+        ``depth`` and ``deepest`` (the deepest penetration along the path
+        and its capsule or ``"palm"``), ``grasp_depth`` and
+        ``grasp_shape`` (the grasp's own), ``source``, ``direction``,
+        ``retreat``, ``opening``, ``candidates``, ``margin``,
+        ``tolerance``, ``cpu_time``. Empty when no grasp was found.
 
     Examples
     --------
     >>> import synergrasp as sg
     >>> result = sg.plan(sg.objects.get("ellipsoid"), "precision")
-    >>> result.success, result.grasp, result.contact_labels
-    (True, 'precision', ['T0', 'I0', 'R0', 'L0'])
+    >>> result.success, result.grasp, "T0" in result.contact_labels
+    (True, 'precision', True)
     >>> result.trajectory.shape == (result.iterations + 1, 8)
     True
     >>> bool(result.final_q < 0)         # the final contacts are force-closed
+    True
+    >>> result.collision_free, bool((result.path[-1] == result.u).all())   # the reach to execute
+    (True, True)
+    >>> bool(result.clearance[0] >= 10.0) and bool(result.clearance.min() >= -3.0)   # mm
     True
     """
 
@@ -98,6 +138,22 @@ class PlanResult:
     object_name: str = ""
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
+    surface_q: float = math.nan
+    held: bool | None = None
+    pregrasp: np.ndarray | None = None
+    path: np.ndarray | None = None
+    clearance: np.ndarray | None = None
+    collision_free: bool = False
+    reach: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        n = np.asarray(self.u).size
+        if self.pregrasp is None:  # no executable reach (no grasp, or a result built without one)
+            self.pregrasp = np.full(n, np.nan)
+        if self.path is None:
+            self.path = np.zeros((0, n))
+        if self.clearance is None:
+            self.clearance = np.zeros(0)
 
     @property
     def total_iterations(self) -> int:
@@ -236,6 +292,15 @@ def _validated(data: dict, path) -> dict:
     out["lp_solves"] = integer("lp_solves")
     out["penetration"] = number("penetration", 0.0)
     out["time_s"] = number("time_s", 0.0)
+    if "held" in data:
+        if data["held"] is not None and not isinstance(data["held"], bool):
+            fail("held", "true, false or null")
+        out["held"] = data["held"]
+    if "surface_q" in data:
+        value = data["surface_q"]
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float)) or math.isinf(value)):
+            fail("surface_q", "a number, or NaN without a grasp")
+        out["surface_q"] = math.nan if value is None else float(value)
     u = out["u"] = array("u", 1)
     if len(u) < 7:
         fail("u", "a configuration of 6 + n_syn >= 7 numbers")
@@ -282,4 +347,21 @@ def _validated(data: dict, path) -> dict:
                 raise ValueError(f"{path}: field '{where}.status' must be an array of shape "
                                  f"(iterations + 1, len(target)) = ({iterations + 1}, {m})")
     out["attempts"] = attempts
+    # the executable reach: empty without a grasp
+    pregrasp = out["pregrasp"] = array("pregrasp", 1, finite=False)  # NaN: no grasp
+    if pregrasp.shape != u.shape or np.isinf(pregrasp).any():
+        fail("pregrasp", f"{len(u)} numbers (a configuration like u), NaN when no grasp was found")
+    reach = array("path", 2) if np.size(data["path"]) else np.zeros((0, len(u)))
+    if reach.shape[1:] != (len(u),):
+        fail("path", f"an array of shape (p, len(u) = {len(u)})")
+    out["path"] = reach
+    out["clearance"] = array("clearance", 1)
+    if out["clearance"].shape != (len(reach),):
+        fail("clearance", f"{len(reach)} numbers, one per row of path")
+    if not isinstance(data["collision_free"], bool):
+        fail("collision_free", "true or false")
+    out["collision_free"] = data["collision_free"]
+    if not isinstance(data["reach"], dict):
+        fail("reach", "an object (the summary of the executable reach)")
+    out["reach"] = data["reach"]
     return {name: out[name] for name in data}

@@ -1,11 +1,15 @@
 """The grasp status vector g (paper Eqs. 12-14) and its Jacobian dg/du.
 
-g = [cP of each hand point ; g_sQ]: the contact pseudo-distance of the 5
-fingertips (precision) or the 16 phalanx and palm points (power), then the
-Q distance of the contacts the hand would make with the object scaled about
-its centre (sQ). The Jacobian chains the dual-based derivatives of cP and of
-the Q distance with the hand's analytic point Jacobians; nothing is
-differentiated numerically.
+g = [cP rows ; g_sQ]: the contact pseudo-distance of the hand's parts, then
+the Q distance of the contacts the hand would make with the object scaled
+about its centre (sQ). Every part is watched over its skin: a phalanx's row
+is the smallest cP of the points on its capsule, the palm's that of the palm
+point and the rim of the palm box's front face. A precision grasp's contact
+rows are the five fingertips (each the smaller of its pad point's cP and its
+distal phalanx's row); its other phalanges and the palm are clearance rows.
+A power grasp's rows are the 15 phalanges and the palm. The Jacobian chains
+the dual-based derivatives of cP and of the Q distance with the hand's
+analytic point Jacobians; nothing is differentiated numerically.
 """
 
 from __future__ import annotations
@@ -27,24 +31,44 @@ class Status:
     Attributes
     ----------
     g : (n+1,) float
-        cP of each hand point (mm), then g_sQ.
+        cP of each row (mm), then g_sQ.
     J : (n+1, len(u)) float
         dg/du.
-    points : (n, 3) float
-        The hand points.
+    labels : list of str
+        The n cP rows: ``"T0" ... "L0"`` (fingertips), ``"T1" ... "L3"``
+        (phalanges), ``"P"`` (the palm, always last).
+    contact : (n,) bool
+        Rows whose touching counts as a contact of the grasp (precision: the
+        fingertips; power: every row). The others only keep clear.
+    segment_rows : (k,) int
+        The row of each phalanx capsule (``hand.segments(u).labels`` order).
+    points : (h, 3) float
+        The hand points of the sQ term (the fingertips, or the 16 power points).
     nearest : (n, 3) float
-        Nearest object point of each hand point.
+        Nearest object point of each row.
     normals : (n, 3) float
         Inward object normal at ``nearest``.
+    pieces : (n,) int
+        The piece ``nearest`` lies on.
+    row_points : (n, 3) float
+        The hand point attaining each row (a skin point or a fingertip pad).
+    point_jac : (n, 3, len(u)) float
+        Its Jacobian.
     lp_solves : int
         Solver calls made.
     """
 
     g: np.ndarray
     J: np.ndarray
+    labels: list
+    contact: np.ndarray
+    segment_rows: np.ndarray
     points: np.ndarray
     nearest: np.ndarray
     normals: np.ndarray
+    pieces: np.ndarray
+    row_points: np.ndarray
+    point_jac: np.ndarray
     lp_solves: int
 
 
@@ -100,88 +124,10 @@ def smoothed_normals(obj, x, pieces, length):
     return -n_out, -(projector @ dm) / norm[:, None, None]
 
 
-@dataclass(frozen=True)
-class PadDistance:
-    """cP rows of the status: one per watched hand point or pad line.
-
-    Attributes
-    ----------
-    value : (n,) float
-        cP (mm).
-    jac : (n, len(u)) float
-        d value / d u.
-    nearest : (n, 3) float
-        Nearest object point.
-    normal : (n, 3) float
-        Inward object normal there.
-    lp_solves : int
-    """
-
-    value: np.ndarray
-    jac: np.ndarray
-    nearest: np.ndarray
-    normal: np.ndarray
-    lp_solves: int
-
-
-def segment_distance(obj, skin, palm, jac_skin, jac_palm, backend="highs") -> PadDistance:
-    """cP of the phalanges and of the palm point (the power grasp's contact rows).
-
-    A phalanx touches an object anywhere on its skin, not only at one point:
-    the cP of a segment is the smallest cP of its skin points
-    (`SynergyHand.skin_and_jacobian`: both ends, the middle, the palmar and
-    the two lateral sides), so a phalanx whose end or side dips into the
-    object reads as penetrating. Its derivative is that of the skin point
-    attaining the minimum. Skin points whose lower bound of cP exceeds an
-    upper bound of another point of the same segment cannot attain it and
-    are left out (`synergrasp.objects.proximity.group_contact_distance`,
-    valid bounds, so the rows are unchanged); the rest and the palm point
-    are one LP.
-
-    Parameters
-    ----------
-    obj : GraspObject
-    skin : (k, m, 3) float
-        Skin points of each segment.
-    palm : (3,) float
-        The palm point.
-    jac_skin : (k, m, 3, nu) float
-        d skin / d u.
-    jac_palm : (3, nu) float
-        d palm / d u.
-    backend : str
-
-    Returns
-    -------
-    PadDistance
-        k + 1 rows: the segments, then the palm point.
-
-    Examples
-    --------
-    >>> from synergrasp import SynergyHand, objects
-    >>> from synergrasp.planner import start_configuration
-    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
-    >>> skin, palm, jac_skin, jac_palm = hand.skin_and_jacobian(start_configuration(hand, obj))
-    >>> segment_distance(obj, skin, palm, jac_skin, jac_palm).jac.shape
-    (16, 8)
-    """
-    k, m = skin.shape[:2]
-    groups = np.r_[np.repeat(np.arange(k), m), k]  # the segments, then the palm point alone
-    cp, best = group_contact_distance(obj, np.vstack([skin.reshape(-1, 3), palm]), groups, backend)
-    jac = np.einsum("ka,kab->kb", cp.grad[:-1], jac_skin.reshape(k * m, 3, -1)[best[:-1]])
-    return PadDistance(
-        value=cp.value,
-        jac=np.vstack([jac, cp.grad[-1] @ jac_palm]),
-        nearest=cp.nearest,
-        normal=cp.normal,
-        lp_solves=cp.lp_solves,
-    )
-
-
 def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
-    """A power status whose segment rows also see the phalanx capsules' penetration.
+    """A status whose phalanx rows also see the capsules' penetration.
 
-    The skin points of a segment (`segment_distance`) sample its capsule: an
+    The skin points of a segment (`grasp_status`) sample its capsule: an
     object's edge or a thin plate can cut into the capsule between them, deep,
     while every skin point reads shallow or outside. A segment whose capsule
     penetrates the object (python-fcl's signed distance,
@@ -230,7 +176,8 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     """
     ends, jac_ends = hand.segments_and_jacobian(u)
     pen = obj.penetration(ends, hand.finger_radius) if penetration is None else penetration
-    deeper = np.flatnonzero((pen.distances < 0.0) & (pen.distances < status.g[: len(ends)]))
+    rows = status.segment_rows
+    deeper = np.flatnonzero((pen.distances < 0.0) & (pen.distances < status.g[rows]))
     if not len(deeper):
         return status
     inner, outer = pen.witnesses[deeper, 0], pen.witnesses[deeper, 1]
@@ -240,9 +187,44 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     t = np.clip(np.einsum("ij,ij->i", inner - a, axis) / np.maximum(np.einsum("ij,ij->i", axis, axis), 1e-12), 0.0, 1.0)
     jac_point = (1.0 - t)[:, None, None] * jac_ends[deeper, 0] + t[:, None, None] * jac_ends[deeper, 1]
     g, J = status.g.copy(), status.J.copy()
-    g[deeper] = pen.distances[deeper]
-    J[deeper] = np.einsum("ia,iab->ib", free, jac_point)
+    g[rows[deeper]] = pen.distances[deeper]
+    J[rows[deeper]] = np.einsum("ia,iab->ib", free, jac_point)
     return replace(status, g=g, J=J)
+
+
+def status_rows(hand, kind):
+    """The cP rows of a grasp type's status, and which of them are contacts.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    kind : {"precision", "power"}
+
+    Returns
+    -------
+    labels : list of str
+        Row labels (see `Status`).
+    contact : (n,) bool
+        Rows that count as contacts.
+    segment_rows : (k,) int
+        The row of each phalanx (in ``hand.segments(u).labels`` order).
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand
+    >>> labels, contact, _ = status_rows(SynergyHand.default(), "precision")
+    >>> labels[:6], int(contact.sum()), labels[-1]
+    (['T0', 'I0', 'M0', 'R0', 'L0', 'T1'], 5, 'P')
+    """
+    segments = hand.point_labels("power")[:-1]
+    if kind == "power":
+        return segments + ["P"], np.ones(len(segments) + 1, bool), np.arange(len(segments))
+    distal = {lab[0]: lab for lab in segments}  # each finger's last segment
+    tips = hand.point_labels("precision")
+    others = [lab for lab in segments if lab not in distal.values()]
+    labels = tips + others + ["P"]
+    rows = [tips.index(f"{lab[0]}0") if lab in distal.values() else labels.index(lab) for lab in segments]
+    return labels, np.arange(len(labels)) < len(tips), np.array(rows)
 
 
 def _require(hand, obj):
@@ -258,6 +240,11 @@ def _require(hand, obj):
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
+    All rows come from one cP call: each row is the smallest cP over its skin
+    points (`SynergyHand.skin_and_jacobian`; a fingertip's row also over its
+    pad point, the precision hand point), with the derivative of the point
+    attaining it.
+
     Parameters
     ----------
     hand : SynergyHand
@@ -265,11 +252,14 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     u : (8,) float
         Configuration (mm, rad, synergies).
     kind : {"precision", "power"}
-        Which hand points.
+        Which rows are contacts (see `status_rows`) and which hand points
+        the sQ term scales the object to.
     mu, edges : float, int
         Friction model of the sQ term.
     backend : str
         LP backend.
+    smoothing : float, optional
+        Normal smoothing length (mm) of the sQ contacts (`smoothed_normals`).
 
     Returns
     -------
@@ -286,17 +276,26 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     >>> from synergrasp.planner import start_configuration
     >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
     >>> st = grasp_status(hand, obj, start_configuration(hand, obj), "precision")
-    >>> st.g.shape, st.J.shape
-    ((6,), (6, 8))
+    >>> st.g.shape, st.J.shape, st.labels[:2]
+    ((17,), (17, 8), ['T0', 'I0'])
     """
     _require(hand, obj)
+    power, jac_power, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
+    labels, contact, segment_rows = status_rows(hand, kind)
+    k, m = skin.shape[:2]
+    groups = [np.repeat(segment_rows, m), np.full(len(palm), len(labels) - 1)]
+    candidates = [skin.reshape(-1, 3), palm]
+    jacobians = [jac_skin.reshape(k * m, 3, -1), jac_palm]
     if kind == "power":
-        points, jac, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
-        cp = segment_distance(obj, skin, palm, jac_skin, jac_palm, backend)
+        points, jac = power, jac_power
     else:
-        points, jac = hand.points_and_jacobian(u, kind)  # (n, 3), (n, 3, nu)
-        cp = obj.contact_distance(points, backend=backend)
-        cp = PadDistance(cp.value, np.einsum("ia,iab->ib", cp.grad, jac), cp.nearest, cp.normal, cp.lp_solves)
+        points, jac = hand.points_and_jacobian(u, kind)  # the fingertip pads, (5, 3), (5, 3, nu)
+        groups.insert(0, np.arange(len(points)))
+        candidates.insert(0, points)
+        jacobians.insert(0, jac)
+    candidates = np.vstack(candidates)
+    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend)
+    point_jac = np.concatenate(jacobians)[best]
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:
         normals, jac_n = smoothed_normals(obj, sc.contact, sc.piece, smoothing)
@@ -308,12 +307,58 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     )
     # d g_sQ / d p_i through the contact carried back to the object and its normal
     grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
-    J = np.vstack([cp.jac, np.einsum("ia,iab->b", grad_sq, jac)])
     return Status(
         g=np.append(cp.value, sq.value),
-        J=J,
+        J=np.vstack([np.einsum("ka,kab->kb", cp.grad, point_jac), np.einsum("ia,iab->b", grad_sq, jac)]),
+        labels=labels,
+        contact=contact,
+        segment_rows=segment_rows,
         points=points,
         nearest=cp.nearest,
         normals=cp.normal,
+        pieces=cp.piece,
+        row_points=candidates[best],
+        point_jac=point_jac,
         lp_solves=cp.lp_solves + sc.lp_solves + sq.lp_solves,
     )
+
+
+def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="highs", smoothing=None):
+    """g_Q of the contacts and its gradient with respect to u: the row that improves a grasp's margin.
+
+    Each row in ``contact`` touches at the foot of its hand point on the
+    supporting plane of its nearest object point (the orthogonal projection
+    on the facet), with the smoothed surface's normal there
+    (`smoothed_normals`; the facet normal if ``smoothing`` is None). A
+    contact slides on the surface as its hand point moves: its derivative is
+    the hand point's motion projected on the plane, ``(I - n n^T) dp/du``.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    status : Status
+    contact : (n,) bool
+        The rows in contact.
+    mu, edges : float, int
+    backend : str
+    smoothing : float, optional
+        Normal smoothing length (mm).
+
+    Returns
+    -------
+    value : float
+        The Q distance of the contacts.
+    gradient : (len(u),) float
+        Its derivative with respect to u.
+    """
+    n, pieces = status.normals[contact], status.pieces[contact]
+    p, b = status.row_points[contact], status.nearest[contact]
+    x = p - np.einsum("ij,ij->i", p - b, n)[:, None] * n  # the hand point's foot on the facet plane
+    if smoothing:
+        normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
+    else:
+        normals, jac_n = n, np.zeros((len(x), 3, 3))
+    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend)
+    slide = (np.eye(3) - n[:, :, None] * n[:, None, :]) @ status.point_jac[contact]  # (c, 3, nu)
+    grad_x = q.grad_points + np.einsum("ia,iab->ib", q.grad_normals, jac_n)
+    return q.value, np.einsum("ia,iab->b", grad_x, slide)

@@ -1,0 +1,215 @@
+"""How well the planner generalises: verified grasps on the benchmark's train or test split.
+
+Usage::
+
+    python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
+                                    [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick]
+
+Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
+sources, split by shape) and verifies each plan independently of the planner:
+
+* every final contact lies within ``GAP`` (5 mm) of the object's true surface (its mesh, not the
+  convex pieces the planner works on), measured by trimesh's closest-point query;
+* the origin lies strictly inside the convex hull (qhull) of the contact wrenches built at those
+  closest points of the true surface, with the true surface's normals there;
+* no phalanx is deeper than 3 mm in the object.
+
+Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
+accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, and a
+taxonomy of why every failed attempt ended. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
+``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md`` and the README summary.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import json
+import sys
+import time
+import warnings
+from collections import Counter
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import synergrasp as sg  # noqa: E402
+from objectset import SPLITS, select  # noqa: E402
+
+ROOT = HERE.parent
+PAGE = ROOT / "docs" / "generalisation.md"
+README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
+#: Largest gap (mm) from a contact to the true surface for a grasp to count.
+GAP = 5.0
+#: Deepest phalanx penetration (mm) for a grasp to count.
+DEPTH = 3.0
+#: Objects of the quick mode (tests).
+QUICK = ("household/can", "procedural/box_0")
+
+
+def true_surface(obj):
+    """The surface a grasp must touch: the object's mesh, else the hull of each piece."""
+    return obj.mesh if obj.mesh is not None else obj.to_mesh()
+
+
+def verify(result, obj):
+    """Independent check of a plan's final grasp on the object's true surface.
+
+    Parameters
+    ----------
+    result : PlanResult
+    obj : GraspObject
+
+    Returns
+    -------
+    dict
+        ``verified`` (bool), ``gap`` (largest contact gap, mm), ``q_true`` (Q distance of the
+        contacts moved to the true surface, with its normals), ``closed`` (qhull verdict).
+    """
+    out = dict(verified=False, gap=float("nan"), q_true=float("nan"), closed=False)
+    points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
+    if not result.success or len(points) < 2:
+        return out
+    mesh = true_surface(obj)
+    closest, gap, triangle = trimesh.proximity.closest_point(mesh, points)
+    inward = -mesh.face_normals[triangle]
+    W = sg.contact_wrenches(closest, inward, center=obj.center, torque_scale=obj.torque_scale)
+    closed = bool(sg.force_closure_by_hull(W))
+    q_true = sg.q_distance(closest, inward, center=obj.center, torque_scale=obj.torque_scale).value
+    out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed)
+    out["verified"] = closed and out["gap"] <= GAP and result.penetration <= DEPTH
+    return out
+
+
+def run(entry_name, grasp, options):
+    """Plan and verify one object: a JSON-able row."""
+    warnings.simplefilter("ignore")
+    (entry,) = [e for e in select("all") if e.name == entry_name]
+    obj = entry.make()
+    start = time.perf_counter()
+    try:
+        result = sg.plan(obj, grasp, **options)
+    except ValueError as exc:  # the planner refuses the object (too large, too thin...)
+        return dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=False,
+                    verified=False, time=time.perf_counter() - start, reason=str(exc), refused=True, attempts=[])
+    row = dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=result.success,
+               time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
+               iterations=result.total_iterations, n_attempts=len(result.attempts),
+               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q,
+               attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
+                         for a in result.attempts])
+    row.update(verify(result, obj))
+    return row
+
+
+def summarise(rows, grasp):
+    """Lines of the summary of one grasp type."""
+    mine = [r for r in rows if r["grasp"] == grasp]
+    if not mine:
+        return []
+    n, ok = len(mine), sum(r["verified"] for r in mine)
+    times = np.array([r["time"] for r in mine])
+    accepted = [r for r in mine if r["success"]]
+    q = np.array([r["q_true"] for r in accepted]) if accepted else np.array([np.nan])
+    gaps = np.array([r["gap"] for r in accepted]) if accepted else np.array([np.nan])
+    lines = [
+        f"{grasp}: {ok}/{n} verified ({100.0 * ok / n:.1f}%), by source: "
+        + ", ".join(f"{s} {sum(r['verified'] for r in mine if r['source'] == s)}/{sum(r['source'] == s for r in mine)}"
+                    for s in sorted({r["source"] for r in mine})),
+        f"  plan time: median {np.median(times):.2f} s, p90 {np.percentile(times, 90):.2f} s, max {times.max():.2f} s",
+        f"  accepted {len(accepted)}: median Q on the true surface {np.nanmedian(q):+.3f}, "
+        f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
+        f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
+    ]
+    failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
+    refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])
+    lines.append("  attempts that failed: " + (", ".join(f"{k} {v}" for k, v in failed.most_common()) or "none"))
+    if refused:
+        lines.append("  objects refused: " + ", ".join(f"{k} {v}" for k, v in refused.most_common()))
+    unverified = [r for r in accepted if not r["verified"]]
+    if unverified:
+        lines.append("  accepted but not verified: " + ", ".join(
+            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['penetration']:.1f})"
+            for r in unverified))
+    return lines
+
+
+def _value(text):
+    try:
+        return ast.literal_eval(text)
+    except (ValueError, SyntaxError):
+        return text
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--split", default="test", choices=SPLITS + ("all",))
+    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
+    parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes (e.g. urdf/)")
+    parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
+    parser.add_argument("--out", type=Path, default=Path("bench-out") / "generalise", help="folder of the rows")
+    parser.add_argument("--docs", action="store_true", help=f"write {PAGE.relative_to(ROOT)} and the README summary")
+    parser.add_argument("--quick", action="store_true", help=f"only {', '.join(QUICK)}")
+    args = parser.parse_args(argv)
+    options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only)
+    tasks = [(e.name, g) for g in args.grasp for e in entries]
+    args.out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    with ProcessPoolExecutor(args.jobs) as pool:
+        futures = [pool.submit(run, name, grasp, options) for name, grasp in tasks]
+        for future in futures:
+            row = future.result()
+            rows.append(row)
+            print(f"{row['name']:32s} {row['grasp']:9s} {'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  "
+                  f"{row['reason'][:90]}", flush=True)
+    for grasp in args.grasp:
+        with open(args.out / f"{args.split}_{grasp}.jsonl", "w") as f:
+            for row in rows:
+                if row["grasp"] == grasp:
+                    f.write(json.dumps(row) + "\n")
+    summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
+    print("\n".join(summary))
+    if args.docs:
+        _write_docs(rows, args.split, options, summary)
+
+
+def _write_docs(rows, split, options, summary):
+    """The results page and the README's summary lines."""
+    lines = [
+        "# Generalisation",
+        "",
+        f"Written by `python benchmarks/generalise.py --split {split} --docs`"
+        + (f" with options {options}" if options else "") + ".",
+        "",
+        "```text",
+        *summary,
+        "```",
+        "",
+        "| object | source | grasp | verified | time (s) | attempts | Q | Q on the true surface | gap (mm) | reason |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        lines.append(f"| {r['name']} | {r['source']} | {r['grasp']} | {'yes' if r['verified'] else 'no'} | {r['time']:.2f} "
+                     f"| {r.get('n_attempts', '')} | {r.get('q', float('nan')):.3f} | {r.get('q_true', float('nan')):.3f} "
+                     f"| {r.get('gap', float('nan')):.1f} | {r['reason'][:80]} |")
+    PAGE.write_text("\n".join(lines) + "\n")
+    readme = ROOT / "README.md"
+    text = readme.read_text()
+    if README_MARKERS[0] in text:
+        head, rest = text.split(README_MARKERS[0], 1)
+        tail = rest.split(README_MARKERS[1], 1)[1]
+        heads = [line for line in summary if not line.startswith(" ")]
+        readme.write_text(head + README_MARKERS[0] + "\n" + "\n".join(f"- **{line}**" for line in heads) + "\n"
+                          + README_MARKERS[1] + tail)
+    print(f"wrote {PAGE}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,346 @@
+"""One attempt of the planner: the resolved-rate iteration from one start (paper Fig. 6, Eqs. 15-16).
+
+Each iteration:
+
+1. the status g (cP rows and g_sQ) and its Jacobian (`grasp_status`);
+2. stop when the paper's criterion holds with no phalanx deeper than
+   ``max_penetration`` (`check_grasp`); a grasp that meets the criterion with
+   a deeper phalanx goes on with that attempt's phalanx capsules watched
+   (`capsule_rows`), so their rows push the phalanx out;
+3. the requested change of the status, in rows of comparable scale (cP
+   divided by the object's size): contact rows towards their target
+   (precision: into the contact band; power: ``contact_target``), clearance
+   rows that are too close back to ``clearance``, and the sQ row a step
+   ``sq_step`` below its value (a moving target);
+4. the step of Eq. 16 with two priorities, sQ and every penetrating or too
+   close row first, the contact rows in their null space (`limited_step`),
+   within the synergy limits and a trust radius that grows when the linear
+   model predicts the change well and shrinks when not.
+
+A power attempt first reaches with the palm (the finger rows only keep the
+fingers out of the object, the synergies shaped by the first level), then
+wraps once the palm touches.
+
+A grasp is accepted when the criterion holds, no phalanx is deeper than
+``max_penetration``, and its contacts, moved to the object's true surface
+(`surface_check`), are within ``eps_c`` of it and force-closed there with a
+Q distance below ``q_accept``. Once the criterion holds, the attempt refines
+the grasp for up to ``refine_iterations`` more iterations, until its Q on
+the true surface is below ``q_margin``: the sQ row gives way to the g_Q of
+the contacts themselves (`contact_quality`), asked to fall, and the best
+accepted configuration is returned. An attempt ends with an `Outcome`.
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .status import Status, capsule_rows, contact_quality, grasp_status
+from .step import limited_step
+from .stop import GraspCheck, SurfaceCheck, check_grasp, surface_check
+
+
+class Outcome(enum.Enum):
+    """How an attempt ended (the value is the words for a user)."""
+
+    GRASP = "stop criterion met"
+    NO_TOUCH = "stalled: no fingertip reached the surface"
+    STALLED = "stalled: no progress"
+    CRAWLED = "stalled: the merit falls too slowly"
+    CAP = "iteration cap of the attempt reached"
+    BUDGET = "the plan's iterations or time ran out"
+    PENETRATION = "grasp rejected: a phalanx penetrates the object"
+    SURFACE = "grasp rejected: not force-closed on the object's true surface"
+
+
+@dataclass(frozen=True)
+class AttemptResult:
+    """The outcome of one attempt.
+
+    Attributes
+    ----------
+    outcome : Outcome
+    reason : str
+        The outcome in words, with its numbers.
+    trajectory : (k+1, n_u) float
+        Configuration at every iteration, start included.
+    status : (k+1, n+1) float
+        Status vector at every iteration.
+    q_history : (k+1,) float
+        g_Q at every iteration (NaN without contacts).
+    final : Status
+    check : GraspCheck
+        The paper's criterion at the last configuration.
+    penetration : float
+        Deepest phalanx capsule penetration at the last configuration (mm).
+    lp_solves : int
+    surface : SurfaceCheck or None
+        The grasp judged on the object's true surface (`surface_check`), None without a grasp.
+    """
+
+    outcome: Outcome
+    reason: str
+    trajectory: np.ndarray
+    status: np.ndarray
+    q_history: np.ndarray
+    final: Status
+    check: GraspCheck
+    penetration: float
+    lp_solves: int
+    surface: SurfaceCheck | None = None
+
+    @property
+    def iterations(self) -> int:
+        """Steps taken."""
+        return len(self.trajectory) - 1
+
+    @property
+    def success(self) -> bool:
+        """The attempt ended in a grasp."""
+        return self.outcome is Outcome.GRASP
+
+
+def sq_request(sq_step, radius, gradient):
+    """Decrease of g_sQ that one precision step asks for: ``sq_step``, or what a step within the trust radius gives.
+
+    A request larger than the linear model can deliver within the radius
+    would make the sQ row dominate the direction of the (then truncated)
+    step, and the contact rows would get almost nothing of it.
+
+    Parameters
+    ----------
+    sq_step : float
+        The requested decrease per iteration.
+    radius : float
+        Trust radius of the normalised step.
+    gradient : (k,) float
+        Gradient of g_sQ with respect to the normalised configuration.
+
+    Returns
+    -------
+    float
+        ``min(sq_step, radius * |gradient|)``.
+
+    Examples
+    --------
+    >>> sq_request(0.1, 0.01, np.array([3.0, 4.0]))
+    0.05
+    """
+    return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
+
+
+def penetration_depth(hand, obj, u):
+    """Deepest penetration (mm) of the hand's phalanx capsules into the object at ``u`` (python-fcl)."""
+    geo = hand.segments(u)
+    return obj.penetration(geo.capsules, geo.radius)
+
+
+def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, deadline=None, progress=None):
+    """Iterate from ``u0`` until a grasp, a stall, the attempt's cap, or the plan's budget.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    grasp : {"precision", "power"}
+    u0 : (n_u,) float
+        Start configuration.
+    options : PlannerOptions
+    backend : str
+        LP backend.
+    budget : int, optional
+        Most iterations (default ``options.iterations_per_attempt``).
+    deadline : float, optional
+        ``time.perf_counter()`` value after which the attempt stops (`Outcome.BUDGET`).
+    progress : callable, optional
+        Called as ``progress(check, status)`` after every iteration.
+
+    Returns
+    -------
+    AttemptResult
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> from synergrasp.planner import PlannerOptions, start_configuration
+    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
+    >>> r = run_attempt(hand, obj, "precision", start_configuration(hand, obj), PlannerOptions(), budget=3)
+    >>> r.outcome, r.iterations
+    (<Outcome.CAP: 'iteration cap of the attempt reached'>, 3)
+    """
+    opts = options
+    budget = opts.iterations_per_attempt if budget is None else int(budget)
+    size = obj.torque_scale
+    n_u = len(u0)
+    scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
+    smoothing = opts.smoothing * size
+    power = grasp == "power"
+    watching = False  # capsules watched once the criterion held with a phalanx too deep
+
+    def evaluate(u):
+        st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
+        pen = None
+        if watching:
+            pen = penetration_depth(hand, obj, u)
+            st = capsule_rows(hand, obj, u, st, pen)
+        chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
+        return st, chk, pen
+
+    def quality_row(st, chk):
+        """The last row: g_sQ, or while refining the contacts' own g_Q (its value and gradient)."""
+        if refining is None or chk.n_contacts < 2:
+            return st.g[-1], st.J[-1]
+        return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
+
+    def settled(st, chk, pen):
+        """The criterion holds, no phalanx is too deep, and the grasp holds on the true surface (checked only then).
+
+        Returns (whether, the penetration, the surface check).
+        """
+        if not chk.done:
+            return False, pen, None
+        pen = pen if pen is not None else penetration_depth(hand, obj, u)
+        if pen.depth > opts.max_penetration:
+            return False, pen, None
+        surface = surface_check(obj, st.nearest[chk.contact], st.normals[chk.contact], mu=opts.mu, edges=opts.edges,
+                                backend=backend)
+        return surface.gap <= opts.eps_c and surface.q < opts.q_accept, pen, surface
+
+    u = np.array(u0, dtype=float)
+    st, chk, pen = evaluate(u)
+    n = len(st.g) - 1
+    contact_rows = st.contact.copy()
+    palm = n - 1
+    row_scale = np.r_[np.full(n, 1.0 / size), 1.0]
+    radius, stalled, best = opts.radius, 0, np.inf
+    traj, statuses, qs = [u.copy()], [st.g.copy()], [chk.q]
+    solves = st.lp_solves + chk.lp_solves
+    outcome, bests, touched = Outcome.CAP, [], False
+    kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
+    for _ in range(budget):
+        ok, pen, surface = settled(st, chk, pen)
+        if ok and (kept is None or surface.q < kept[4].q):
+            kept = (len(traj) - 1, st, chk, pen, surface)
+        if chk.done and pen.depth > opts.max_penetration and not watching:  # watch the capsules from now on
+            watching = True
+            st = capsule_rows(hand, obj, u, st, pen)
+            chk = replace(chk, done=False)
+            best, stalled, bests = np.inf, 0, []
+        elif chk.done and refining is None:  # the criterion holds: refine the margin (and the grasp on the true surface)
+            refining = 0
+        if refining is not None:
+            if (ok and surface.q <= opts.q_margin) or refining >= opts.refine_iterations:
+                outcome = Outcome.GRASP if kept is not None else Outcome.SURFACE
+                break
+            refining += 1
+        if deadline is not None and time.perf_counter() > deadline:
+            outcome = Outcome.BUDGET
+            break
+        g = st.g[:-1]
+        target = np.where(contact_rows, opts.contact_target, opts.clearance)
+        active = np.ones(n, bool)
+        if grasp == "precision":
+            low, high = opts.contact_band
+            target[contact_rows] = np.clip(g[contact_rows], low, high)
+            active[contact_rows] = target[contact_rows] != g[contact_rows]  # a fingertip inside the band is free
+            active[~contact_rows] = g[~contact_rows] < opts.clearance
+            sq_step = sq_request(opts.sq_step, radius, st.J[-1] * scale_u)
+        else:
+            sq_step = opts.sq_step
+        quality, quality_jac = quality_row(st, chk)
+        if refining is not None:
+            sq_step = sq_request(opts.sq_step, radius, quality_jac * scale_u)
+        sq_target = max(-1.0, quality - sq_step)
+        if power and refining is None and opts.power_sq_hold is not None and quality < opts.power_sq_hold:
+            sq_target = quality  # predicted good enough: keep it, the contact rows get the step
+        first = np.r_[g < np.where(contact_rows, 0.0, opts.clearance), True]  # sQ and rows in or too near the object
+        reaching = power and g[palm] >= opts.eps_c
+        if power and not reaching:  # wrap: the palm has touched, it stays on the surface
+            first[palm] = True
+        if reaching:  # reach: the palm leads with the hand held open, the fingers only kept out of the object
+            active[:palm] = g[:palm] < 0.0
+        active = np.r_[active, True]
+        goal = np.r_[target, sq_target]
+        g_rows, J_rows = np.r_[st.g[:-1], quality], np.vstack([st.J[:-1], quality_jac])
+        e = active * row_scale * (goal - g_rows)
+        J = (active * row_scale)[:, None] * J_rows * scale_u
+        if reaching and not opts.power_free_reach:
+            J[:, 6:] = 0.0  # the synergies keep their pre-shape
+        du = limited_step(J[active], e[active], u[6:], hand.synergy_limits, first[active])
+        step = np.abs(du).max()
+        if step > radius:
+            du *= radius / step
+        u_new = u + du * scale_u
+        u_new[6:] = np.clip(u_new[6:], hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
+        st_new, chk_new, pen_new = evaluate(u_new)
+        solves += st_new.lp_solves + chk_new.lp_solves
+        # adaptive step length: compare the achieved with the predicted change of the residual
+        before = np.sum(e**2)
+        after = np.sum((active * row_scale * (goal - np.r_[st_new.g[:-1], quality_row(st_new, chk_new)[0]])) ** 2)
+        predicted = np.sum((e - J @ ((u_new - u) / scale_u)) ** 2)
+        ratio = (before - after) / max(before - predicted, 1e-15)
+        if ratio > 0.75:
+            radius = min(1.5 * radius, opts.radius_max)
+        elif ratio < 0.25:
+            radius = max(0.5 * radius, opts.radius_min)
+        u, st, chk, pen = u_new, st_new, chk_new, pen_new
+        traj.append(u.copy())
+        statuses.append(st.g.copy())
+        qs.append(chk.q)
+        if progress is not None:
+            progress(chk, st)
+        g = st.g[:-1]
+        if grasp == "precision":
+            miss = g[contact_rows] - np.clip(g[contact_rows], *opts.contact_band)
+        else:
+            miss = g[contact_rows] - opts.contact_target
+        merit = (np.sum((miss / size) ** 2) + np.sum((np.minimum(g[~contact_rows] - opts.clearance, 0.0) / size) ** 2)
+                 + max(st.g[-1], -0.1))
+        if merit < best - 1e-4:
+            best, stalled = merit, 0
+        else:
+            stalled += 1
+        bests.append(best)
+        if refining is not None:
+            continue  # a refinement ends by its own count
+        touched = touched or g[contact_rows].min() < opts.eps_c
+        if grasp == "precision" and opts.touch_window and not touched and len(traj) > opts.touch_window:
+            outcome = Outcome.NO_TOUCH
+            break
+        if stalled >= opts.stall_window:
+            outcome = Outcome.STALLED
+            break
+        if opts.crawl_window and len(bests) > opts.crawl_window:
+            earlier = bests[-1 - opts.crawl_window]
+            if earlier - best < opts.crawl_fraction * (abs(earlier) + 0.1):
+                outcome = Outcome.CRAWLED
+                break
+    surface = None
+    if kept is not None:  # the best grasp met on the way
+        k, st, chk, pen, surface = kept
+        outcome, traj, statuses, qs = Outcome.GRASP, traj[: k + 1], statuses[: k + 1], qs[: k + 1]
+    elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
+        outcome = Outcome.PENETRATION
+    depth = (pen if pen is not None else penetration_depth(hand, obj, traj[-1])).depth
+    reason = _reason(outcome, opts, len(traj) - 1, chk, depth)
+    return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
+                         surface)
+
+
+def _reason(outcome, opts, iterations, check, depth):
+    """An outcome in words, with its numbers."""
+    details = {
+        Outcome.GRASP: f"{check.n_contacts} contacts, g_Q = {check.q:.4f}",
+        Outcome.NO_TOUCH: f"in {opts.touch_window} iterations",
+        Outcome.STALLED: f"in {opts.stall_window} iterations",
+        Outcome.CRAWLED: f"less than {opts.crawl_fraction:.0%} in {opts.crawl_window} iterations",
+        Outcome.CAP: f"{iterations} iterations",
+        Outcome.BUDGET: f"after {iterations} iterations",
+        Outcome.PENETRATION: f"{depth:.1f} mm deep",
+        Outcome.SURFACE: f"after {opts.refine_iterations} refining iterations",
+    }
+    return f"{outcome.value} ({details[outcome]})"

@@ -1,0 +1,370 @@
+"""Where the planner's attempts start: poses placed by the object's geometry.
+
+* `pinch_seeds` (precision grasps): pairs of opposed surface points whose
+  distance the hand can span; the thumb and the index/middle fingers are put
+  on either side of a pair, the hand opened a little wider than the pair and
+  rolled about it so that the hand stays out of the object, then moved back
+  along the palm normal: the attempt reaches in and closes.
+* `direction_starts`: the hand in front of the object along its principal axes
+  and the diagonals between them, palm facing its centre (the starts of
+  objects without opposed surface points, and of power grasps, in turn with
+  two pre-shapes, see `power_schedule`).
+* `start_configuration`: one such pose from a given direction.
+"""
+
+from __future__ import annotations
+
+import itertools
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from .._checks import as_vector
+from ..hand import rotation_xyz
+
+#: Largest angle (deg) between one point's inward normal and the other's outward normal in a pair.
+PAIR_ANGLE = 30.0
+#: Surface points sampled per plan for the pairs.
+PAIR_SAMPLES = 200
+#: Rolls of the hand about a pair's axis tried for each seed.
+ROLLS = 12
+#: Pair width (mm) tried first: pairs are taken in order of their width's distance from it plus their
+#: axis's distance from the object's centre.
+PAIR_WIDTH = 65.0
+
+
+@dataclass(frozen=True)
+class Start:
+    """One start of an attempt.
+
+    Attributes
+    ----------
+    u : (6 + n_syn,) float
+        The start configuration.
+    kind : str
+        How it was placed: ``"pinch"`` (a pair of opposed surface points),
+        ``"direction"``, ``"wide"`` or ``"cupped"`` (power pre-shapes), or
+        ``"given"`` (the caller's ``u0``).
+    detail : dict
+        Its placement: the pair and its width, or the direction.
+    """
+
+    u: np.ndarray
+    kind: str
+    detail: dict
+
+
+def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
+    """A start in front of the object: mean pose, palm facing the object's centre.
+
+    The palm is ``distance`` mm from the centre along ``approach`` (farther if
+    ``clearance`` asks for it) and faces it; the hand is rolled about the
+    approach so that the thumb-to-fingers direction (the palm's y axis) lies
+    across the object's thinnest extent orthogonal to the approach. An
+    approach within 18 degrees of the x axis is tilted up by 19 degrees: with
+    the palm normal along x the XYZ Euler angles are in gimbal lock.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    approach : (3,) float
+        Direction from the object's centre to the hand.
+    distance : float
+        mm.
+    clearance : float, optional
+        If given, the palm is moved back until the fingertips' mean depth in
+        front of the palm is at least this (mm) beyond the object's farthest
+        point along ``approach``.
+    palm_centred : bool
+        Face the object's centre with the palm's centre instead of the
+        fingertips' centroid.
+
+    Returns
+    -------
+    (6 + n_syn,) float
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> u = start_configuration(SynergyHand.default(), objects.ellipsoid(), (0.0, 0.0, 1.0))
+    >>> u.shape
+    (8,)
+    """
+    a = as_vector(approach, "approach", 3)
+    if np.linalg.norm(a) < 1e-9:
+        raise ValueError("approach must be a non-zero direction (object centre to hand)")
+    a = a / np.linalg.norm(a)
+    if abs(a[0]) > 0.95:  # palm normal along x: the XYZ Euler angles would start in gimbal lock
+        a = a + np.array([0.0, 0.0, 0.35])
+        a /= np.linalg.norm(a)
+    z = -a
+    extents = np.array(obj.extents, dtype=float)
+    along = np.abs(a)
+    candidates = np.eye(3) - np.outer(z, z)  # world axes projected off the approach
+    usable = np.linalg.norm(candidates, axis=1) > 0.5
+    order = np.lexsort((along, np.where(usable, extents, np.inf)))
+    y = candidates[order[0]] / np.linalg.norm(candidates[order[0]])
+    R = np.column_stack([np.cross(y, z), y, z])
+    u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
+    tips = hand.points(u, "precision")
+    aim = np.zeros(3) if palm_centred else np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
+    if clearance is not None:  # the fingertips start outside the object, however long it is along the approach
+        reach = max(float(np.max((p.vertices - obj.center) @ a)) for p in obj.convex)
+        distance = max(distance, reach + float(tips[:, 2].mean()) + clearance)
+    u[:3] = obj.center + a * distance - R @ aim
+    u[3:6] = Rotation.from_matrix(R).as_euler("XYZ")
+    return u
+
+
+def principal_directions(obj):
+    """Directions around an object from its principal axes: the 6 axis directions, then the 8 diagonals.
+
+    Parameters
+    ----------
+    obj : GraspObject
+
+    Returns
+    -------
+    (14, 3) float
+        Unit directions from the object's centre, the shortest axis first
+        (the hand faces the object's widest side first).
+
+    Examples
+    --------
+    >>> from synergrasp import objects
+    >>> principal_directions(objects.ellipsoid())[0].round(3).tolist()   # the 30 mm semi-axis
+    [1.0, 0.0, 0.0]
+    """
+    points = np.vstack(obj.pieces) - obj.center
+    _, _, axes = np.linalg.svd(points - points.mean(axis=0), full_matrices=False)
+    axes = axes[::-1]  # shortest first
+    axes *= np.where(axes.sum(axis=1) < 0, -1.0, 1.0)[:, None]  # a deterministic sign
+    directions = [s * a for a in axes for s in (1.0, -1.0)]
+    directions += [axes.T @ np.array(signs) / np.sqrt(3.0) for signs in itertools.product((1.0, -1.0), repeat=3)]
+    return np.array(directions)
+
+
+def direction_starts(hand, obj, options):
+    """Direction starts of a precision plan (`principal_directions`, `start_configuration`).
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    options : PlannerOptions
+
+    Yields
+    ------
+    Start
+    """
+    for d in principal_directions(obj):
+        u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance)
+        yield Start(u, "direction", {"direction": d.round(6).tolist()})
+
+
+def surface_samples(obj, count, seed):
+    """Points on the object's surface with their outward normals, and the exit of the inward ray from each.
+
+    The surface is the object's mesh when it has one (the true surface),
+    else the hulls of its pieces.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    count : int
+    seed : int
+
+    Returns
+    -------
+    points, normals, exits, exit_normals : (m, 3) float
+        The samples whose inward ray leaves the object (m <= count), the
+        outward normals, where each ray leaves and the outward normal there.
+    """
+    import trimesh
+
+    mesh = obj.mesh if obj.mesh is not None else obj.to_mesh()
+    points, faces = trimesh.sample.sample_surface(mesh, count, seed=seed)
+    normals = mesh.face_normals[faces]
+    exits, rays, triangles = mesh.ray.intersects_location(points - 1e-3 * normals, -normals, multiple_hits=False)
+    return points[rays], normals[rays], exits, mesh.face_normals[triangles]
+
+
+def _aperture_table(hand, partner=(1, 2), steps=41):
+    """Synergy values on a grid and the distance from the thumb tip to the partner fingertips' centroid there."""
+    grid = np.linspace(0.0, 1.0, steps)
+    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
+    z = np.array(list(itertools.product(*[a + grid * (b - a) for a, b in zip(lo, hi)])))
+    tips = np.array([hand.points(np.r_[np.zeros(6), zi], "precision") for zi in z])
+    thumb, partner = tips[:, 0], tips[:, list(partner)].mean(axis=1)
+    return z, thumb, partner
+
+
+class _Apertures:
+    """The hand's thumb-to-fingers openings, computed once per hand."""
+
+    def __init__(self, hand):
+        self.z, self.thumb, self.partner = _aperture_table(hand)
+        self.width = np.linalg.norm(self.partner - self.thumb, axis=1)
+
+    def synergies(self, width):
+        """The grid synergies whose opening is nearest ``width``, nearest the mean pose among near ties."""
+        cost = np.abs(self.width - width) + 2.0 * np.linalg.norm(self.z, axis=1)
+        k = int(np.argmin(cost))
+        return k, abs(self.width[k] - width)
+
+
+_APERTURES = weakref.WeakKeyDictionary()
+
+
+def _apertures(hand):
+    if hand not in _APERTURES:
+        _APERTURES[hand] = _Apertures(hand)
+    return _APERTURES[hand]
+
+
+def pinch_seeds(hand, obj, options):
+    """Precision starts from pairs of opposed surface points (see the module docstring).
+
+    Pairs are drawn from `surface_samples` (their inward ray's exit, within
+    `PAIR_ANGLE` of opposed normals), those the hand can span with
+    ``options.seed_opening`` to spare on either side, the ones whose axis
+    passes nearest the object's centre and whose width is nearest
+    `PAIR_WIDTH` first, pairs too alike to an earlier one (midpoints within
+    10 mm, axes within 20 degrees) skipped.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    options : PlannerOptions
+
+    Yields
+    ------
+    Start
+    """
+    apertures = _apertures(hand)
+    p1, n1, p2, n2 = surface_samples(obj, PAIR_SAMPLES, options.seed)
+    width = np.linalg.norm(p2 - p1, axis=1)
+    opposed = np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))
+    spare = 2.0 * options.seed_opening
+    usable = opposed & (width > 1.0) & (width + spare <= apertures.width.max())
+    axis = (p2 - p1) / np.maximum(width, 1e-9)[:, None]
+    offset = obj.center - p1
+    off_axis = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, axis)[:, None] * axis, axis=1)
+    taken = []
+    score = np.abs(width - PAIR_WIDTH) + off_axis
+    for i in np.flatnonzero(usable)[np.argsort(score[usable], kind="stable")]:
+        mid = 0.5 * (p1[i] + p2[i])
+        if any(np.linalg.norm(mid - m) < 10.0 and abs(axis[i] @ a) > np.cos(np.radians(20.0)) for m, a in taken):
+            continue
+        taken.append((mid, axis[i]))
+        flip = len(taken) % 2 == 0  # the thumb on either side of the pairs in turn
+        a, b = (p2[i], p1[i]) if flip else (p1[i], p2[i])
+        u = _straddle(hand, obj, apertures, a, b, width[i] + spare)
+        if u is None:
+            continue
+        back = -rotation_xyz(u[3:6])[:, 2]
+        u[:3] += options.seed_retreat * back
+        u = _clear(hand, obj, u, back, options.start_clearance)
+        yield Start(u, "pinch", {"thumb": a.round(3).tolist(), "finger": b.round(3).tolist(),
+                                 "width": round(float(width[i]), 3), "off_axis": round(float(off_axis[i]), 3)})
+
+
+def _straddle(hand, obj, apertures, thumb_at, fingers_at, opening):
+    """The configuration whose thumb tip and index/middle centroid straddle two points ``opening`` apart, rolled clear.
+
+    Of `ROLLS` rolls about the pair's axis, the one with the fewest skin points
+    of the hand inside the object, the palm facing away from the object's
+    centre on a tie. None if the hand cannot open that wide.
+    """
+    k, miss = apertures.synergies(opening)
+    if miss > 5.0:
+        return None
+    z, thumb, partner = apertures.z[k], apertures.thumb[k], apertures.partner[k]
+    axis = (fingers_at - thumb_at) / np.linalg.norm(fingers_at - thumb_at)
+    hand_axis = (partner - thumb) / np.linalg.norm(partner - thumb)
+    align = Rotation.align_vectors([axis], [hand_axis])[0]
+    middle = 0.5 * (thumb_at + fingers_at)
+    best = None
+    for roll in np.linspace(0.0, 2.0 * np.pi, ROLLS, endpoint=False):
+        R = (Rotation.from_rotvec(roll * axis) * align).as_matrix()
+        u = np.r_[middle - R @ (0.5 * (thumb + partner)), Rotation.from_matrix(R).as_euler("XYZ"), z]
+        skin, palm, _, _ = hand.skin_and_jacobian(u)
+        inside = int(obj.contains(np.vstack([skin.reshape(-1, 3), palm])).sum())
+        outward = float(R[:, 2] @ (middle - obj.center))  # palm normal along centre -> pair: palm on the far side
+        key = (inside, outward)
+        if best is None or key < best[0]:
+            best = (key, u)
+    return best[1]
+
+
+def _clear(hand, obj, u, back, clearance):
+    """``u`` moved along ``back`` until every phalanx capsule is ``clearance`` mm from the object (at most 20 steps)."""
+    for _ in range(20):
+        geo = hand.segments(u)
+        need = clearance - float(obj.penetration(geo.capsules, geo.radius).distances.min())
+        if need <= 0.0:
+            break
+        u = u.copy()
+        u[:3] += back * (need + 1e-6)
+    return u
+
+
+def power_schedule(hand, obj, options):
+    """Power starts: `principal_directions`, each with the wide pre-shape (palm-centred) and then the cupped one.
+
+    Every start is moved back along its palm normal until every phalanx
+    capsule is ``options.start_clearance`` from the object (a wide open hand
+    in front of a large object can start with fingers inside it).
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    options : PlannerOptions
+
+    Yields
+    ------
+    Start
+    """
+    shapes = [("wide", options.power_wide_preshape, True)] if options.power_wide_preshape is not None else []
+    shapes.append(("cupped", options.power_preshape, False))
+    for d in principal_directions(obj):
+        for kind, preshape, wide in shapes:
+            u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance, palm_centred=wide)
+            u[6:] = _preshape(hand, preshape)
+            u = _clear(hand, obj, u, -rotation_xyz(u[3:6])[:, 2], options.start_clearance)
+            yield Start(u, kind, {"direction": d.round(6).tolist()})
+
+
+def _preshape(hand, value):
+    """A pre-shape option as synergy values within the hand's limits (None: the mean pose)."""
+    if value is None:
+        return np.zeros(hand.n_syn)
+    if len(value) != hand.n_syn:
+        raise ValueError(f"a power pre-shape needs one value per synergy ({hand.n_syn} for {hand.name}), got {value!r}")
+    return np.clip(np.asarray(value, dtype=float), hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
+
+
+def starts(hand, obj, grasp, options):
+    """The starts of a plan in turn: pinch seeds then direction starts (precision), or `power_schedule`.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    grasp : {"precision", "power"}
+    options : PlannerOptions
+
+    Yields
+    ------
+    Start
+    """
+    if grasp == "power":
+        yield from power_schedule(hand, obj, options)
+        return
+    yield from pinch_seeds(hand, obj, options)
+    yield from direction_starts(hand, obj, options)
