@@ -13,13 +13,11 @@ each with a precision and a power grasp (50 plans); ``--quick``: the three built
 2. **dask, 1 worker** and 3. **dask, 2 workers**: ``synergrasp.batch.run`` on a local cluster
    of that size, started and warmed up (one short plan per worker) before the clock starts;
    the time is the batch's own, from the first task submitted to the last result written;
-4. **outcomes**: every task's result equal in the three runs: success, reason, iterations,
-   contacts, the whole trajectory and status history bit for bit, the g_Q history to 1e-12
-   (see ``differing``); the plan time and the count of LP calls differ between runs. Also
-   counted: the files bit-identical but for those two fields;
+4. **outcomes**: every task's result file the same in the three runs, bit for bit but for
+   the timings (the plan's ``time_s`` and the reach's ``cpu_time``);
 5. **interrupt**: ``synergrasp batch`` on 2 workers, killed with its workers (SIGKILL) once a
    third of the results are written, then run again to the end, and compared with run 3:
-   the same result files with the same outcomes, no temporary file, one summary row per task;
+   the same result files with the same content, no temporary file, one summary row per task;
 6. **memory setting**: the loop again in two fresh processes, with and without the
    ``MALLOC_TRIM_THRESHOLD_=65536`` that Dask's nannies set by default (and that
    ``synergrasp.batch.local_cluster`` drops): CPU time and minor page faults.
@@ -48,8 +46,6 @@ import time
 import warnings
 from pathlib import Path
 
-import numpy as np
-
 import synergrasp as sg
 from synergrasp.batch import ResultStore, expand, load_object, local_cluster, plan_task
 
@@ -57,8 +53,6 @@ ROOT = Path(__file__).resolve().parents[1]
 MESHES = ROOT / "benchmarks" / "meshes"
 BUILTINS = ["ellipsoid", "cup", "goblet"]
 GRASPS = ["precision", "power"]
-#: Result fields that differ between runs of one plan (see the module docstring).
-RUN_FIELDS = ("time_s", "lp_solves")
 
 
 def warm_up():
@@ -102,18 +96,13 @@ def on_dask(objects, workers, out):
     return report, sum(after[w] - before[w] for w in before), cpu
 
 
-def content(path, drop=()):
-    """A result file's content without the fields that differ between runs (and ``drop``), as JSON text."""
+def content(path):
+    """A result file's content without its timings (``time_s``, the reach's ``cpu_time``), as JSON text."""
     data = json.loads(Path(path).read_text())
-    return json.dumps({k: v for k, v in data.items() if k not in RUN_FIELDS + tuple(drop)}, sort_keys=True)
-
-
-def q_gap(a, b):
-    """Largest difference between the g_Q histories of two result files (NaN where both are NaN counts as 0)."""
-    qa, qb = (np.array(json.loads(Path(p).read_text()).get("q_history", []), dtype=float) for p in (a, b))
-    if qa.shape != qb.shape or not np.array_equal(np.isnan(qa), np.isnan(qb)):
-        return np.inf
-    return float(np.nanmax(np.abs(qa - qb), initial=0.0))
+    data.pop("time_s", None)
+    if isinstance(data.get("reach"), dict):
+        data["reach"].pop("cpu_time", None)
+    return json.dumps(data, sort_keys=True)
 
 
 def results(out):
@@ -123,23 +112,8 @@ def results(out):
 
 
 def differing(a, b):
-    """Result files of ``a`` whose outcome differs in ``b`` (or that ``b`` lacks).
-
-    The outcome is everything but the time and the LP-call count, with the g_Q history
-    equal to 1e-12 (it is the Q distance of the contacts at each iteration; the
-    pseudo-distance LP it comes from can be solved from either regime first, which the
-    process's earlier calls decide, with round-off differences in the last bits).
-    """
-    return [name for name in results(a) if not (Path(b) / name).is_file()
-            or content(Path(a) / name, ["q_history"]) != content(Path(b) / name, ["q_history"])
-            or q_gap(Path(a) / name, Path(b) / name) > 1e-12]
-
-
-def identical(a, b):
-    """(files of ``a`` bit-identical in ``b`` but for time and LP-call count, largest g_Q history gap)."""
-    names = [n for n in results(a) if (Path(b) / n).is_file()]
-    same = sum(content(Path(a) / n) == content(Path(b) / n) for n in names)
-    return same, max((q_gap(Path(a) / n, Path(b) / n) for n in names), default=0.0)
+    """Result files of ``a`` that differ in ``b`` but for their timings (or that ``b`` lacks)."""
+    return [name for name in results(a) if not (Path(b) / name).is_file() or content(Path(a) / name) != content(Path(b) / name)]
 
 
 def interrupt_check(objects, reference, out):
@@ -158,7 +132,7 @@ def interrupt_check(objects, reference, out):
     names, expected = set(results(out)), set(results(reference))
     with open(Path(out) / "summary.csv", newline="") as handle:
         rows = [(r["object"], r["grasp"]) for r in csv.DictReader(handle)]
-    leftovers = [p for p in Path(out).rglob(".*")]
+    leftovers = [p for p in Path(out).rglob(".*") if p.name != ".lock"]  # the run's lock file stays
     counts = {
         "missing": len(expected - names), "extra": len(names - expected), "differing": len(differing(out, reference)),
         "duplicated rows": len(rows) - len(set(rows)), "temporary files": len(leftovers),
@@ -229,12 +203,9 @@ def main(argv=None):
     print(f"CPU overhead dask (1 worker, workers + client) against the loop: {extra:+.2f} s = "
           f"{1e3 * extra / len(tasks):+.1f} ms per task, {100 * extra / cpu:+.1f} %")
     diff = sorted(set(differing(out / "loop", out / "dask-1") + differing(out / "loop", out / "dask-2")))
-    print(f"same outcome per task (loop, 1 worker, 2 workers): {'yes' if not diff else 'NO'} "
-          f"({len(tasks) - len(diff)} of {len(tasks)})" + (f"; differ: {', '.join(diff)}" if diff else ""))
-    for name in ("dask-1", "dask-2"):
-        same, gap = identical(out / "loop", out / name)
-        print(f"  loop and {name}: {same} of {len(tasks)} files bit-identical but for time and LP calls; "
-              f"largest g_Q history difference {gap:.1e}")
+    print(f"same result per task, bit for bit but for the timings (loop, 1 worker, 2 workers): "
+          f"{'yes' if not diff else 'NO'} ({len(tasks) - len(diff)} of {len(tasks)})"
+          + (f"; differ: {', '.join(diff)}" if diff else ""))
     _, verdict, text = interrupt_check(objects, out / "dask-2", out / "interrupted")
     print(f"interrupt and rerun: {text}: {verdict}")
     (cpu_trim, faults_trim), (cpu, faults) = (loop_cost(args.quick, out / "malloc", t) for t in (65536, None))

@@ -54,8 +54,7 @@ UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 #: Exit status of the ``synergrasp`` command.
 EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
               1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written)",
-              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)",
-              130: "batch: interrupted by Ctrl-C or SIGTERM; the results written so far are kept (rerun to go on)"}
+              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)"}
 
 
 def output_stem(obj_arg, grasp) -> str:
