@@ -10,7 +10,7 @@ collisions (``PlanResult.path``); physics validation of a grasp in MuJoCo
 extra).
 """
 
-from . import lp, objects
+from . import batch, lp, objects
 from .hand import SynergyHand
 from .physics import Replay, Validation, replay_reach, validate
 from .planner import PlanResult, plan
@@ -25,6 +25,7 @@ __all__ = [
     "QDistance",
     "Replay",
     "SynergyHand",
+    "batch",
     "Validation",
     "contact_wrenches",
     "force_closure_by_hull",

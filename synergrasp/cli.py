@@ -231,6 +231,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .physics.cli import add_validate_parser  # the validate subcommand lives with the physics package
 
     add_validate_parser(sub).epilog = _epilog()
+    from .batch.cli import register as register_batch  # the batch and report subcommands
+
+    register_batch(sub, _epilog())
     return parser
 
 

@@ -283,6 +283,28 @@ def _unit(v):
     return v / n if n > 0 else v
 
 
+def reset_regime_memory() -> None:
+    """Forget which regime (apart or overlapping) the last call of each LP shape ended in.
+
+    `pseudo_distance` solves first the LP of the regime its last call with
+    the same shapes of ``A`` and ``B`` ended in, and the other only when
+    needed. Both orders give the value up to round-off, not bit for bit (the
+    backend's warm starts differ). After this call the next calls behave as in
+    a new process: batch planning (`synergrasp.batch`) calls it before each plan,
+    so that a plan does not depend on the plans its process made before.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> A, B = np.eye(3), np.eye(3) + 5.0
+    >>> first = pseudo_distance(A, B).value
+    >>> reset_regime_memory()
+    >>> pseudo_distance(A, B).value == first
+    True
+    """
+    _layout.cache_clear()
+
+
 def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     """Pseudo-distance between conv(A) and conv(B), with gradients (paper Eqs. 1-3).
 

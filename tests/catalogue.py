@@ -357,4 +357,72 @@ PLANNER_OPTIONS: list[Case] = [
          "progress must be callable"),
 ]
 
-CASES = API + PLANNER_OPTIONS + CLI
+
+def _batch(objects=("ellipsoid",), out="out", **kw):
+    return lambda tmp: sg.batch.run(list(objects), ["precision"], Path(tmp) / out, progress=False, **kw)
+
+
+def _same_name_meshes(tmp):
+    paths = []
+    for sub in ("a", "b"):
+        (Path(tmp) / sub).mkdir()
+        paths.append(_write(tmp, f"{sub}/mug.obj", "v 0 0 0\n"))
+    return sg.batch.run(paths, ["precision"], Path(tmp) / "out", progress=False)
+
+
+def _busy_folder(tmp):
+    store = sg.batch.ResultStore(Path(tmp) / "out")
+    store.check_writable()
+    with store.lock():  # another run holds the folder
+        return sg.batch.run(["ellipsoid"], ["precision"], store.out, progress=False)
+
+
+def _silent_port():
+    import socket
+
+    with socket.socket() as sock:  # a port nobody listens on
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+#: Cases of batch planning (``sg.batch``, ``synergrasp batch`` and ``synergrasp report``): all refused before planning.
+BATCH = [
+    Case("sg.batch.run", "two objects with one results folder", _same_name_meshes, ValueError, "would share the results folder 'mug.obj'"),
+    Case("sg.batch.run", "an unknown grasp type", lambda tmp: sg.batch.run(["cup"], ["pinch"], Path(tmp)), ValueError, "grasp types must be among"),
+    Case("sg.batch.run", "an object that is a number", _batch(objects=[3]), TypeError, "an object must be a built-in name or a path"),
+    Case("sg.batch.run", "an unknown planner option", _batch(options={"speed": 2}), ValueError, "unknown planner options ['speed']"),
+    Case("sg.batch.run", "a planner option the planner refuses", _batch(options={"mu": -1.0}), ValueError, "the planner rejects the options"),
+    Case("sg.batch.run", "an unknown backend", _batch(backend="gurobi"), ValueError, "unknown LP backend 'gurobi'"),
+    Case("sg.batch.run", "a negative time limit", _batch(time_limit=-1.0), ValueError, "time_limit must be a finite number > 0"),
+    Case("sg.batch.run", "scale 0", _batch(scale=0.0), ValueError, "scale must be a finite number > 0"),
+    Case("sg.batch.run", "no workers", _batch(workers=0), ValueError, "workers must be a whole number >= 1"),
+    Case("sg.batch.run", "workers and a scheduler", _batch(workers=2, scheduler="tcp://127.0.0.1:9"), ValueError,
+         "workers sets the size of the local cluster"),
+    Case("sg.batch.run", "an unknown validation preset", _batch(validate="isaac"), ValueError, "validate must be a preset"),
+    Case("sg.batch.run", "an output folder that is a file", lambda tmp: _batch(out=_write(tmp, "file.txt", "x").name)(tmp),
+         ValueError, "cannot write to the output folder"),
+    Case("sg.batch.run", "an output folder another batch writes to", _busy_folder, ValueError, "is writing to"),
+    Case("sg.batch.run", "a scheduler that does not answer",
+         lambda tmp: _batch(scheduler=f"tcp://127.0.0.1:{_silent_port()}", connect_timeout=1)(tmp), ConnectionError,
+         "no Dask scheduler answered"),
+    Case("sg.batch.write_report", "a folder without results", lambda tmp: sg.batch.write_report(tmp), FileNotFoundError,
+         "no batch results"),
+    Case("sg.batch.write_report", "a negative gallery", lambda tmp: sg.batch.write_report(tmp, gallery=-1), ValueError,
+         "gallery must be a whole number >= 0"),
+    Case("synergrasp batch", "an unknown backend", argv=["batch", "cup", "--backend", "gurobi", "--out", "{tmp}/out"],
+         says="unknown LP backend 'gurobi'"),
+    Case("synergrasp batch", "--workers 0", argv=["batch", "cup", "--workers", "0", "--out", "{tmp}/out"],
+         says="workers must be a whole number >= 1"),
+    Case("synergrasp batch", "--time-limit 0", argv=["batch", "cup", "--time-limit", "0", "--out", "{tmp}/out"],
+         says="time_limit must be a finite number > 0"),
+    Case("synergrasp batch", "--scale and --units together", argv=["batch", "cup", "--scale", "10", "--units", "m"],
+         says="not allowed with argument"),
+    Case("synergrasp batch", "an unknown validation preset", argv=["batch", "cup", "--validate", "isaac"], says="invalid choice: 'isaac'"),
+    Case("synergrasp batch", "--out is a file", argv=["batch", "cup", "--out", "{tmp}/file.txt"], says="cannot write to the output folder"),
+    Case("synergrasp batch", "--workers with --scheduler",
+         argv=["batch", "cup", "--workers", "2", "--scheduler", "tcp://127.0.0.1:9", "--out", "{tmp}/out"],
+         says="workers sets the size of the local cluster"),
+    Case("synergrasp report", "a folder without results", argv=["report", "{tmp}"], says="no batch results"),
+]
+
+CASES = API + PLANNER_OPTIONS + CLI + BATCH

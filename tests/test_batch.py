@@ -1,0 +1,387 @@
+"""Batch planning on Dask (synergrasp.batch): tasks, result files, failures, interrupts, reports.
+
+The Dask tests run on LocalClusters on the loopback interface. Expected plans are computed
+here with ``sg.plan`` directly, on a freshly loaded object and a new backend instance.
+"""
+
+import csv
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+import warnings
+from pathlib import Path
+
+import distributed
+import numpy as np
+import pytest
+import trimesh
+
+import synergrasp as sg
+from synergrasp.batch import ResultStore, TaskFailure, expand, grasp_summary, local_cluster, run, write_report
+from synergrasp.cli import main
+from synergrasp.pseudo_distance import reset_regime_memory
+
+ROOT = Path(__file__).resolve().parents[1]
+@pytest.fixture(scope="module")
+def cluster():
+    with local_cluster(2) as local:
+        yield local
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("SYNERGRASP_CACHE", str(tmp_path / "cache"))
+
+
+def expected_plan(source, grasp, **options):
+    """The plan of a task computed without the batch code, as in a new process (fresh object, new backend)."""
+    reset_regime_memory()
+    backend = type(sg.lp.get_backend("highs"))()
+    return sg.plan(sg.objects.get(source), grasp, backend=backend, **options)
+
+
+def assert_same_plan(path, expected):
+    """The result file at ``path`` is the plan ``expected``, bit for bit but for the timings."""
+    got = sg.PlanResult.load(path)
+    assert (got.success, got.reason, got.iterations, got.total_iterations, got.contact_labels, got.lp_solves) == (
+        expected.success, expected.reason, expected.iterations, expected.total_iterations, expected.contact_labels,
+        expected.lp_solves)
+    as_text = lambda attempts: json.dumps(attempts, sort_keys=True, default=np.ndarray.tolist)  # noqa: E731 (NaN == NaN)
+    assert as_text(got.attempts) == as_text(expected.attempts)
+    for name in ("u", "trajectory", "status", "q_history", "contact_points", "contact_normals"):
+        assert np.array_equal(getattr(got, name), getattr(expected, name), equal_nan=True), name
+
+
+def result_files(out):
+    return sorted(p.relative_to(out).as_posix() for p in Path(out).glob("results/**/*.json")
+                  if p.name != "object.json" and not p.name.startswith("."))  # not temporary files
+
+
+def read_summary(out):
+    with open(Path(out) / "summary.csv", newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+# --------------------------------------------------------------------------- tasks
+
+
+def test_expand_names_files_and_folders(tmp_path):
+    folder = tmp_path / "meshes"
+    (folder / "kitchen").mkdir(parents=True)
+    (folder / ".hidden").mkdir()
+    for path in (folder / "box.stl", folder / "kitchen" / "mug.obj", folder / ".hidden" / "x.stl",
+                 folder / "notes.txt", tmp_path / "ball.ply"):
+        path.write_text("x")
+    tasks = expand(["ellipsoid", str(tmp_path / "ball.ply"), folder, "ellipsoid"], ["power", "precision"])
+    assert [(t.key, t.grasp) for t in tasks] == [
+        ("ellipsoid", "power"), ("ellipsoid", "precision"), ("ball.ply", "power"), ("ball.ply", "precision"),
+        ("meshes/box.stl", "power"), ("meshes/box.stl", "precision"),
+        ("meshes/kitchen/mug.obj", "power"), ("meshes/kitchen/mug.obj", "precision"),
+    ]
+    assert tasks[2].source == str((tmp_path / "ball.ply").resolve())
+    assert tasks[6].source == str((folder / "kitchen" / "mug.obj").resolve())
+    assert expand("teapot")[0].source == "teapot"  # kept as given: its load fails on a worker
+
+
+def test_expand_warns_of_an_empty_folder(tmp_path):
+    (tmp_path / "empty").mkdir()
+    with pytest.warns(UserWarning, match="holds no object file"), pytest.raises(ValueError, match="no objects to plan"):
+        expand([tmp_path / "empty"])
+
+
+# --------------------------------------------------------------------------- result files
+
+
+def test_store_rows_come_from_the_result_files(tmp_path):
+    store = ResultStore(tmp_path / "out")
+    store.check_writable()
+    result = sg.plan(sg.objects.get("ellipsoid"), "precision")
+    store.write_result("ellipsoid", "precision", result)
+    store.write_result("cup", "power", TaskFailure("timeout", "no result within the time limit of 1 s", 1.5))
+    rows, unreadable = store.scan()
+    assert unreadable == [] and [(r["object"], r["grasp"], r["status"]) for r in rows] == [
+        ("cup", "power", "timeout"), ("ellipsoid", "precision", "planned")]
+    row = rows[1]
+    assert (row["success"], row["reason"], row["iterations"], row["q"], row["sq"], row["contacts"]) == (
+        True, result.reason, result.iterations, float(result.q_history[-1]), float(result.status[-1, -1]),
+        len(result.contact_labels))
+    assert rows[0]["time_s"] == 1.5 and rows[0]["reason"].startswith("no result within")
+    # a retry that produced a plan replaces the failure record
+    store.write_result("cup", "power", result)
+    assert not store.failure_path("cup", "power").exists()
+    assert [r["status"] for r in store.scan()[0]] == ["planned", "planned"]
+    # a damaged file is reported, not read as a result
+    store.result_path("cup", "power").write_text('{"success": tru')
+    rows, unreadable = store.scan()
+    assert [r["object"] for r in rows] == ["ellipsoid"] and unreadable == [store.result_path("cup", "power")]
+    store.write_summary(rows)
+    assert [(r["object"], r["grasp"], r["success"]) for r in read_summary(store.out)] == [
+        ("ellipsoid", "precision", str(result.success))]
+
+
+def test_output_folder_is_checked_before_the_scheduler(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    # ValueError about the folder, not the ConnectionError of the silent scheduler
+    with pytest.raises(ValueError, match="cannot write to the output folder"):
+        run(["ellipsoid"], ["precision"], blocker / "out", scheduler="tcp://127.0.0.1:9", progress=False)
+    if Path("/proc").is_dir():  # not writable even by root
+        with pytest.raises(ValueError, match="choose a writable folder"):
+            run(["ellipsoid"], ["precision"], "/proc", scheduler="tcp://127.0.0.1:9", progress=False)
+
+
+def test_a_run_holds_the_folder_and_clears_killed_writers_temporaries(tmp_path):
+    store = ResultStore(tmp_path)
+    store.check_writable()
+    (store.results / "cup").mkdir()
+    stale = [store.results / "cup" / ".precision.0123abcd.tmp.json", tmp_path / ".summary.89abcdef.tmp.csv"]
+    kept = [store.results / "cup" / ".notes.txt", tmp_path / ".lock"]
+    for path in stale + kept:
+        path.write_text("x")
+    with store.lock():
+        assert not any(p.exists() for p in stale) and all(p.exists() for p in kept)
+        with pytest.raises(ValueError, match=rf"another batch \(process {os.getpid()}\) is writing to"):
+            with ResultStore(tmp_path).lock():
+                pass
+    with ResultStore(tmp_path).lock():  # released at the end of the block
+        pass
+
+
+def test_grasp_summary_closed_form():
+    rows = [{"grasp": "precision", "status": "planned", "success": k % 2 == 0, "time_s": float(k)} for k in range(1, 11)]
+    rows.append({"grasp": "precision", "status": "plan error", "success": False, "time_s": 0.5})
+    s, = grasp_summary(rows)
+    assert (s["tasks"], s["success"], s["failed"], s["timeouts"]) == (11, 5, 1, 0)
+    assert s["rate"] == pytest.approx(5 / 11)
+    assert s["median_s"] == pytest.approx(5.5) and s["p90_s"] == pytest.approx(9.1)  # linear interpolation
+    assert s["plans_per_s"] == pytest.approx(10 / 55)
+
+
+# --------------------------------------------------------------------------- batches on a cluster
+
+
+@pytest.fixture
+def bad_objects(tmp_path):
+    garbage = tmp_path / "garbage.stl"
+    garbage.write_bytes(b"not a mesh" * 10)
+    metres = tmp_path / "box_in_metres.stl"
+    trimesh.creation.box((0.06, 0.05, 0.09)).export(metres)
+    return garbage, metres
+
+
+def test_batch_results_failures_and_rerun(tmp_path, cluster, bad_objects):
+    garbage, metres = bad_objects
+    out = tmp_path / "out"
+    objects = ["ellipsoid", "cup", "teapot", garbage, metres]
+    report = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False)
+    assert (report.tasks, report.skipped, report.finished, report.workers) == (10, 0, 10, 2)
+    for name in ("ellipsoid", "cup"):
+        for grasp in ("precision", "power"):
+            assert_same_plan(out / "results" / name / f"{grasp}.json", expected_plan(name, grasp))
+    rows = {(r["object"], r["grasp"]): r for r in report.rows}
+    assert len(rows) == len(report.rows) == 10
+    for grasp in ("precision", "power"):
+        assert rows["teapot", grasp]["status"] == "load error" and "unknown object 'teapot'" in rows["teapot", grasp]["reason"]
+        assert rows["garbage.stl", grasp]["status"] == "load error" and "could not read" in rows["garbage.stl", grasp]["reason"]
+        assert rows["box_in_metres.stl", grasp]["status"] == "plan error"
+        assert "too small to grasp" in rows["box_in_metres.stl", grasp]["reason"]
+    record = json.loads((out / "results" / "box_in_metres.stl" / "power.failed.json").read_text())
+    assert record["status"] == "plan error" and "scale=1000" in " ".join(record["warnings"])
+    assert "box_in_metres.stl power: box_in_metres.stl is only 0.09 mm across" in (out / "warnings.log").read_text()
+    table = read_summary(out)
+    assert [(r["object"], r["grasp"]) for r in table] == sorted(rows)  # one row per task, sorted
+    assert sum(r["success"] == "True" for r in table) == sum(r["success"] for r in report.rows) == 4
+
+    # a rerun plans nothing and leaves the files alone
+    stamps = {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")}
+    again = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False)
+    assert (again.skipped, again.finished, again.workers) == (10, 0, 0)
+    assert {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")} == stamps
+    # retry_failed plans the six failures again; the metres box with scale=1000 now plans
+    retried = run(objects, ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False,
+                  retry_failed=True, scale=1000)
+    assert (retried.skipped, retried.finished) == (4, 6)
+    rows = {(r["object"], r["grasp"]): r for r in retried.rows}
+    assert rows["box_in_metres.stl", "precision"]["status"] == "planned"
+    assert not (out / "results" / "box_in_metres.stl" / "precision.failed.json").exists()
+    assert rows["teapot", "power"]["status"] == "load error"
+
+
+def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):
+    # a torus-shaped cloud: its centroid is in the hole, so loading it builds fcl geometry
+    # (which cannot be pickled) to move the centre inside
+    torus = trimesh.creation.torus(major_radius=35.0, minor_radius=12.0, major_sections=32, minor_sections=12)
+    path = tmp_path / "torus.npy"
+    np.save(path, trimesh.sample.sample_surface(torus, 3000, seed=0)[0])
+    report = run([path], ["precision", "power"], tmp_path / "out", scheduler=cluster.scheduler_address, progress=False)
+    assert [r["status"] for r in report.rows] == ["planned", "planned"]
+    for grasp in ("precision", "power"):
+        assert_same_plan(tmp_path / "out" / "results" / "torus.npy" / f"{grasp}.json", expected_plan(str(path), grasp))
+
+
+def test_time_limit_is_recorded_as_timeout(tmp_path, cluster):
+    report = run(["bell"], ["power"], tmp_path, scheduler=cluster.scheduler_address, progress=False, time_limit=0.001)
+    row, = report.rows
+    assert row["status"] == "timeout" and row["reason"] == "no result within the time limit of 0.001 s"
+    assert report.per_grasp[0]["timeouts"] == 1
+
+
+def test_validation_of_new_and_earlier_plans(tmp_path, cluster):
+    out = tmp_path / "out"
+    run(["ellipsoid", "cup"], ["precision"], out, scheduler=cluster.scheduler_address, progress=False)
+    planned = out / "results" / "ellipsoid" / "precision.json"
+    stamp = planned.stat().st_mtime_ns
+    # a rerun with validation tests the earlier plans without planning them again, and plans what is new
+    report = run(["ellipsoid", "cup", "goblet"], ["precision"], out, scheduler=cluster.scheduler_address,
+                 progress=False, validate="synergrasp")
+    assert (report.skipped, report.finished) == (0, 3) and planned.stat().st_mtime_ns == stamp
+    rows = {r["object"]: r for r in report.rows}
+    for name in ("ellipsoid", "cup", "goblet"):
+        plan = expected_plan(name, "precision")
+        reset_regime_memory()
+        expected = sg.validate(plan, sg.objects.get(name), backend=type(sg.lp.get_backend("highs"))())
+        saved = sg.physics.Validation.load(out / "results" / name / "precision.validation.json")
+        assert (rows[name]["held"], rows[name]["physics"]) == (saved.held, saved.outcome) == (expected.held, expected.outcome)
+        assert np.allclose(saved.displacement, expected.displacement, equal_nan=True)
+    assert {r["object"]: r["held"] for r in read_summary(out)} == {n: str(rows[n]["held"]) for n in rows}
+    again = run(["ellipsoid", "cup", "goblet"], ["precision"], out, scheduler=cluster.scheduler_address,
+                progress=False, validate="synergrasp")
+    assert again.finished == 0
+
+
+def test_killed_worker_is_retried(tmp_path, cluster):
+    client = distributed.Client(cluster)
+    pids = client.run(os.getpid)
+    killed = []
+
+    def kill_a_planning_worker():
+        deadline = time.monotonic() + 60
+        while not killed and time.monotonic() < deadline:
+            for address, keys in client.processing().items():
+                if any(str(k).startswith("plan-") for k in keys) and address in pids:
+                    os.kill(pids[address], signal.SIGKILL)
+                    killed.append(address)
+                    return
+            time.sleep(0.01)
+
+    killer = threading.Thread(target=kill_a_planning_worker)
+    killer.start()
+    try:
+        report = run(["ellipsoid", "cup"], ["power"], tmp_path, scheduler=cluster.scheduler_address, progress=False)
+    finally:
+        killer.join()
+        client.close()
+    assert killed, "no worker was planning"
+    assert [r["status"] for r in report.rows] == ["planned", "planned"]
+    for name in ("ellipsoid", "cup"):
+        assert_same_plan(tmp_path / "results" / name / "power.json", expected_plan(name, "power"))
+
+
+def test_worker_that_keeps_dying_is_recorded(tmp_path):
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), local_cluster(1) as local, \
+            distributed.Client(local) as client:
+        pid = next(iter(client.run(os.getpid).values()))
+
+        def kill_when_planning():
+            while not any(str(k).startswith("plan-") for keys in client.processing().values() for k in keys):
+                time.sleep(0.01)
+            os.kill(pid, signal.SIGKILL)
+
+        killer = threading.Thread(target=kill_when_planning)
+        killer.start()
+        report = run(["cup"], ["power"], tmp_path, scheduler=local.scheduler_address, progress=False)
+        killer.join()
+    row, = report.rows
+    assert row["status"] == "worker lost" and "died" in row["reason"]
+
+
+def test_plan_task_pins_blas_to_one_thread(tmp_path):
+    env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
+    code = (
+        "import json, threadpoolctl, synergrasp.batch as b\n"
+        "before = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
+        "outcome, _, _ = b.plan_task('ellipsoid', 'precision', options={'max_iter': 1})\n"
+        "after = [i['num_threads'] for i in threadpoolctl.threadpool_info()]\n"
+        "print(json.dumps([before, after, outcome.iterations]))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, check=True)
+    before, after, iterations = json.loads(done.stdout.strip().splitlines()[-1])
+    assert after and set(after) == {1} and iterations == 1
+    if (os.cpu_count() or 1) > 1:
+        assert max(before) > 1  # the pin changed something
+
+
+# --------------------------------------------------------------------------- the command line
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_interrupt_stops_the_command_and_keeps_what_was_written(tmp_path, cluster, capsys, sig):
+    def terminate_after_one_result():
+        while not result_files(tmp_path):
+            time.sleep(0.01)
+        os.kill(os.getpid(), sig)  # Ctrl-C, or a polite kill
+
+    killer = threading.Thread(target=terminate_after_one_result)
+    killer.start()
+    code = main(["batch", "ellipsoid", "cup", "bell", "goblet", "--grasp", "precision", "power", "--out", str(tmp_path),
+                 "--scheduler", cluster.scheduler_address, "--quiet"])
+    killer.join()
+    assert code == 130 and "rerun the same command to plan the rest" in capsys.readouterr().err
+    written = result_files(tmp_path)
+    assert 0 < len(written) < 8
+    # the summary table was rebuilt from exactly the results written
+    assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == written
+
+
+def test_benchmark_quick_mode_kills_a_run_and_resumes_it(tmp_path):
+    """benchmarks/bench_batch.py --quick: a loop, 1 and 2 workers, and a run killed part way then rerun."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+    done = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "bench_batch.py"), "--quick", "--out", str(tmp_path)],
+                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    assert "same result per task, bit for bit but for the timings (loop, 1 worker, 2 workers): yes (6 of 6)" in out
+    for pattern in (r"throughput 2 workers / 1 worker: [\d.]+x", r"overhead .* = [-+][\d.]+ ms per task, [-+][\d.]+ %",
+                    r"CPU [\d.]+ s, \d+ minor page faults; without: CPU [\d.]+ s, \d+ page faults"):
+        assert re.search(pattern, out), pattern
+    killed = re.search(r"interrupt and rerun: killed after (\d) of 6 results; .*: PASS", out)
+    assert killed and 0 < int(killed.group(1)) < 6, out
+    # checked here too: the resumed run holds exactly the uninterrupted run's results
+    resumed, reference = tmp_path / "interrupted", tmp_path / "dask-2"
+    assert result_files(resumed) == result_files(reference) == result_files(tmp_path / "loop")
+    assert len(result_files(resumed)) == 6
+    for name in result_files(resumed):
+        assert_same_plan(resumed / name, sg.PlanResult.load(reference / name))
+        assert_same_plan(tmp_path / "loop" / name, sg.PlanResult.load(reference / name))
+    assert [p.name for p in resumed.rglob(".*")] == [".lock"]  # no temporary file left
+    table = read_summary(resumed)
+    assert sorted((r["object"], r["grasp"]) for r in table) == sorted(
+        (name.split("/")[1], name.split("/")[2][: -len(".json")]) for name in result_files(reference))
+
+
+# --------------------------------------------------------------------------- report
+
+
+def test_report_page(tmp_path, cluster):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run(["ellipsoid", "cup", "teapot"], ["precision"], tmp_path, scheduler=cluster.scheduler_address,
+            progress=False)
+    assert main(["report", str(tmp_path), "--gallery", "1"]) == 0
+    page = (tmp_path / "report.html").read_text()
+    assert page.count("<tr class=") == 3  # every task in the table
+    assert "unknown object" in page and "results/cup/precision.json" in page
+    pictures = list((tmp_path / "report").rglob("*.png"))
+    assert len(pictures) == 1 and pictures[0].stat().st_size > 5000  # the gallery holds one plan
+    stamp = pictures[0].stat().st_mtime_ns
+    write_report(tmp_path, gallery=1)
+    assert pictures[0].stat().st_mtime_ns == stamp  # reused, not drawn again
+    with pytest.raises(ValueError, match="gallery must be"):
+        write_report(tmp_path, gallery=-1)
