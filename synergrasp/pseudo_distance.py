@@ -289,17 +289,19 @@ def reset_regime_memory() -> None:
     `pseudo_distance` solves first the LP of the regime its last call with
     the same shapes of ``A`` and ``B`` ended in, and the other only when
     needed. Both orders give the value up to round-off, not bit for bit (the
-    backend's warm starts differ). After this call the next calls behave as in
-    a new process: batch planning (`synergrasp.batch`) calls it before each plan,
-    so that a plan does not depend on the plans its process made before.
+    backend's warm starts differ). After this call, with a new backend instance
+    (the shared one keeps its warm starts), the next calls behave as in a new
+    process: batch planning (`synergrasp.batch`) does both before each plan, so
+    that a plan does not depend on the plans its process made before.
 
     Examples
     --------
     >>> import numpy as np
+    >>> from synergrasp.lp.highs import HighsBackend
     >>> A, B = np.eye(3), np.eye(3) + 5.0
-    >>> first = pseudo_distance(A, B).value
-    >>> reset_regime_memory()
-    >>> pseudo_distance(A, B).value == first
+    >>> first = pseudo_distance(A, B, backend=HighsBackend()).value
+    >>> reset_regime_memory()  # and a new backend instance: no warm start carried over
+    >>> pseudo_distance(A, B, backend=HighsBackend()).value == first
     True
     """
     _layout.cache_clear()
