@@ -12,7 +12,8 @@ sources, split by shape) and verifies each plan independently of the planner:
   convex pieces the planner works on), measured by trimesh's closest-point query;
 * the origin lies strictly inside the convex hull (qhull) of the contact wrenches built at those
   closest points of the true surface, with the true surface's normals there;
-* no phalanx is deeper than 3 mm in the object.
+* no phalanx capsule and not the palm box is deeper than 3 mm in the true mesh, by the dense
+  sampled check of ``reach_sampling.py`` (trimesh's signed distance, no fcl, no convex pieces).
 
 Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
 accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, and a
@@ -40,13 +41,14 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
+from reach_sampling import sampled_clearance  # noqa: E402
 
 ROOT = HERE.parent
 PAGE = ROOT / "docs" / "generalisation.md"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
 #: Largest gap (mm) from a contact to the true surface for a grasp to count.
 GAP = 5.0
-#: Deepest phalanx penetration (mm) for a grasp to count.
+#: Deepest penetration (mm) of a phalanx capsule or the palm box for a grasp to count.
 DEPTH = 3.0
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
@@ -69,9 +71,12 @@ def verify(result, obj):
     -------
     dict
         ``verified`` (bool), ``gap`` (largest contact gap, mm), ``q_true`` (Q distance of the
-        contacts moved to the true surface, with its normals), ``closed`` (qhull verdict).
+        contacts moved to the true surface, with its normals), ``closed`` (qhull verdict),
+        ``depth`` and ``palm_depth`` (deepest phalanx capsule and the palm box's depth in the
+        true mesh, mm, >= 0).
     """
-    out = dict(verified=False, gap=float("nan"), q_true=float("nan"), closed=False)
+    out = dict(verified=False, gap=float("nan"), q_true=float("nan"), closed=False, depth=float("nan"),
+               palm_depth=float("nan"))
     points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
     if not result.success or len(points) < 2:
         return out
@@ -81,8 +86,10 @@ def verify(result, obj):
     W = sg.contact_wrenches(closest, inward, center=obj.center, torque_scale=obj.torque_scale)
     closed = bool(sg.force_closure_by_hull(W))
     q_true = sg.q_distance(closest, inward, center=obj.center, torque_scale=obj.torque_scale).value
-    out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed)
-    out["verified"] = closed and out["gap"] <= GAP and result.penetration <= DEPTH
+    clearance = sampled_clearance(sg.SynergyHand.default(), mesh, result.u)
+    depth, palm_depth = max(0.0, -float(clearance[:-1].min())), max(0.0, -float(clearance[-1]))
+    out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed, depth=depth, palm_depth=palm_depth)
+    out["verified"] = closed and out["gap"] <= GAP and max(depth, palm_depth) <= DEPTH
     return out
 
 
@@ -151,6 +158,8 @@ def summarise(rows, grasp):
         f"  accepted {len(accepted)}: median Q on the true surface {np.nanmedian(q):+.3f}, "
         f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
+        f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
+        f"palm max {_largest(accepted, 'palm_depth'):.1f} mm",
     ]
     failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])
@@ -163,9 +172,15 @@ def summarise(rows, grasp):
     unverified = [r for r in accepted if not r["verified"]]
     if unverified:
         lines.append("  accepted but not verified: " + ", ".join(
-            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['penetration']:.1f})"
+            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['depth']:.1f}, palm {r['palm_depth']:.1f} mm)"
             for r in unverified))
     return lines
+
+
+def _largest(rows, key):
+    """Largest value of a key over rows (NaN for none)."""
+    values = [r[key] for r in rows]
+    return float(np.nanmax(values)) if values else float("nan")
 
 
 def _value(text):
