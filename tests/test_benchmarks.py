@@ -15,6 +15,15 @@ def test_large_mesh_quick(tmp_path, capsys):
     assert "peak memory" in capsys.readouterr().out
 
 
+def test_time_limit_quick(capsys):
+    """A plan that cannot succeed runs to its limit and stops there (the ratio is reported, not asserted tightly)."""
+    from benchmarks import bench_time_limit
+
+    worst = bench_time_limit.main(["--quick"])
+    assert worst >= 1.0  # it ran until the limit: the acceptance could not be met
+    assert "largest overrun" in capsys.readouterr().out
+
+
 def test_torus_has_the_faces_asked_for():
     mesh = bench_large_mesh.torus(330_000)
     assert 320_000 <= len(mesh.faces) <= 340_000 and mesh.is_watertight
