@@ -79,11 +79,14 @@ def test_verification_is_on_the_true_surface():
     box = sg.objects.from_mesh(trimesh.creation.box((60.0, 50.0, 90.0)), name="box", cache=False)
     r = sg.plan(box, "precision")
     assert generalise.verify(r, box)["verified"]
-    off = SimpleNamespace(success=True, penetration=0.0, contact_points=r.contact_points + [0.0, 0.0, 100.0])
+    off = SimpleNamespace(success=True, u=r.u, contact_points=r.contact_points + [0.0, 0.0, 100.0])
     assert not generalise.verify(off, box)["verified"] and generalise.verify(off, box)["gap"] > 5.0
-    one_side = SimpleNamespace(success=True, penetration=0.0, contact_points=[[30.0, y, z] for y in (-10, 10) for z in (-10, 10)])
+    one_side = SimpleNamespace(success=True, u=r.u, contact_points=[[30.0, y, z] for y in (-10, 10) for z in (-10, 10)])
     check = generalise.verify(one_side, box)  # four contacts on one face: on the surface, not force-closed
     assert check["gap"] < 1e-9 and not check["closed"] and not check["verified"]
+    into = r.u + np.r_[0.5 * (box.center - r.u[:3]), np.zeros(len(r.u) - 3)]  # the hand halfway to the centre
+    deep = generalise.verify(SimpleNamespace(success=True, u=into, contact_points=r.contact_points), box)
+    assert deep["closed"] and max(deep["depth"], deep["palm_depth"]) > 3.0 and not deep["verified"]
 
 
 def test_generalise_quick(tmp_path, capsys):

@@ -198,7 +198,7 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     if success:
         reason = f"stop criterion met ({result.check.n_contacts} contacts, g_Q = {result.check.q:.4f})"
     else:
-        reason = _failure(attempts, elapsed)
+        reason = _failure(attempts)
     if physics is not None and success:
         reason += "; it holds in simulation" if held else "; no accepted grasp held in simulation"
     if len(attempts) > 1:
@@ -242,11 +242,14 @@ def _validator(validate, obj, hand, backend):
     return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 
-def _failure(attempts, elapsed):
-    """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first."""
+def _failure(attempts):
+    """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
+
+    No clock time in it (that is `PlanResult.time_s`): the same plan gives the same words.
+    """
     counts = {}
     for a in attempts:
         counts[a["outcome"]] = counts.get(a["outcome"], 0) + 1
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
-    return f"no stable grasp found in {len(attempts)} attempt(s) and {elapsed:.1f} s ({parts})"
+    return f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
