@@ -6,14 +6,9 @@ Usage::
                                     [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
-sources, split by shape) and verifies each plan independently of the planner:
-
-* every final contact lies within ``GAP`` (5 mm) of the object's true surface (its mesh, not the
-  convex pieces the planner works on), measured by trimesh's closest-point query;
-* the origin lies strictly inside the convex hull (qhull) of the contact wrenches built at those
-  closest points of the true surface, with the true surface's normals there;
-* no phalanx capsule and not the palm box is deeper than 3 mm in the true mesh, by the dense
-  sampled check of ``reach_sampling.py`` (trimesh's signed distance, no fcl, no convex pieces).
+sources, split by shape) and verifies each plan independently of the planner, on the object's true
+mesh (``verification.py``: contacts within 5 mm of it, force closure by qhull at its normals, no
+phalanx capsule and not the palm box deeper than 3 mm in it).
 
 Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
 accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, and a
@@ -41,56 +36,13 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
-from reach_sampling import sampled_clearance  # noqa: E402
+from verification import true_surface, verify  # noqa: E402
 
 ROOT = HERE.parent
 PAGE = ROOT / "docs" / "generalisation.md"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
-#: Largest gap (mm) from a contact to the true surface for a grasp to count.
-GAP = 5.0
-#: Deepest penetration (mm) of a phalanx capsule or the palm box for a grasp to count.
-DEPTH = 3.0
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
-
-
-def true_surface(obj):
-    """The surface a grasp must touch: the object's mesh, else the hull of each piece."""
-    return obj.mesh if obj.mesh is not None else obj.to_mesh()
-
-
-def verify(result, obj):
-    """Independent check of a plan's final grasp on the object's true surface.
-
-    Parameters
-    ----------
-    result : PlanResult
-    obj : GraspObject
-
-    Returns
-    -------
-    dict
-        ``verified`` (bool), ``gap`` (largest contact gap, mm), ``q_true`` (Q distance of the
-        contacts moved to the true surface, with its normals), ``closed`` (qhull verdict),
-        ``depth`` and ``palm_depth`` (deepest phalanx capsule and the palm box's depth in the
-        true mesh, mm, >= 0).
-    """
-    out = dict(verified=False, gap=float("nan"), q_true=float("nan"), closed=False, depth=float("nan"),
-               palm_depth=float("nan"))
-    points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
-    if not result.success or len(points) < 2:
-        return out
-    mesh = true_surface(obj)
-    closest, gap, triangle = trimesh.proximity.closest_point(mesh, points)
-    inward = -mesh.face_normals[triangle]
-    W = sg.contact_wrenches(closest, inward, center=obj.center, torque_scale=obj.torque_scale)
-    closed = bool(sg.force_closure_by_hull(W))
-    q_true = sg.q_distance(closest, inward, center=obj.center, torque_scale=obj.torque_scale).value
-    clearance = sampled_clearance(sg.SynergyHand.default(), mesh, result.u)
-    depth, palm_depth = max(0.0, -float(clearance[:-1].min())), max(0.0, -float(clearance[-1]))
-    out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed, depth=depth, palm_depth=palm_depth)
-    out["verified"] = closed and out["gap"] <= GAP and max(depth, palm_depth) <= DEPTH
-    return out
 
 
 def fidelity(obj, samples=2000):

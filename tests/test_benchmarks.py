@@ -51,7 +51,7 @@ import numpy as np  # noqa: E402
 import trimesh  # noqa: E402
 
 import synergrasp as sg  # noqa: E402
-from benchmarks import generalise, objectset  # noqa: E402
+from benchmarks import generalise, objectset, verification  # noqa: E402
 
 
 def test_the_benchmark_has_over_200_objects_in_a_fixed_split_by_shape():
@@ -78,14 +78,14 @@ def test_procedural_objects_are_seeded():
 def test_verification_is_on_the_true_surface():
     box = sg.objects.from_mesh(trimesh.creation.box((60.0, 50.0, 90.0)), name="box", cache=False)
     r = sg.plan(box, "precision")
-    assert generalise.verify(r, box)["verified"]
+    assert verification.verify(r, box)["verified"]
     off = SimpleNamespace(success=True, u=r.u, contact_points=r.contact_points + [0.0, 0.0, 100.0])
-    assert not generalise.verify(off, box)["verified"] and generalise.verify(off, box)["gap"] > 5.0
+    assert not verification.verify(off, box)["verified"] and verification.verify(off, box)["gap"] > 5.0
     one_side = SimpleNamespace(success=True, u=r.u, contact_points=[[30.0, y, z] for y in (-10, 10) for z in (-10, 10)])
-    check = generalise.verify(one_side, box)  # four contacts on one face: on the surface, not force-closed
+    check = verification.verify(one_side, box)  # four contacts on one face: on the surface, not force-closed
     assert check["gap"] < 1e-9 and not check["closed"] and not check["verified"]
     into = r.u + np.r_[0.5 * (box.center - r.u[:3]), np.zeros(len(r.u) - 3)]  # the hand halfway to the centre
-    deep = generalise.verify(SimpleNamespace(success=True, u=into, contact_points=r.contact_points), box)
+    deep = verification.verify(SimpleNamespace(success=True, u=into, contact_points=r.contact_points), box)
     assert deep["closed"] and max(deep["depth"], deep["palm_depth"]) > 3.0 and not deep["verified"]
 
 
