@@ -96,3 +96,14 @@ def test_generalise_quick(tmp_path, capsys):
     assert all(r["verified"] for r in rows)
     out = capsys.readouterr().out
     assert "precision: 2/2 verified" in out and "median Q on the true surface" in out
+
+
+def test_single_attempts_writes_every_attempt(tmp_path, capsys):
+    from benchmarks import single_attempts
+
+    out = tmp_path / "attempts.jsonl"
+    single_attempts.main(["--split", "all", "--only", "household/can", "--starts", "2", "--out", str(out)])
+    rows = [json.loads(line) for line in out.read_text().splitlines()]
+    assert len(rows) == 2 and {r["start"] for r in rows} == {"pinch"} and all(r["iterations"] > 0 for r in rows)
+    ok = sum(r["verified"] for r in rows)
+    assert f"{ok}/2 single attempts verified" in capsys.readouterr().out
