@@ -11,7 +11,8 @@ mesh (``verification.py``: contacts within 5 mm of it, force closure by qhull at
 phalanx capsule and not the palm box deeper than 3 mm in it).
 
 Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
-accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, and a
+accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, the
+hand's depth in it, how many accepted grasps have a collision-free executable reach, and a
 taxonomy of why every failed attempt ended. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
 ``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md`` and the README summary.
 """
@@ -84,7 +85,7 @@ def run(entry_name, grasp, options):
     row = dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=result.success,
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
-               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q,
+               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,
                attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
                          for a in result.attempts])
     row.update(verify(result, obj))
@@ -111,7 +112,8 @@ def summarise(rows, grasp):
         f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
         f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
-        f"palm max {_largest(accepted, 'palm_depth'):.1f} mm",
+        f"palm max {_largest(accepted, 'palm_depth'):.1f} mm; collision-free executable reach: "
+        f"{sum(r['collision_free'] for r in accepted)}/{len(accepted)}",
     ]
     failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])
