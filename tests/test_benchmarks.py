@@ -107,3 +107,12 @@ def test_single_attempts_writes_every_attempt(tmp_path, capsys):
     assert len(rows) == 2 and {r["start"] for r in rows} == {"pinch"} and all(r["iterations"] > 0 for r in rows)
     ok = sum(r["verified"] for r in rows)
     assert f"{ok}/2 single attempts verified" in capsys.readouterr().out
+
+
+def test_validated_plans_quick(capsys):
+    """plan(validate=True) on the ellipsoid's power grasp: the verdict printed is the plan's own."""
+    from benchmarks import validated_plans
+
+    (row,) = validated_plans.main(["--quick"])
+    assert row["success"] and row["attempts"] >= 1
+    assert f"power: {int(row['held'])}/1 hold in simulation" in capsys.readouterr().out
