@@ -3,7 +3,7 @@
 Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
-                                    [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick]
+                                    [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick] [--rows]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -14,7 +14,8 @@ Prints, for each grasp type, the verified rate, the median and p90 plan time, th
 accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, the
 hand's depth in it, how many accepted grasps have a collision-free executable reach, and a
 taxonomy of why every failed attempt ended. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
-``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md`` and the README summary.
+``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
+README summary; ``--rows`` plans nothing and summarises (and documents) the rows already there.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ from verification import true_surface, verify  # noqa: E402
 
 ROOT = HERE.parent
 PAGE = ROOT / "docs" / "generalisation.md"
+FIGURE = ROOT / "docs" / "figures" / "generalisation.png"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
@@ -152,10 +154,22 @@ def main(argv=None):
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "generalise", help="folder of the rows")
-    parser.add_argument("--docs", action="store_true", help=f"write {PAGE.relative_to(ROOT)} and the README summary")
+    parser.add_argument("--docs", action="store_true",
+                        help=f"write {PAGE.relative_to(ROOT)}, its figure and the README summary")
     parser.add_argument("--quick", action="store_true", help=f"only {', '.join(QUICK)}")
+    parser.add_argument("--rows", action="store_true",
+                        help="plan nothing: summarise (and with --docs, write the docs from) the rows already in --out")
     args = parser.parse_args(argv)
     options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
+    summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
+    print("\n".join(summary))
+    if args.docs:
+        _write_docs(rows, args.split, options, summary)
+
+
+def _plan_all(args, options):
+    """Plan and verify every (object, grasp) task of the run; the rows, also written to --out."""
     entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only)
     tasks = [(e.name, g) for g in args.grasp for e in entries]
     args.out.mkdir(parents=True, exist_ok=True)
@@ -172,10 +186,57 @@ def main(argv=None):
             for row in rows:
                 if row["grasp"] == grasp:
                     f.write(json.dumps(row) + "\n")
-    summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
-    print("\n".join(summary))
-    if args.docs:
-        _write_docs(rows, args.split, options, summary)
+    return rows
+
+
+def _read_rows(out, split, grasps):
+    """The rows of an earlier run, from ``out/<split>_<grasp>.jsonl``."""
+    rows = []
+    for grasp in grasps:
+        path = out / f"{split}_{grasp}.jsonl"
+        if not path.is_file():
+            raise SystemExit(f"no rows at {path}: run without --rows first")
+        rows += [json.loads(line) for line in path.read_text().splitlines()]
+    return rows
+
+
+def plot(rows, path):
+    """The figure of a run: the verified share per source and grasp, and the plan times (cumulative)."""
+    import matplotlib  # noqa: PLC0415 - only for the docs
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: PLC0415
+
+    grasps = [g for g in ("precision", "power") if any(r["grasp"] == g for r in rows)]
+    sources = sorted({r["source"] for r in rows})
+    fig, (bars, times) = plt.subplots(1, 2, figsize=(10, 3.8))
+    width = 0.8 / len(grasps)
+    for k, grasp in enumerate(grasps):
+        shares = []
+        for source in sources:
+            mine = [r for r in rows if r["grasp"] == grasp and r["source"] == source]
+            shares.append(100.0 * sum(r["verified"] for r in mine) / max(len(mine), 1))
+        x = np.arange(len(sources)) + (k - (len(grasps) - 1) / 2) * width
+        bars.bar(x, shares, width, label=grasp)
+        mine = sorted(r["time"] for r in rows if r["grasp"] == grasp)
+        ok = sorted(r["time"] for r in rows if r["grasp"] == grasp and r["verified"])
+        times.step(ok, 100.0 * np.arange(1, len(ok) + 1) / len(mine), where="post", label=f"{grasp}: verified")
+    bars.set_xticks(np.arange(len(sources)), sources)
+    bars.set_ylabel("verified (%)")
+    bars.set_ylim(0, 118)
+    bars.set_yticks(range(0, 101, 20))
+    bars.axhline(95, color="grey", lw=0.8, ls="--")
+    bars.legend(loc="upper center", ncol=2)
+    bars.set_title("verified grasps by source")
+    times.set_xscale("log")
+    times.set_xlabel("plan time (s, wall clock)")
+    times.set_ylabel("objects with a verified grasp by then (%)")
+    times.set_ylim(0, 100)
+    times.legend(loc="upper left")
+    times.set_title("plan time")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def _write_docs(rows, split, options, summary):
@@ -190,6 +251,8 @@ def _write_docs(rows, split, options, summary):
         *summary,
         "```",
         "",
+        f"![Verified grasps by source and plan times, {split} split](figures/{FIGURE.name})",
+        "",
         "| object | source | grasp | verified | time (s) | attempts | Q | Q on the true surface | gap (mm) | pieces' overhang (mm) | reason |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -198,6 +261,8 @@ def _write_docs(rows, split, options, summary):
                      f"| {r.get('n_attempts', '')} | {r.get('q', float('nan')):.3f} | {r.get('q_true', float('nan')):.3f} "
                      f"| {r.get('gap', float('nan')):.1f} | {r.get('overhang', float('nan')):.1f} | {r['reason'][:80]} |")
     PAGE.write_text("\n".join(lines) + "\n")
+    FIGURE.parent.mkdir(parents=True, exist_ok=True)
+    plot(rows, FIGURE)
     readme = ROOT / "README.md"
     text = readme.read_text()
     if README_MARKERS[0] in text:

@@ -116,3 +116,17 @@ def test_validated_plans_quick(capsys):
     (row,) = validated_plans.main(["--quick"])
     assert row["success"] and row["attempts"] >= 1
     assert f"power: {int(row['held'])}/1 hold in simulation" in capsys.readouterr().out
+
+
+def test_generalise_rows_mode_summarises_an_earlier_run(tmp_path, capsys):
+    """--rows plans nothing: the summary of the rows a run wrote, and its figure."""
+    rows = [dict(name=f"o{i}", source="procedural", split="test", grasp="precision", success=i < 3, verified=i < 2,
+                 time=0.1 * (i + 1), reason="r", refused=False, q=-0.05, q_true=-0.04, gap=1.0, closed=True, depth=0.5,
+                 palm_depth=0.0, collision_free=True, overhang=1.0, attempts=[dict(outcome="stalled", iterations=3)])
+            for i in range(4)]
+    (tmp_path / "test_precision.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+    generalise.main(["--rows", "--grasp", "precision", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert "precision: 2/4 verified (50.0%)" in out and "collision-free executable reach: 3/3" in out
+    generalise.plot(rows, tmp_path / "figure.png")
+    assert (tmp_path / "figure.png").stat().st_size > 10_000
