@@ -336,11 +336,13 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
         before it, see `with_history`).
     record : dict
         The search as one entry of `PlanResult.attempts` (``kind``
-        ``"annealing"``, with ``evaluations``, ``steps``, ``autograsps``).
+        ``"annealing"``, with ``steps``, ``evaluations`` of the energy,
+        ``autograsps`` and ``cpu_s``, the search's CPU time).
     held : bool or None
         The physics verdict of the returned grasp (None without ``physics``).
     """
     opts = options
+    cpu = time.process_time()
     rng = np.random.default_rng(opts.seed)
     search = _Search(hand, obj, grasp, opts, backend)
     u = np.array(u0, dtype=float)
@@ -408,7 +410,7 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
                            int(search.lp_solves), surface)
     record = {"start": np.asarray(u0, dtype=float).tolist(), "kind": "annealing", "outcome": outcome.name.lower(),
               "reason": reason, "iterations": len(trajectory) - 1, "steps": steps, "evaluations": search.evaluations,
-              "autograsps": autograsps}
+              "autograsps": autograsps, "cpu_s": time.process_time() - cpu}
     return result, record, held
 
 
