@@ -114,12 +114,14 @@ def run(name, group, obj, grasp, method, options, physics):
                     success=False, verified=False, held=None), None
     cpu = time.process_time() - cpu
     record = result.attempts[0] if result.attempts else {}
+    steps = record.get("steps", result.total_iterations)
     if method == "annealing":
         evaluations, cpu = record["evaluations"], record["cpu_s"]  # the search only: not the status history
     else:
         evaluations = sum(a["iterations"] + 1 for a in result.attempts)
     row = dict(name=name, group=group, grasp=grasp, method=method, refused=False, success=result.success,
-               reason=result.reason, time=result.time_s, cpu=cpu, evaluations=int(evaluations),
+               reason=result.reason, time=result.time_s, cpu=cpu, evaluations=int(evaluations), steps=int(steps),
+               autograsps=record.get("autograsps"),
                iterations=result.iterations, attempts=len(result.attempts), lp_solves=result.lp_solves,
                surface_q=result.surface_q, held=None, **smoothness(result.trajectory, obj.torque_scale))
     row.update(verify(result, obj))
@@ -160,6 +162,7 @@ def summary(rows, physics=True):
                 time_to_grasp=_median([r["time"] for r in ok]),
                 cpu_to_grasp=_median([r["cpu"] for r in ok]),
                 evaluations=_median([r["evaluations"] for r in done]),
+                steps=_median([r["steps"] for r in done]),
                 q=_median([r["q_true"] for r in ok]),
                 path_mm=_median([r["path_mm"] for r in ok]),
                 rotation_rad=_median([r["rotation_rad"] for r in ok]),
@@ -230,13 +233,15 @@ def _fmt(value, spec):
 def tables(figures, physics):
     """The summary and smoothness tables (markdown lines)."""
     lines = ["| cases | method | plans | verified | held in MuJoCo | time median / p90 (s) | CPU median / p90 (s) "
-             "| median time to a verified grasp (s, CPU s) | evaluations (median) | Q on the true surface (median) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| median time to a verified grasp (s, CPU s) | evaluations (median) | steps (median) "
+             "| Q on the true surface (median) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for (key, method), f in figures.items():
         lines.append(f"| {key} | {method} | {f['plans']} | {f['verified']} ({f['rate']:.1%}) "
                      f"| {_fmt(f['held'], 'd') if physics else '-'} | {_fmt(f['time_median'], '.2f')} / {_fmt(f['time_p90'], '.2f')} "
                      f"| {_fmt(f['cpu_median'], '.2f')} / {_fmt(f['cpu_p90'], '.2f')} "
                      f"| {_fmt(f['time_to_grasp'], '.2f')}, {_fmt(f['cpu_to_grasp'], '.2f')} | {_fmt(f['evaluations'], '.0f')} "
+                     f"| {_fmt(f['steps'], '.0f')} "
                      f"| {_fmt(f['q'], '+.3f')} |")
     smooth = ["| cases | method | palm path (mm) | total rotation (rad) | sum of squared second differences of u |",
               "|---|---|---|---|---|"]
@@ -339,8 +344,9 @@ def _write_page(rows, main_table, smooth_table, words, pictured, args, load):
         *main_table,
         "",
         "Evaluations: status evaluations (one per iteration and attempt start) of the gradient planner,",
-        "energy evaluations of the annealing (about 1 ms each: cP of the hand points and the collision test;",
-        "a status evaluation is about 2 ms).",
+        "energy evaluations of the annealing (cP of the hand points and the capsules' collision test, about",
+        "half a status evaluation). Steps: iterations over all attempts of the gradient planner, annealing",
+        "steps (legal neighbours drawn) of the annealing.",
         "",
         "## Smoothness of the search trajectory (verified grasps, medians)",
         "",
@@ -356,13 +362,15 @@ def _write_page(rows, main_table, smooth_table, words, pictured, args, load):
         "",
         "## Every plan",
         "",
-        "| case | grasp | method | verified | held | time (s) | CPU (s) | evaluations | Q true | palm path (mm) | reason |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "| case | grasp | method | verified | held | time (s) | CPU (s) | evaluations | steps | Q true | palm path (mm) "
+        "| reason |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         lines.append(f"| {r['name']} | {r['grasp']} | {r['method']} | {'yes' if r['verified'] else 'no'} "
                      f"| {'-' if r['held'] is None else ('yes' if r['held'] else 'no')} | {_fmt(r.get('time'), '.2f')} "
-                     f"| {_fmt(r.get('cpu'), '.2f')} | {r.get('evaluations', '-')} | {_fmt(r.get('q_true'), '+.3f')} "
+                     f"| {_fmt(r.get('cpu'), '.2f')} | {r.get('evaluations', '-')} | {r.get('steps', '-')} "
+                     f"| {_fmt(r.get('q_true'), '+.3f')} "
                      f"| {_fmt(r.get('path_mm'), '.0f')} | {r['reason'][:70]} |")
     PAGE.write_text("\n".join(lines) + "\n")
     print(f"wrote {PAGE}")
