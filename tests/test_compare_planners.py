@@ -20,6 +20,8 @@ def test_compare_planners_quick(tmp_path, capsys):
     assert figures["all/gradient"]["verified"] == figures["all/annealing"]["verified"] == 1
     ratio = out["ratios"]["speedup"]
     assert ratio == pytest.approx(annealing["cpu"] / gradient["cpu"])  # medians of one plan each
+    assert out["ratios"]["paired_ratio"] == pytest.approx(ratio)
+    assert out["ratios"]["paired_cases"] == 1
     assert (tmp_path / "planner-comparison.png").stat().st_size > 10_000
     text = capsys.readouterr().out
     assert "times faster" in text and "sum of squared second differences" in text
