@@ -10,7 +10,7 @@ its default options but without the executable reach, made after either search; 
 in one process) on the paper's 8 cases (its four objects,
 precision and power) and on the test split of the generalisation benchmark
 (``benchmarks/objectset.py``, both grasp types). Each grasp is verified independently on the object's
-true surface (``benchmarks/generalise.py``'s ``verify``) and, unless ``--no-physics``, tested in MuJoCo
+true surface (``benchmarks/verification.py``) and, unless ``--no-physics``, tested in MuJoCo
 (``sg.validate``, about 0.1 s a grasp). For each method it reports:
 
 * verified (and physical) success;
@@ -49,7 +49,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import verify  # noqa: E402
+from verification import verify  # noqa: E402
 from objectset import select  # noqa: E402
 
 ROOT = HERE.parent
@@ -383,9 +383,9 @@ def _write_page(rows, main_table, smooth_table, words, pictured, args, resumed=0
                                       if args.subset else "") + ", both grasp types, one run.",
         _load_words(rows, resumed),
         "",
-        "A grasp counts when it is verified on the object's true surface (`benchmarks/generalise.py`'s `verify`:",
+        "A grasp counts when it is verified on the object's true surface (`benchmarks/verification.py`:",
         "contacts within 5 mm of the mesh, force closure by the hull of the wrenches at the mesh's points and",
-        "normals, no phalanx deeper than 3 mm); \"held\" counts the verified grasps that also hold in MuJoCo",
+        "normals, no phalanx capsule and not the palm box deeper than 3 mm); \"held\" counts the verified grasps that also hold in MuJoCo",
         "(`sg.validate`, default protocol). Times are of the search: the annealing's CPU time excludes the",
         "status history of its trajectory, computed after the search.",
         "",

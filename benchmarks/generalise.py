@@ -6,16 +6,13 @@ Usage::
                                     [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
-sources, split by shape) and verifies each plan independently of the planner:
-
-* every final contact lies within ``GAP`` (5 mm) of the object's true surface (its mesh, not the
-  convex pieces the planner works on), measured by trimesh's closest-point query;
-* the origin lies strictly inside the convex hull (qhull) of the contact wrenches built at those
-  closest points of the true surface, with the true surface's normals there;
-* no phalanx is deeper than 3 mm in the object.
+sources, split by shape) and verifies each plan independently of the planner, on the object's true
+mesh (``verification.py``: contacts within 5 mm of it, force closure by qhull at its normals, no
+phalanx capsule and not the palm box deeper than 3 mm in it).
 
 Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
-accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, and a
+accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, the
+hand's depth in it, how many accepted grasps have a collision-free executable reach, and a
 taxonomy of why every failed attempt ended. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
 ``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md`` and the README summary.
 """
@@ -40,50 +37,13 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
+from verification import true_surface, verify  # noqa: E402
 
 ROOT = HERE.parent
 PAGE = ROOT / "docs" / "generalisation.md"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
-#: Largest gap (mm) from a contact to the true surface for a grasp to count.
-GAP = 5.0
-#: Deepest phalanx penetration (mm) for a grasp to count.
-DEPTH = 3.0
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
-
-
-def true_surface(obj):
-    """The surface a grasp must touch: the object's mesh, else the hull of each piece."""
-    return obj.mesh if obj.mesh is not None else obj.to_mesh()
-
-
-def verify(result, obj):
-    """Independent check of a plan's final grasp on the object's true surface.
-
-    Parameters
-    ----------
-    result : PlanResult
-    obj : GraspObject
-
-    Returns
-    -------
-    dict
-        ``verified`` (bool), ``gap`` (largest contact gap, mm), ``q_true`` (Q distance of the
-        contacts moved to the true surface, with its normals), ``closed`` (qhull verdict).
-    """
-    out = dict(verified=False, gap=float("nan"), q_true=float("nan"), closed=False)
-    points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
-    if not result.success or len(points) < 2:
-        return out
-    mesh = true_surface(obj)
-    closest, gap, triangle = trimesh.proximity.closest_point(mesh, points)
-    inward = -mesh.face_normals[triangle]
-    W = sg.contact_wrenches(closest, inward, center=obj.center, torque_scale=obj.torque_scale)
-    closed = bool(sg.force_closure_by_hull(W))
-    q_true = sg.q_distance(closest, inward, center=obj.center, torque_scale=obj.torque_scale).value
-    out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed)
-    out["verified"] = closed and out["gap"] <= GAP and result.penetration <= DEPTH
-    return out
 
 
 def fidelity(obj, samples=2000):
@@ -125,7 +85,7 @@ def run(entry_name, grasp, options):
     row = dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=result.success,
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
-               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q,
+               contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,
                attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
                          for a in result.attempts])
     row.update(verify(result, obj))
@@ -151,6 +111,9 @@ def summarise(rows, grasp):
         f"  accepted {len(accepted)}: median Q on the true surface {np.nanmedian(q):+.3f}, "
         f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
+        f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
+        f"palm max {_largest(accepted, 'palm_depth'):.1f} mm; collision-free executable reach: "
+        f"{sum(r['collision_free'] for r in accepted)}/{len(accepted)}",
     ]
     failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])
@@ -163,9 +126,15 @@ def summarise(rows, grasp):
     unverified = [r for r in accepted if not r["verified"]]
     if unverified:
         lines.append("  accepted but not verified: " + ", ".join(
-            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['penetration']:.1f})"
+            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['depth']:.1f}, palm {r['palm_depth']:.1f} mm)"
             for r in unverified))
     return lines
+
+
+def _largest(rows, key):
+    """Largest value of a key over rows (NaN for none)."""
+    values = [r[key] for r in rows]
+    return float(np.nanmax(values)) if values else float("nan")
 
 
 def _value(text):

@@ -8,9 +8,10 @@ Usage::
 Plans a precision and a power grasp of every object of the chosen sets
 (default options, HiGHS), then
 
-* the LP verdict: the plan succeeded and is verified as in
-  ``benchmarks/household.py`` (origin strictly inside the hull of the final
-  contact wrenches, no phalanx deeper than 3 mm); Q: the plan's final g_Q;
+* the LP verdict: the plan succeeded and is verified on the object's true mesh
+  (``benchmarks/verification.py``: contacts within 5 mm, force-closed by qhull
+  at the mesh's normals, no phalanx capsule and not the palm box deeper than
+  3 mm); Q: the plan's final g_Q;
 * validates the final configuration in MuJoCo (`synergrasp.validate`) under
   the default protocol (``synergrasp``) and the DexGraspBench-like preset,
   each also with the hand moved 40 mm back (the negative control, which must
@@ -48,7 +49,8 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
-from household import MESHES, household_objects, mesh_files, verified
+from household import MESHES, household_objects, mesh_files
+from verification import verify
 from synergrasp.physics import ball_pinch, hand_without, pinch_grasp
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -110,7 +112,7 @@ def study_case(group, name, obj, grasp, out):
     except ValueError as exc:  # an object the hand cannot hold
         return dict(row, planned=False, lp=False, q=math.nan, plan_s=time.perf_counter() - start, note=str(exc))
     result.save(folder / "plan.json")
-    row.update(planned=True, lp=verified(result, obj), q=result.final_q, phalanx_penetration=result.penetration,
+    row.update(planned=True, lp=verify(result, obj)["verified"], q=result.final_q, phalanx_penetration=result.penetration,
                plan_s=time.perf_counter() - start, note=result.reason)
     for variant, kwargs in VARIANTS.items():
         try:

@@ -8,9 +8,9 @@ Usage::
 For every object of a split of the generalisation benchmark (``benchmarks/objectset.py``), the
 first K starts the planner would try (`synergrasp.planner.starts`) each get one attempt
 (`synergrasp.planner.run_attempt`), whatever the others did. An attempt counts when it ends in a
-grasp that passes the generalisation benchmark's independent check (contacts within 5 mm of the
-true surface, origin strictly inside the hull of their wrenches on the true surface, no phalanx
-deeper than 3 mm). Prints the rate per object and in all, the outcomes of the attempts, and with
+grasp that passes the benchmarks' independent check on the true mesh (``verification.py``:
+contacts within 5 mm of it, force-closed by qhull at its normals, no phalanx capsule and not the
+palm box deeper than 3 mm in it). Prints the rate per object and in all, the outcomes of the attempts, and with
 ``--out`` writes every attempt (JSON lines).
 """
 
@@ -31,7 +31,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import _value, verify  # noqa: E402
+from generalise import _value  # noqa: E402
+from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import PlannerOptions, run_attempt, starts  # noqa: E402
 
@@ -45,8 +46,7 @@ def run_object(name, grasp, count, options):
     for start in itertools.islice(starts(hand, obj, grasp, opts), count):
         t0 = time.perf_counter()
         r = run_attempt(hand, obj, grasp, start.u, opts)
-        plan_like = SimpleNamespace(success=r.success, penetration=r.penetration,
-                                    contact_points=r.final.nearest[r.check.contact])
+        plan_like = SimpleNamespace(success=r.success, u=r.trajectory[-1], contact_points=r.final.nearest[r.check.contact])
         check = verify(plan_like, obj)
         rows.append(dict(name=name, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
                          verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))

@@ -644,6 +644,58 @@ class SynergyHand:
         """Analytic Jacobian of `points`, ``(n, 3, 6 + n_syn)`` (see `points_and_jacobian`)."""
         return self.points_and_jacobian(u, kind)[1]
 
+    def palm_jacobian(self, u, points):
+        """Jacobian of world points fixed to the palm (they move with the pose, not the synergies).
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+        points : (n, 3) array_like
+            World points at ``u`` (mm), taken as attached to the palm.
+
+        Returns
+        -------
+        (n, 3, 6 + n_syn) float
+            ``d points / d u``: identity for ``p``, ``w_k x (x - p)`` for the
+            Euler angles (``w_k`` = the world axis of the k-th elementary
+            rotation), zero for the synergies.
+
+        Raises
+        ------
+        ValueError
+            If ``u`` does not fit the hand or ``points`` is not a finite (n, 3) array.
+        TypeError
+            If ``points`` is not numeric.
+
+        Examples
+        --------
+        Against a central difference, for the palm box's centre:
+
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.array([5.0, -3.0, 20.0, 0.4, -0.7, 1.1, 0.5, -0.4])
+        >>> centre = hand.segments(u).palm_center
+        >>> jac = hand.palm_jacobian(u, [centre])
+        >>> numeric = np.stack([(hand.segments(u + h).palm_center - hand.segments(u - h).palm_center) / 2e-6
+        ...                     for h in 1e-6 * np.eye(8)], axis=1)
+        >>> bool(np.allclose(jac[0], numeric, atol=1e-6))
+        True
+        """
+        u = self._check_u(u)
+        try:
+            x = np.asarray(points, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"points must be a numeric (n, 3) array, got {type(points).__name__}") from exc
+        if x.ndim != 2 or x.shape[1] != 3 or not np.isfinite(x).all():
+            raise ValueError(f"points must be a finite (n, 3) array (world points, mm), got shape {x.shape}")
+        phi = u[3:6]
+        axes = np.stack([np.array([1.0, 0.0, 0.0]), rotation_xyz([phi[0], 0.0, 0.0])[:, 1],
+                         rotation_xyz([phi[0], phi[1], 0.0])[:, 2]])
+        jac = np.zeros((len(x), 3, self.n_u))
+        jac[:, :, :3] = np.eye(3)
+        jac[:, :, 3:6] = np.einsum("kab,nb->nak", _skew(axes), x - u[:3])
+        return jac
+
     def segments_and_jacobian(self, u):
         """Capsule axes of the phalanges and the Jacobians of their end points.
 

@@ -8,7 +8,7 @@ import pytest
 import synergrasp as sg
 from synergrasp import SynergyHand, objects
 from synergrasp.planner import AnnealingOptions, PlannerOptions, annealing, start_configuration
-from synergrasp.planner.attempt import penetration_depth
+from synergrasp.planner.status import hand_penetration
 
 
 @pytest.fixture(scope="module")
@@ -70,15 +70,15 @@ def test_autograsp_closes_until_blocked(hand):
     u = np.r_[np.zeros(6), 0.0, 1.0]
     tips = hand.points(u, "precision")
     u[:3] = obj.center - 0.5 * (tips[0] + tips[2])
-    assert penetration_depth(hand, obj, u).depth == 0.0
+    assert hand_penetration(hand, obj, u).depth == 0.0
     path = annealing.autograsp(hand, obj, u, "precision", opts)
     assert len(path) and np.all(path[:, :6] == u[:6])
     assert path[0, 7] < u[7]  # z2 falls first
-    assert penetration_depth(hand, obj, path[-1]).depth <= opts.max_penetration
+    assert hand_penetration(hand, obj, path[-1]).depth <= opts.max_penetration
     assert path[-1, 7] > hand.synergy_limits[1, 0]  # blocked before the limit: one more step goes too deep
     deeper = path[-1].copy()
     deeper[7] -= opts.close_step
-    assert penetration_depth(hand, obj, deeper).depth > opts.max_penetration
+    assert hand_penetration(hand, obj, deeper).depth > opts.max_penetration
     assert obj.contact_distance(hand.points(path[-1], "precision")).value.min() < opts.eps_c  # a fingertip touches
 
 

@@ -26,7 +26,8 @@ from synergrasp.planner import (
     status_rows,
 )
 from synergrasp.planner import attempt as attempt_module
-from synergrasp.planner.status import Status, capsule_rows, contact_quality
+from synergrasp.planner.clearance import HandClearance
+from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration
 from synergrasp.planner.stop import surface_check
 
 from .conftest import BACKENDS
@@ -142,18 +143,46 @@ def test_capsule_rows_see_a_phalanx_through_a_plate_and_match_finite_differences
     u = np.r_[np.zeros(3), 0.15, -0.1, 0.05, 0.3, -0.2]
     u[:3] = -hand.segments(u).capsules[4].mean(axis=0) + [0.0, 0.0, 1.5]  # the index's middle phalanx in the plate
     skin = grasp_status(hand, plate, u, "power")
-    pen = plate.penetration(hand.segments(u).capsules, hand.finger_radius)
+    pen = hand_penetration(hand, plate, u)
+    assert pen.distances[-1] > 0  # the palm box is clear of the plate
     st = capsule_rows(hand, plate, u, skin, pen)
-    deeper = (pen.distances < 0) & (pen.distances < skin.g[:15])
+    deeper = (pen.distances[:15] < 0) & (pen.distances[:15] < skin.g[:15])
     assert deeper.sum() >= 3 and pen.distances[4] < -8.0 and deeper[4]
-    np.testing.assert_array_equal(st.g[:15][deeper], pen.distances[deeper])
+    np.testing.assert_array_equal(st.g[:15][deeper], pen.distances[:15][deeper])
     np.testing.assert_array_equal(st.g[:15][~deeper], skin.g[:15][~deeper])  # the others keep their skin rows
     np.testing.assert_array_equal(st.g[15:], skin.g[15:])
     rows = np.flatnonzero(deeper)
     fd = finite_difference(lambda v: plate.penetration(hand.segments(v).capsules, hand.finger_radius).distances[rows], u)
     np.testing.assert_allclose(st.J[rows], fd, rtol=1e-5, atol=1e-5 * np.abs(st.J).max())
     far = start_configuration(hand, so.ellipsoid())
-    assert capsule_rows(hand, so.ellipsoid(), far, grasp_status(hand, so.ellipsoid(), far, "power")).g is not None
+    clear = grasp_status(hand, so.ellipsoid(), far, "power")
+    assert capsule_rows(hand, so.ellipsoid(), far, clear) is clear  # nothing penetrates: the status itself
+
+
+@pytest.mark.parametrize("kind", ["precision", "power"])
+def test_capsule_rows_see_the_palm_box_pushed_into_a_side_and_match_finite_differences(hand, box, kind):
+    """The palm box's side 6 mm into the box, tilted: its back edge is deeper than the front face's rim the skin points sample."""
+    u = np.r_[np.zeros(3), 0.0, 0.3, 0.2, 0.3, -0.2]
+    geo = hand.segments(u)
+    side = geo.palm_center + geo.palm_axes @ [geo.palm_half_extents[0], 0.0, 0.0]  # centre of the +x side face
+    u[:3] = np.array([-30.0, 0.0, 0.0]) - side + [6.0, 0.0, 0.0]  # the side's centre 6 mm inside the box's -x face
+    skin = grasp_status(hand, box, u, kind)
+    pen = hand_penetration(hand, box, u)
+    st = capsule_rows(hand, box, u, skin, pen)
+    palm = len(st.labels) - 1
+    assert pen.distances[-1] < -6.0 and skin.g[palm] > pen.distances[-1] + 1.0
+    assert st.g[palm] == pen.distances[-1]
+    fd = finite_difference(lambda v: hand_penetration(hand, box, v).distances[-1], u)
+    np.testing.assert_allclose(st.J[palm], fd, rtol=1e-5, atol=1e-6)
+    assert not fd[6:].any()  # the palm does not move with the synergies
+
+
+def test_a_power_grasp_of_a_box_keeps_the_palm_box_out(hand, box):
+    """Accepted grasps have the palm box, not only the phalanges, within max_penetration of the object."""
+    r = plan(box, "power")
+    verify(r, box)
+    depth = -HandClearance(hand, box).shapes(r.u)[-1]
+    assert depth <= PlannerOptions().max_penetration + 1e-6
 
 
 def test_the_contact_quality_gradient_matches_finite_differences(hand, box):

@@ -240,8 +240,8 @@ def boxed_in(plate):
 
 def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_and_shape(boxed_in):
     obj, u = boxed_in
-    reach = executable_reach(HAND, obj, u, margin=20.0)  # nowhere inside is 20 mm from every wall
-    assert not reach.collision_free and reach.grasp_depth == 0.0 and reach.candidates == 12
+    reach = executable_reach(HAND, obj, u, margin=20.0, budget=12)  # nowhere inside is 20 mm from every wall
+    assert not reach.collision_free and reach.grasp_depth == 0.0 and reach.candidates == 12  # the whole budget
     assert reach.depth > TOLERANCE and reach.depth == pytest.approx(-reach.clearance.min())
     assert reach.deepest in clearance_labels(HAND) and reach.closest[reach.deepest_row] == reach.deepest
     assert f"{reach.deepest} {reach.depth:.1f} mm deep" in reach.reason and "not collision-free" in reach.reason

@@ -1,9 +1,9 @@
-"""Capsules (the hand's phalanges) against an object: penetration depths by python-fcl.
+"""Capsules (the hand's phalanges) and a box (its palm) against an object: penetration depths by python-fcl.
 
-The depth of a capsule is fcl's signed distance (GJK/EPA) to the object's
+The depth of a shape is fcl's signed distance (GJK/EPA) to the object's
 pieces: the translation that frees it from one convex piece. The pieces sit
 in fcl's own broad phase (a dynamic AABB tree, `PieceIndex.fcl_manager`),
-and only a capsule that reaches the object is measured against each piece.
+and only a shape that reaches the object is measured against each piece.
 """
 
 from __future__ import annotations
@@ -19,7 +19,10 @@ from .._vectors import cross
 
 @dataclass(frozen=True)
 class Penetration:
-    """Result of `GraspObject.penetration` (capsules against the object).
+    """Result of `GraspObject.penetration` (capsules, and optionally a box, against the object).
+
+    The k entries of the per-shape arrays are the capsules in their order,
+    then the box if one was given (k = capsules + 1).
 
     Attributes
     ----------
@@ -67,8 +70,26 @@ def _frames(z):
     return np.stack([x, cross(z, x), z], axis=2)
 
 
-def penetration(obj, segments, radius) -> Penetration:
-    """Deepest capsule penetration; see `GraspObject.penetration`."""
+def _box(box):
+    """An fcl box from ``(centre (3,), axes (3, 3), half_extents (3,))``, checked."""
+    try:
+        centre, axes, half = (np.asarray(a, dtype=float) for a in box)
+    except (TypeError, ValueError) as exc:
+        raise TypeError("box must be (centre (3,), axes (3, 3), half_extents (3,)) of numbers") from exc
+    if centre.shape != (3,) or axes.shape != (3, 3) or half.shape != (3,):
+        raise ValueError(f"box must be (centre (3,), axes (3, 3), half_extents (3,)), got shapes "
+                         f"{centre.shape}, {axes.shape}, {half.shape}")
+    if not (np.isfinite(centre).all() and np.isfinite(axes).all() and np.isfinite(half).all()):
+        raise ValueError("box contains NaN or inf")
+    if (half <= 0).any():
+        raise ValueError(f"box half_extents must be > 0, got {half.tolist()}")
+    if not np.allclose(axes.T @ axes, np.eye(3), atol=1e-9) or np.linalg.det(axes) < 0:
+        raise ValueError("box axes must be a rotation matrix (orthonormal columns, determinant +1)")
+    return fcl.CollisionObject(fcl.Box(*(2.0 * half)), fcl.Transform(axes, centre))
+
+
+def penetration(obj, segments, radius, box=None) -> Penetration:
+    """Deepest capsule (and box) penetration; see `GraspObject.penetration`."""
     try:
         seg = np.asarray(segments, dtype=float)
     except (TypeError, ValueError) as exc:
@@ -88,11 +109,7 @@ def penetration(obj, segments, radius) -> Penetration:
         raise ValueError(f"radius must be a number or shape ({k},), got shape {r.shape}")
     elif not (np.isfinite(r).all() and (r > 0).all()):
         raise ValueError("radius must be finite and > 0 for every capsule")
-    request = fcl.DistanceRequest(enable_signed_distance=True)
-    distances = np.empty(k)
-    deepest_piece = np.full(k, -1)
-    witnesses = np.full((k, 2, 3), np.nan)
-    manager = obj.index.fcl_manager
+    shapes = []
     axes = seg[:, 1] - seg[:, 0]
     lengths = np.sqrt(np.einsum("ij,ij->i", axes, axes))
     point = lengths <= 1e-12
@@ -103,13 +120,21 @@ def penetration(obj, segments, radius) -> Penetration:
             geom, rot = fcl.Sphere(float(r[i])), np.eye(3)
         else:
             geom, rot = fcl.Capsule(float(r[i]), float(lengths[i])), rotations[i]
-        capsule = fcl.CollisionObject(geom, fcl.Transform(rot, centres[i]))
+        shapes.append(fcl.CollisionObject(geom, fcl.Transform(rot, centres[i])))
+    if box is not None:
+        shapes.append(_box(box))
+    request = fcl.DistanceRequest(enable_signed_distance=True)
+    distances = np.empty(len(shapes))
+    deepest_piece = np.full(len(shapes), -1)
+    witnesses = np.full((len(shapes), 2, 3), np.nan)
+    manager = obj.index.fcl_manager
+    for i, shape in enumerate(shapes):
         data = fcl.DistanceData(request=request)
-        manager.distance(capsule, data, fcl.defaultDistanceCallback)
+        manager.distance(shape, data, fcl.defaultDistanceCallback)
         distances[i] = data.result.min_distance
         if distances[i] < 0:
             results = [fcl.DistanceResult() for _ in obj.convex]
-            per = [fcl.distance(capsule, piece.fcl, request, res) for piece, res in zip(obj.convex, results)]
+            per = [fcl.distance(shape, piece.fcl, request, res) for piece, res in zip(obj.convex, results)]
             distances[i] = min(per)
             deepest_piece[i] = int(np.argmin(per))
             witnesses[i] = results[deepest_piece[i]].nearest_points

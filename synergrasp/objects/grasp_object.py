@@ -334,8 +334,8 @@ class GraspObject:
         """
         return scaled_contacts(self, points, backend)
 
-    def penetration(self, segments, radius) -> Penetration:
-        """Deepest penetration of capsules (hand links) into the object, by python-fcl.
+    def penetration(self, segments, radius, box=None) -> Penetration:
+        """Deepest penetration of capsules (hand links), and of a box (the palm), into the object, by python-fcl.
 
         Parameters
         ----------
@@ -343,17 +343,36 @@ class GraspObject:
             End points of the capsules' axes (mm).
         radius : float or (k,) array_like
             Capsule radii (mm), > 0.
+        box : tuple, optional
+            ``(centre (3,), axes (3, 3), half_extents (3,))`` of a box (mm; its
+            axes a rotation's columns), measured after the capsules.
 
         Returns
         -------
         Penetration
-            ``depth`` (mm, 0 if none), ``index`` of the deepest capsule (-1 if
-            none), per-capsule ``depths`` and signed ``distances``, ``piece``.
+            ``depth`` (mm, 0 if none), ``index`` of the deepest shape (-1 if
+            none), per-shape ``depths`` and signed ``distances`` (the box
+            last), ``piece``, ``witnesses``.
 
         Raises
         ------
         ValueError
-            If ``segments`` is not a finite (k, 2, 3) array or a radius is not > 0.
+            If ``segments`` is not a finite (k, 2, 3) array, a radius is not > 0,
+            or ``box`` is not a finite box with positive half extents and a rotation.
+        TypeError
+            If ``box`` is not a tuple of three numeric arrays.
+
+        Examples
+        --------
+        A 20 mm cube whose corner region holds a box 2 mm deep:
+
+        >>> import numpy as np, trimesh
+        >>> from synergrasp import objects
+        >>> cube = objects.from_mesh(trimesh.creation.box((20.0, 20.0, 20.0)), cache=False)
+        >>> far = [[[100.0, 0.0, 0.0], [120.0, 0.0, 0.0]]]
+        >>> pen = cube.penetration(far, 5.0, box=([0.0, 0.0, 15.0], np.eye(3), [4.0, 4.0, 7.0]))
+        >>> pen.index, round(pen.depth, 6)      # the box (entry 1) is 2 mm inside the top face
+        (1, 2.0)
         """
-        return penetration(self, segments, radius)
+        return penetration(self, segments, radius, box)
 

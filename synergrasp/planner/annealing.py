@@ -40,8 +40,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from .attempt import AttemptResult, Outcome, judge_grasp, penetration_depth
-from .status import grasp_status
+from .attempt import AttemptResult, Outcome, judge_grasp
+from .status import grasp_status, hand_penetration
 from .stop import check_grasp
 
 #: Default energy (mm) below which a state is auto-grasped, by grasp type (`AnnealingOptions.autograsp_energy`).
@@ -129,7 +129,7 @@ def contact_energy(hand, obj, u, grasp, alignment=50.0, *, backend="highs"):
     """
     points = hand.points(u, grasp)
     cp = obj.contact_distance(points, backend=backend)
-    if cp.value.min() < 0.0 or penetration_depth(hand, obj, u).collision \
+    if cp.value.min() < 0.0 or hand_penetration(hand, obj, u).collision \
             or obj.contains(hand.segments(u).palm_center[None]).any():
         return math.inf, cp.lp_solves
     align = 1.0 - np.einsum("ij,ij->i", contact_normals(hand, u, grasp), cp.normal)
@@ -252,7 +252,7 @@ def autograsp(hand, obj, u, grasp, options, backend="highs"):
     >>> tips = hand.points(u)
     >>> u[:3] = ball.center - 0.5 * (tips[0] + tips[2])
     >>> path = autograsp(hand, ball, u, "precision", AnnealingOptions())
-    >>> bool(path[-1, 7] < 1.0), round(penetration_depth(hand, ball, path[-1]).depth)
+    >>> bool(path[-1, 7] < 1.0), round(hand_penetration(hand, ball, path[-1]).depth)
     (True, 3)
     """
     path = _close(hand, obj, u, hand.n_u - 1, -1, options)
@@ -277,7 +277,7 @@ def _close(hand, obj, u, j, sign, options, bisect=True):
     def fits(value):
         v = u.copy()
         v[j] = value
-        return penetration_depth(hand, obj, v).depth <= options.max_penetration
+        return hand_penetration(hand, obj, v).depth <= options.max_penetration
 
     values, z = [], u[j]
     while (z - end) * sign < 0:
@@ -398,7 +398,7 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
     else:
         rows, surface = moved, None
         st, chk = search.status(u)
-        pen = penetration_depth(hand, obj, u)
+        pen = hand_penetration(hand, obj, u)
     trajectory = np.array(rows)
     statuses = np.full((len(trajectory), len(st.g)), np.nan)  # the search's own record: the last row only
     statuses[-1] = st.g

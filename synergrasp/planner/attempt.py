@@ -3,10 +3,11 @@
 Each iteration:
 
 1. the status g (cP rows and g_sQ) and its Jacobian (`grasp_status`);
-2. stop when the paper's criterion holds with no phalanx deeper than
-   ``max_penetration`` (`check_grasp`); a grasp that meets the criterion with
-   a deeper phalanx goes on with that attempt's phalanx capsules watched
-   (`capsule_rows`), so their rows push the phalanx out;
+2. stop when the paper's criterion holds with no phalanx capsule and not the
+   palm box deeper than ``max_penetration`` (`check_grasp`,
+   `hand_penetration`); a grasp that meets the criterion with a deeper shape
+   goes on with that attempt's capsules and palm box watched (`capsule_rows`),
+   so their rows push the shape out;
 3. the requested change of the status, in rows of comparable scale (cP
    divided by the object's size): contact rows towards their target
    (precision: into the contact band; power: ``contact_target``), clearance
@@ -21,8 +22,8 @@ A power attempt first reaches with the palm (the finger rows only keep the
 fingers out of the object, the synergies shaped by the first level), then
 wraps once the palm touches.
 
-A grasp is accepted when the criterion holds, no phalanx is deeper than
-``max_penetration``, and its contacts, moved to the object's true surface
+A grasp is accepted when the criterion holds, no phalanx capsule and not the
+palm box is deeper than ``max_penetration``, and its contacts, moved to the object's true surface
 (`surface_check`), are within ``eps_c`` of it and force-closed there with a
 Q distance below ``q_accept``. Once the criterion holds, the attempt refines
 the grasp for up to ``refine_iterations`` more iterations, until its Q on
@@ -39,7 +40,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .status import Status, capsule_rows, contact_quality, grasp_status
+from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration
 from .step import limited_step
 from .stop import GraspCheck, SurfaceCheck, check_grasp, surface_check
 
@@ -53,7 +54,7 @@ class Outcome(enum.Enum):
     CRAWLED = "stalled: the merit falls too slowly"
     CAP = "iteration cap of the attempt reached"
     BUDGET = "the plan's iterations or time ran out"
-    PENETRATION = "grasp rejected: a phalanx penetrates the object"
+    PENETRATION = "grasp rejected: the hand penetrates the object"
     SURFACE = "grasp rejected: not force-closed on the object's true surface"
 
 
@@ -76,7 +77,7 @@ class AttemptResult:
     check : GraspCheck
         The paper's criterion at the last configuration.
     penetration : float
-        Deepest phalanx capsule penetration at the last configuration (mm).
+        Deepest penetration of a phalanx capsule or the palm box at the last configuration (mm).
     lp_solves : int
     surface : SurfaceCheck or None
         The grasp judged on the object's true surface (`surface_check`), None without a grasp.
@@ -133,17 +134,12 @@ def sq_request(sq_step, radius, gradient):
     return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
 
 
-def penetration_depth(hand, obj, u):
-    """Deepest penetration (mm) of the hand's phalanx capsules into the object at ``u`` (python-fcl)."""
-    geo = hand.segments(u)
-    return obj.penetration(geo.capsules, geo.radius)
-
-
 def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetration=None):
-    """Whether a grasp is accepted: the criterion, no phalanx too deep, force-closed on the true surface.
+    """Whether a grasp is accepted: the criterion, no part of the hand too deep, force-closed on the true surface.
 
-    The paper's criterion (``check.done``), then no phalanx capsule deeper
-    than ``options.max_penetration`` (python-fcl), then the contacts moved to
+    The paper's criterion (``check.done``), then no phalanx capsule and not
+    the palm box deeper than ``options.max_penetration`` (python-fcl,
+    `hand_penetration`), then the contacts moved to
     the object's true surface (`surface_check`) within ``options.eps_c`` of
     it with a Q distance below ``options.q_accept``; each test only when the
     previous holds. Both planners accept grasps with it.
@@ -161,7 +157,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
         Its ``eps_c``, ``mu``, ``edges``, ``q_accept`` and ``max_penetration``.
     backend : str
     penetration : Penetration, optional
-        The capsules' penetration at ``u``, if already computed.
+        ``hand_penetration(hand, obj, u)``, if already computed.
 
     Returns
     -------
@@ -173,7 +169,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
     """
     if not check.done:
         return False, penetration, None
-    pen = penetration if penetration is not None else penetration_depth(hand, obj, u)
+    pen = penetration if penetration is not None else hand_penetration(hand, obj, u)
     if pen.depth > options.max_penetration:
         return False, pen, None
     surface = surface_check(obj, status.nearest[check.contact], status.normals[check.contact], mu=options.mu,
@@ -221,13 +217,13 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size
     power = grasp == "power"
-    watching = False  # capsules watched once the criterion held with a phalanx too deep
+    watching = False  # capsules and palm box watched once the criterion held with one too deep
 
     def evaluate(u):
         st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
         pen = None
         if watching:
-            pen = penetration_depth(hand, obj, u)
+            pen = hand_penetration(hand, obj, u)
             st = capsule_rows(hand, obj, u, st, pen)
         chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
         return st, chk, pen
@@ -353,7 +349,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
         outcome, traj, statuses, qs = Outcome.GRASP, traj[: k + 1], statuses[: k + 1], qs[: k + 1]
     elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
         outcome = Outcome.PENETRATION
-    depth = (pen if pen is not None else penetration_depth(hand, obj, traj[-1])).depth
+    depth = (pen if pen is not None else hand_penetration(hand, obj, traj[-1])).depth
     reason = _reason(outcome, opts, len(traj) - 1, chk, depth)
     return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
                          surface)

@@ -227,7 +227,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, time.perf_counter() - t0)
+    failure = None if result.success else _failure(attempts)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -283,11 +283,14 @@ def _validator(validate, obj, hand, backend):
     return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 
-def _failure(attempts, elapsed):
-    """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first."""
+def _failure(attempts):
+    """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
+
+    No clock time in it (that is `PlanResult.time_s`): the same plan gives the same words.
+    """
     counts = {}
     for a in attempts:
         counts[a["outcome"]] = counts.get(a["outcome"], 0) + 1
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
-    return f"no stable grasp found in {len(attempts)} attempt(s) and {elapsed:.1f} s ({parts})"
+    return f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"

@@ -123,9 +123,9 @@ class PlannerOptions(_Fields):
     refine_iterations : int
         Most refining iterations of an attempt (0: stop at the criterion, as the paper).
     max_penetration : float
-        Deepest penetration (mm) of a phalanx capsule into the object allowed
-        in a final grasp. An attempt that meets the criterion with a deeper
-        phalanx goes on with that phalanx's capsule watched
+        Deepest penetration (mm) of a phalanx capsule or the palm box into the
+        object allowed in a final grasp. An attempt that meets the criterion
+        with a deeper shape goes on with the capsules and the palm box watched
         (`synergrasp.planner.status.capsule_rows`) until it is out.
     start_distance : float
         Distance (mm) of a direction start from the object's centre

@@ -265,7 +265,7 @@ def retreat_directions(hand, u, z_open, normals=()):
     return np.array(out)
 
 
-def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolerance=3.0, budget=12,
+def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolerance=3.0, budget=24,
                      openings=OPENINGS, max_retreat=300.0, resolution=0.25) -> Reach:
     """An executable reach to a grasp: pre-grasp, approach and close, checked densely.
 

@@ -184,20 +184,42 @@ def _smoothed_normals(pieces, planes, plane_start, h, start, w, normals, jac):
             jac[i, 2, c] = -(e2 - n2 * ne) / norm
 
 
-def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
-    """A status whose phalanx rows also see the capsules' penetration.
+def hand_penetration(hand, obj, u):
+    """Penetration of the hand's phalanx capsules and palm box into the object at ``u`` (python-fcl).
 
-    The skin points of a segment (`grasp_status`) sample its capsule: an
-    object's edge or a thin plate can cut into the capsule between them, deep,
-    while every skin point reads shallow or outside. A segment whose capsule
-    penetrates the object (python-fcl's signed distance,
-    `synergrasp.objects.GraspObject.penetration`) deeper than its row reads
-    gets that signed distance (negative, mm) as its row instead. The capsule
-    is the set of points within its radius of its axis, so the distance moves
-    with the axis point nearest the capsule's deepest point, ``(1 - t) a + t b``:
-    the derivative is the unit translation that frees the capsule (from its
-    point deepest in the object to the object's point deepest in it, the
-    penetration normal) times that point's Jacobian ``(1 - t) J_a + t J_b``.
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (6 + n_syn,) float
+
+    Returns
+    -------
+    Penetration
+        `synergrasp.objects.GraspObject.penetration` of the k capsules of
+        ``hand.segments(u)``, then the palm box (entry k).
+    """
+    geo = hand.segments(u)
+    return obj.penetration(geo.capsules, geo.radius, box=(geo.palm_center, geo.palm_axes, geo.palm_half_extents))
+
+
+def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
+    """A status whose phalanx and palm rows also see the capsules' and the palm box's penetration.
+
+    The skin points of a segment (`grasp_status`) sample its capsule, and the
+    palm's sample the box's front face: an object's edge or a thin plate can
+    cut into a capsule between them, and a convex object can push into the
+    palm box's sides, deep, while every skin point reads shallow or outside.
+    A segment whose capsule, or a palm whose box, penetrates the object
+    (python-fcl's signed distance, `hand_penetration`) deeper than its row
+    reads gets that signed distance (negative, mm) as its row instead. Its
+    derivative is the unit translation that frees the shape (from its point
+    deepest in the object to the object's point deepest in it, the
+    penetration normal) times the Jacobian of the point that carries the
+    shape: for a capsule, the set of points within its radius of its axis,
+    the axis point nearest its deepest point, ``(1 - t) a + t b``, moving with
+    ``(1 - t) J_a + t J_b``; for the box, its deepest point itself, fixed to
+    the palm (`SynergyHand.palm_jacobian`).
 
     Parameters
     ----------
@@ -206,15 +228,14 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     u : (6 + n_syn,) float
         The configuration of ``status``.
     status : Status
-        A power grasp's status at ``u`` (`grasp_status` with ``kind="power"``).
+        A status at ``u`` (`grasp_status`).
     penetration : Penetration, optional
-        ``obj.penetration(hand.segments(u).capsules, hand.finger_radius)`` if
-        already computed.
+        ``hand_penetration(hand, obj, u)`` if already computed.
 
     Returns
     -------
     Status
-        ``status`` with the rows of the deeper capsules replaced (``status``
+        ``status`` with the rows of the deeper shapes replaced (``status``
         itself when none is deeper); nearest points and normals stay the skin
         points'.
 
@@ -234,18 +255,25 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     >>> bool(skin.g[1] > -5.0), bool(seen.g[1] < -10.0)
     (True, True)
     """
-    ends, jac_ends = hand.segments_and_jacobian(u)
-    pen = obj.penetration(ends, hand.finger_radius) if penetration is None else penetration
-    rows = status.segment_rows
+    pen = hand_penetration(hand, obj, u) if penetration is None else penetration
+    rows = np.r_[status.segment_rows, len(status.labels) - 1]  # the capsules, then the palm box
     deeper = np.flatnonzero((pen.distances < 0.0) & (pen.distances < status.g[rows]))
     if not len(deeper):
         return status
     inner, outer = pen.witnesses[deeper, 0], pen.witnesses[deeper, 1]
     free = unit_rows(outer - inner)
-    a, b = ends[deeper, 0], ends[deeper, 1]
-    axis = b - a
-    t = np.clip(np.einsum("ij,ij->i", inner - a, axis) / np.maximum(np.einsum("ij,ij->i", axis, axis), 1e-12), 0.0, 1.0)
-    jac_point = (1.0 - t)[:, None, None] * jac_ends[deeper, 0] + t[:, None, None] * jac_ends[deeper, 1]
+    jac_point = np.empty((len(deeper), 3, hand.n_u))
+    capsule = deeper < len(status.segment_rows)
+    if capsule.any():
+        ends, jac_ends = hand.segments_and_jacobian(u)
+        k = deeper[capsule]
+        a, b = ends[k, 0], ends[k, 1]
+        axis = b - a
+        t = np.clip(np.einsum("ij,ij->i", inner[capsule] - a, axis) / np.maximum(np.einsum("ij,ij->i", axis, axis), 1e-12),
+                    0.0, 1.0)
+        jac_point[capsule] = (1.0 - t)[:, None, None] * jac_ends[k, 0] + t[:, None, None] * jac_ends[k, 1]
+    if not capsule.all():
+        jac_point[~capsule] = hand.palm_jacobian(u, inner[~capsule])
     g, J = status.g.copy(), status.J.copy()
     g[rows[deeper]] = pen.distances[deeper]
     J[rows[deeper]] = np.einsum("ia,iab->ib", free, jac_point)
