@@ -129,8 +129,9 @@ def contact_energy(hand, obj, u, grasp, alignment=50.0, *, backend="highs"):
     """
     points = hand.points(u, grasp)
     cp = obj.contact_distance(points, backend=backend)
-    if cp.value.min() < 0.0 or hand_penetration(hand, obj, u).collision \
-            or obj.contains(hand.segments(u).palm_center[None]).any():
+    geo = hand.segments(u)
+    if cp.value.min() < 0.0 or obj.penetration(geo.capsules, geo.radius).collision \
+            or obj.contains(geo.palm_center[None]).any():
         return math.inf, cp.lp_solves
     align = 1.0 - np.einsum("ij,ij->i", contact_normals(hand, u, grasp), cp.normal)
     return float(np.mean(np.abs(cp.value) + alignment * align)), cp.lp_solves
@@ -277,7 +278,8 @@ def _close(hand, obj, u, j, sign, options, bisect=True):
     def fits(value):
         v = u.copy()
         v[j] = value
-        return hand_penetration(hand, obj, v).depth <= options.max_penetration
+        geo = hand.segments(v)
+        return obj.penetration(geo.capsules, geo.radius).depth <= options.max_penetration
 
     values, z = [], u[j]
     while (z - end) * sign < 0:
