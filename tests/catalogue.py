@@ -8,7 +8,8 @@ inside numpy, a solver, trimesh, fcl or coacd), or, for ``raises=None``, in a re
 ``check`` accepts. Command-line cases run ``synergrasp`` with ``argv`` and expect exit status 2
 and ``says`` on stderr.
 
-Planner-option cases (``PlannerOptions`` fields) belong in ``PLANNER_OPTIONS`` below.
+Planner-option cases (``PlannerOptions`` and ``AnnealingOptions`` fields, the method) belong in
+``PLANNER_OPTIONS`` below.
 """
 
 from __future__ import annotations
@@ -315,7 +316,14 @@ def _option(name, value, says):
                 ValueError, says)
 
 
-#: Cases of the planner's options (``sg.plan(obj, **options)``, the fields of PlannerOptions).
+def _annealing(name, value, says):
+    """An AnnealingOptions field out of its range: refused on creation, naming the field and its range."""
+    return Case("sg.planner.AnnealingOptions", f"{name}={value!r}",
+                lambda tmp: sg.planner.AnnealingOptions(**{name: value}), ValueError, says)
+
+
+#: Cases of the planners' options (``sg.plan(obj, method=..., **options)``, the fields of PlannerOptions and
+#: AnnealingOptions).
 PLANNER_OPTIONS: list[Case] = [
     _option("eps_c", -1, "PlannerOptions.eps_c must be in"),
     _option("mu", float("nan"), "PlannerOptions.mu must be a number"),
@@ -357,7 +365,28 @@ PLANNER_OPTIONS: list[Case] = [
     _option("q_accept", 0.5, "PlannerOptions.q_accept must be in"),
     _option("q_margin", 0.0, "PlannerOptions.q_margin must be in"),
     Case("sg.plan", "options that are not a PlannerOptions", lambda tmp: sg.plan("ellipsoid", options={"max_iter": 3}),
-         TypeError, "options must be a PlannerOptions"),
+         TypeError, "options of method='gradient' must be an instance of PlannerOptions"),
+    Case("sg.plan", "an unknown method", lambda tmp: sg.plan("ellipsoid", method="newton"), ValueError,
+         "unknown method 'newton'; known: ['annealing', 'gradient']"),
+    Case("sg.plan", "an annealing option for the gradient planner", lambda tmp: sg.plan("ellipsoid", steps=100), ValueError,
+         "options ['steps'] belong to method='annealing', not to method='gradient'"),
+    Case("sg.plan", "a gradient option for the annealing planner",
+         lambda tmp: sg.plan("ellipsoid", method="annealing", restarts=3), ValueError,
+         "options ['restarts'] belong to method='gradient', not to method='annealing'"),
+    Case("sg.plan", "PlannerOptions for the annealing planner",
+         lambda tmp: sg.plan("ellipsoid", method="annealing", options=sg.planner.PlannerOptions()), TypeError,
+         "options of method='annealing' must be an instance of AnnealingOptions"),
+    Case("sg.plan", "an unknown annealing option", lambda tmp: sg.plan("ellipsoid", method="annealing", foo=1), ValueError,
+         "unknown planner options ['foo']; known for method='annealing'"),
+    _annealing("steps", 0, "AnnealingOptions.steps must be in"),
+    _annealing("dims", 1.5, "AnnealingOptions.dims must be an integer"),
+    _annealing("t0", float("nan"), "AnnealingOptions.t0 must be a number"),
+    _annealing("cooling", -1.0, "AnnealingOptions.cooling must be in"),
+    _annealing("energy_scale", 0.0, "AnnealingOptions.energy_scale must be in"),
+    _annealing("autograsp_energy", 0.0, "AnnealingOptions.autograsp_energy must be in"),
+    _annealing("close_step", 2.0, "AnnealingOptions.close_step must be in"),
+    _annealing("q_accept", 0.5, "AnnealingOptions.q_accept must be in"),
+    _annealing("executable_reach", "yes", "AnnealingOptions.executable_reach must be True or False"),
     Case("sg.plan", "a hand that is not a SynergyHand", lambda tmp: sg.plan("ellipsoid", hand="paper"), TypeError,
          "hand must be a SynergyHand"),
     Case("sg.plan", "a progress that cannot be called", lambda tmp: sg.plan("ellipsoid", progress=3), TypeError,

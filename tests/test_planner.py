@@ -498,7 +498,7 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
         ({"approach": [0, 0, 0]}, ValueError, "non-zero direction"),
         ({"backend": "simplex"}, ValueError, "unknown LP backend"),
         ({"stepsize": 3}, ValueError, "unknown planner options"),
-        ({"options": {"max_iter": 3}}, TypeError, "options must be a PlannerOptions"),
+        ({"options": {"max_iter": 3}}, TypeError, "options of method=.gradient. must be an instance of PlannerOptions"),
         ({"hand": "paper"}, TypeError, "hand must be a SynergyHand"),
         ({"progress": 3}, TypeError, "progress must be callable"),
         ({"grasp": "power", "power_preshape": (0.0, 1.0, 0.5)}, ValueError, "one value per synergy"),

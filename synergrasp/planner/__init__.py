@@ -1,9 +1,10 @@
-"""The reach-to-grasp planner (paper Sec. 3.2): options, starts, attempts, status vector, step, stop rules, results; the executable reach and its clearance."""
+"""The reach-to-grasp planner (paper Sec. 3.2): options, starts, attempts, status vector, step, stop rules, results; the executable reach and its clearance; the annealing baseline."""
 
-from .attempt import AttemptResult, Outcome, run_attempt, sq_request
+from .annealing import anneal, autograsp, contact_energy, contact_normals
+from .attempt import AttemptResult, Outcome, judge_grasp, run_attempt, sq_request
 from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
-from .core import plan
-from .options import GRASPS, PlannerOptions
+from .core import METHODS, plan
+from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
 from .starts import Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts
@@ -12,7 +13,9 @@ from .stop import GraspCheck, check_grasp
 
 __all__ = [
     "GRASPS",
+    "METHODS",
     "OPENINGS",
+    "AnnealingOptions",
     "AttemptResult",
     "GraspCheck",
     "HandClearance",
@@ -23,13 +26,18 @@ __all__ = [
     "Reach",
     "Start",
     "Status",
+    "anneal",
+    "autograsp",
     "check_grasp",
     "clearance_labels",
+    "contact_energy",
+    "contact_normals",
     "direction_starts",
     "executable_reach",
     "grasp_status",
     "hand_and_object",
     "hand_clearance",
+    "judge_grasp",
     "open_synergies",
     "path_clearance",
     "pinch_seeds",

@@ -134,6 +134,49 @@ def sq_request(sq_step, radius, gradient):
     return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
 
 
+def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetration=None):
+    """Whether a grasp is accepted: the criterion, no part of the hand too deep, force-closed on the true surface.
+
+    The paper's criterion (``check.done``), then no phalanx capsule and not
+    the palm box deeper than ``options.max_penetration`` (python-fcl,
+    `hand_penetration`), then the contacts moved to
+    the object's true surface (`surface_check`) within ``options.eps_c`` of
+    it with a Q distance below ``options.q_accept``; each test only when the
+    previous holds. Both planners accept grasps with it.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (6 + n_syn,) float
+        The configuration of ``status``.
+    status : Status
+    check : GraspCheck
+        `check_grasp` of ``status``.
+    options : PlannerOptions or AnnealingOptions
+        Its ``eps_c``, ``mu``, ``edges``, ``q_accept`` and ``max_penetration``.
+    backend : str
+    penetration : Penetration, optional
+        ``hand_penetration(hand, obj, u)``, if already computed.
+
+    Returns
+    -------
+    accepted : bool
+    penetration : Penetration or None
+        None when the criterion does not hold (not computed).
+    surface : SurfaceCheck or None
+        None unless the first two tests hold.
+    """
+    if not check.done:
+        return False, penetration, None
+    pen = penetration if penetration is not None else hand_penetration(hand, obj, u)
+    if pen.depth > options.max_penetration:
+        return False, pen, None
+    surface = surface_check(obj, status.nearest[check.contact], status.normals[check.contact], mu=options.mu,
+                            edges=options.edges, backend=backend)
+    return surface.gap <= options.eps_c and surface.q < options.q_accept, pen, surface
+
+
 def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, deadline=None, progress=None):
     """Iterate from ``u0`` until a grasp, a stall, the attempt's cap, or the plan's budget.
 
@@ -191,20 +234,6 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
             return st.g[-1], st.J[-1]
         return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
 
-    def settled(st, chk, pen):
-        """The criterion holds, no capsule nor the palm box is too deep, and the grasp holds on the true surface (checked only then).
-
-        Returns (whether, the penetration, the surface check).
-        """
-        if not chk.done:
-            return False, pen, None
-        pen = pen if pen is not None else hand_penetration(hand, obj, u)
-        if pen.depth > opts.max_penetration:
-            return False, pen, None
-        surface = surface_check(obj, st.nearest[chk.contact], st.normals[chk.contact], mu=opts.mu, edges=opts.edges,
-                                backend=backend)
-        return surface.gap <= opts.eps_c and surface.q < opts.q_accept, pen, surface
-
     u = np.array(u0, dtype=float)
     st, chk, pen = evaluate(u)
     n = len(st.g) - 1
@@ -217,7 +246,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     outcome, bests, touched = Outcome.CAP, [], False
     kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
     for _ in range(budget):
-        ok, pen, surface = settled(st, chk, pen)
+        ok, pen, surface = judge_grasp(hand, obj, u, st, chk, opts, backend=backend, penetration=pen)
         if ok and (kept is None or surface.q < kept[4].q):
             kept = (len(traj) - 1, st, chk, pen, surface)
         if chk.done and pen.depth > opts.max_penetration and not watching:  # watch the capsules from now on

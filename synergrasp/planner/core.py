@@ -1,5 +1,9 @@
 """`plan`: attempts from the object's geometry until one ends in a grasp accepted on the true surface.
 
+``method="gradient"`` (the default) is the paper's planner, below;
+``method="annealing"`` the GraspIt!-style baseline of
+`synergrasp.planner.annealing`, with its own options and the same result.
+
 A plan tries the starts of `synergrasp.planner.starts` in turn (precision:
 pairs of opposed surface points, then directions around the object; power:
 directions with two pre-shapes), one attempt each (`run_attempt`), until an
@@ -23,14 +27,17 @@ from .. import objects
 from .._checks import as_vector
 from ..hand import SynergyHand
 from ..lp import get_backend
+from .annealing import anneal, with_history
 from .attempt import Outcome, run_attempt
-from .options import GRASPS, PlannerOptions
+from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import executable_reach
 from .result import PlanResult
 from .starts import Start, start_configuration, starts
 
 #: Objects thinner than this (mm) are refused: most likely a mesh in metres.
 MIN_WIDTH = 2.0
+#: The planners by name, with their options' class.
+METHODS = {"gradient": PlannerOptions, "annealing": AnnealingOptions}
 
 
 def hand_opening(hand):
@@ -76,20 +83,28 @@ def _check_object(obj, hand):
     return obj
 
 
-def _options(options, values):
-    """The plan's PlannerOptions: ``options`` (or the defaults) with ``values`` replaced."""
+def _options(method, options, values):
+    """The plan's options of ``method``: ``options`` (or the defaults) with ``values`` replaced."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r}; known: {sorted(METHODS)}")
+    kind = METHODS[method]
     if options is None:
-        options = PlannerOptions()
-    elif not isinstance(options, PlannerOptions):
-        raise TypeError(f"options must be a PlannerOptions, got {type(options).__name__}")
-    unknown = sorted(set(values) - set(PlannerOptions.names()))
+        options = kind()
+    elif not isinstance(options, kind):
+        raise TypeError(f"options of method={method!r} must be an instance of {kind.__name__}, got {type(options).__name__}")
+    unknown = sorted(set(values) - set(kind.names()))
+    for other, other_kind in METHODS.items():
+        theirs = [name for name in unknown if name in other_kind.names()]
+        if theirs:
+            raise ValueError(f"options {theirs} belong to method={other!r}, not to method={method!r}; "
+                             f"its options: {kind.names()}")
     if unknown:
-        raise ValueError(f"unknown planner options {unknown}; known: {PlannerOptions.names()}")
+        raise ValueError(f"unknown planner options {unknown}; known for method={method!r}: {kind.names()}")
     return replace(options, **values) if values else options
 
 
-def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, approach=None, hand=None, progress=None,
-         validate=False, **option_values) -> PlanResult:
+def plan(obj, grasp="precision", *, method="gradient", options=None, backend="highs", u0=None, approach=None, hand=None,
+         progress=None, validate=False, **option_values) -> PlanResult:
     """Plan a reach-to-grasp motion (paper Sec. 3.2) for the synergy hand.
 
     Parameters
@@ -99,8 +114,17 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         path as `synergrasp.objects.get` takes them.
     grasp : {"precision", "power"}
         Fingertip pinch, or a grasp with the phalanges and the palm.
-    options : PlannerOptions, optional
-        Settings (default ``PlannerOptions()``).
+    method : {"gradient", "annealing"}
+        ``"gradient"``: the paper's resolved-rate planner. ``"annealing"``:
+        the GraspIt!-style eigengrasp simulated annealing baseline
+        (`synergrasp.planner.annealing`): one search from ``u0`` (or the
+        start from ``approach``, default +y), accepted by the same test; its
+        trajectory is the sequence of states the search moved to, then the
+        auto-grasp's closing, and ``time_s`` the search's time (the status
+        of each row is computed after it).
+    options : PlannerOptions or AnnealingOptions, optional
+        Settings of ``method`` (default ``PlannerOptions()``, respectively
+        ``AnnealingOptions()``).
     backend : str
         LP backend.
     u0 : (n_u,) float, optional
@@ -120,7 +144,7 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         first accepted one is returned with ``held`` False. Needs the
         ``sim`` extra.
     **option_values
-        Fields of `PlannerOptions`, replacing those of ``options``.
+        Fields of the method's options class, replacing those of ``options``.
 
     Returns
     -------
@@ -129,10 +153,12 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     Raises
     ------
     TypeError
-        If ``obj`` is not an object, a name or a path, ``options`` not a
-        PlannerOptions, ``hand`` not a SynergyHand or ``progress`` not callable.
+        If ``obj`` is not an object, a name or a path, ``options`` not the
+        method's options class, ``hand`` not a SynergyHand or ``progress``
+        not callable.
     ValueError
-        Unknown object name or grasp type, an option out of its range, bad
+        Unknown object name, grasp type or method (the message lists the
+        methods), an option of the other method (named), an option out of its range, bad
         ``u0`` or ``approach``, unknown backend, or an object the hand cannot
         hold (too small, or wider than its opening).
 
@@ -145,7 +171,7 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     """
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
-    opts = _options(options, option_values)
+    opts = _options(method, options, option_values)
     solver = get_backend(backend)
     hand = SynergyHand.default() if hand is None else hand
     if not isinstance(hand, SynergyHand):
@@ -155,6 +181,16 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
     obj = _check_object(obj, hand)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else t0 + opts.time_limit
+    if not isinstance(validate, (bool, dict)):
+        raise TypeError(f"validate must be True, False or a dict of protocol settings, got {type(validate).__name__}")
+    if method == "annealing":
+        start = as_vector(u0, "u0", hand.n_u) if u0 is not None else start_configuration(
+            hand, obj, (0.0, 1.0, 0.0) if approach is None else as_vector(approach, "approach", 3), opts.start_distance,
+            opts.start_clearance, palm_centred=grasp == "power")
+        result, record, held = anneal(hand, obj, grasp, start, opts, backend=solver, deadline=deadline,
+                                      progress=progress, physics=_validator(validate, obj, hand, solver))
+        attempts, solves = [record], result.lp_solves
+        return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, result.reason)
     if u0 is not None:
         queue = iter([Start(as_vector(u0, "u0", hand.n_u), "given", {})])
     else:
@@ -165,8 +201,6 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
             if grasp == "power":
                 first[6:] = np.clip(opts.power_wide_preshape or np.zeros(hand.n_syn), *hand.synergy_limits.T)
             queue = itertools.chain([Start(first, "direction", {"direction": list(approach)})], queue)
-    if not isinstance(validate, (bool, dict)):
-        raise TypeError(f"validate must be True, False or a dict of protocol settings, got {type(validate).__name__}")
     physics = _validator(validate, obj, hand, solver)
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):
@@ -193,16 +227,23 @@ def plan(obj, grasp="precision", *, options=None, backend="highs", u0=None, appr
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
+    failure = None if result.success else _failure(attempts)
+    suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
+    return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
+
+
+def _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix=""):
+    """The PlanResult of a plan's returned attempt: ``failure`` is the reason without a grasp; ``suffix`` ends it."""
     success = result.success
     elapsed = time.perf_counter() - t0
+    reason = failure
     if success:
         reason = f"stop criterion met ({result.check.n_contacts} contacts, g_Q = {result.check.q:.4f})"
-    else:
-        reason = _failure(attempts)
-    if physics is not None and success:
-        reason += "; it holds in simulation" if held else "; no accepted grasp held in simulation"
-    if len(attempts) > 1:
-        reason += f"; {len(attempts)} attempts, {total} iterations in all"
+        if validate is not False:
+            reason += "; it holds in simulation" if held else "; no accepted grasp held in simulation"
+    reason += suffix
+    if np.isnan(result.status).any():  # the annealing's trajectory: its status after the search, not timed
+        result = with_history(result, hand, obj, grasp, opts, backend=solver)
     chk, final = result.check, result.final
     reach = executable_reach(hand, obj, result.trajectory[-1], tolerance=opts.max_penetration) \
         if success and opts.executable_reach else None

@@ -1,4 +1,4 @@
-"""The planner's settings, `PlannerOptions`, each checked when the options are made."""
+"""The planners' settings, each checked when the options are made: `PlannerOptions` (``method="gradient"``) and `AnnealingOptions` (``method="annealing"``)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 GRASPS = ("precision", "power")
 
 
-def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False):
+def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions"):
     """``value`` as a float (or int) within ``[low, high]`` (``(low, high]`` with ``open_low``), else a ValueError naming it."""
     if value is None and allow_none:
         return None
@@ -20,15 +20,15 @@ def _number(value, name, low=None, high=None, *, integer=False, open_low=False, 
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
     if isinstance(value, (bool, np.bool_)) or not ok_type or not math.isfinite(float(value)):
         none = " or None" if allow_none else ""
-        raise ValueError(f"PlannerOptions.{name} must be {kind} in {span}{none}, got {value!r}")
+        raise ValueError(f"{owner}.{name} must be {kind} in {span}{none}, got {value!r}")
     if (low is not None and (value < low or (open_low and value == low))) or (high is not None and value > high):
-        raise ValueError(f"PlannerOptions.{name} must be in {span}, got {value!r}")
+        raise ValueError(f"{owner}.{name} must be in {span}, got {value!r}")
     return int(value) if integer else float(value)
 
 
-def _flag(value, name):
+def _flag(value, name, owner="PlannerOptions"):
     if not isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"PlannerOptions.{name} must be True or False, got {value!r}")
+        raise ValueError(f"{owner}.{name} must be True or False, got {value!r}")
     return bool(value)
 
 
@@ -45,8 +45,21 @@ def _values(value, name, what, size=None):
     return tuple(float(x) for x in arr)
 
 
+class _Fields:
+    """The option names and their JSON values, shared by the options classes."""
+
+    @classmethod
+    def names(cls) -> list[str]:
+        """The option names, in order."""
+        return [f.name for f in fields(cls)]
+
+    def as_dict(self) -> dict:
+        """The options as plain JSON values (tuples as lists)."""
+        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
+
+
 @dataclass(frozen=True)
-class PlannerOptions:
+class PlannerOptions(_Fields):
     """Settings of `plan`; every one has a working default and is checked on creation.
 
     Attributes
@@ -231,11 +244,121 @@ class PlannerOptions:
         set_(self, "power_sq_hold", _number(self.power_sq_hold, "power_sq_hold", -10.0, 10.0, allow_none=True))
         set_(self, "seed", _number(self.seed, "seed", 0, None, integer=True))
 
-    @classmethod
-    def names(cls) -> list[str]:
-        """The option names, in order."""
-        return [f.name for f in fields(cls)]
 
-    def as_dict(self) -> dict:
-        """The options as plain JSON values (tuples as lists)."""
-        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
+@dataclass(frozen=True)
+class AnnealingOptions(_Fields):
+    """Settings of ``plan(..., method="annealing")``, the eigengrasp simulated annealing baseline.
+
+    The schedule's defaults are GraspIt!'s (``ANNEAL_DEFAULT`` of its
+    simulated annealing, Ciocarlie and Allen): the temperature of step k is
+    ``t0 * exp(-cooling * k ** (1 / dims))``, starting at ``k = k0``; a
+    state of higher energy is accepted with probability
+    ``exp(energy_scale * (E_old - E_new) / T)``. See
+    `synergrasp.planner.annealing`.
+
+    Attributes
+    ----------
+    steps : int
+        Most annealing steps of a plan (neighbours accepted or refused).
+    time_limit : float or None
+        Most wall-clock seconds of a plan; None: no limit.
+    t0, k0, cooling, dims : float, int, float, int
+        The temperature schedule (GraspIt!: 1e6, 30000, 7, 8).
+    energy_scale : float
+        Factor of the energies in the acceptance probability (GraspIt!: 1e-6).
+    neighbour_scale : float
+        Factor of the temperature of the neighbour distribution (GraspIt!: 1).
+    alignment : float
+        Weight (mm) of ``1 - cos`` of the angle between a hand point's
+        normal and the surface normal in the contact energy (GraspIt!: 50).
+    position_margin : float
+        The palm stays within the object's bounding box grown by this (mm).
+    legal_tries : int
+        Neighbours drawn per step until one leaves the hand out of the object
+        (GraspIt!: 11); a step without one is not counted.
+    autograsp_energy : float or None
+        A state the search moves to with an energy below this (mm) is
+        auto-grasped: the hand closes (`synergrasp.planner.annealing.autograsp`)
+        and the grasp is judged. None: 25 for precision grasps, 40 for power
+        grasps (`synergrasp.planner.annealing.AUTOGRASP_ENERGY`; the mean over
+        16 power points cannot fall as low as over 5 fingertips).
+    autograsp_spacing : float
+        ... unless it is closer than this, in normalised coordinates
+        (position in object sizes, angles in rad, synergies), to a state
+        auto-grasped before.
+    close_step : float
+        Synergy step (units of z2) of the auto-grasp's closing.
+    eps_c, mu, edges, q_accept, max_penetration : float, float, int, float, float
+        The acceptance, as `PlannerOptions`'s: the paper's criterion with
+        ``eps_c``, ``mu`` and ``edges``, no phalanx deeper than
+        ``max_penetration`` (mm), force-closed on the true surface with
+        Q below ``q_accept``.
+    start_distance, start_clearance : float
+        The start, as `PlannerOptions`'s (`start_configuration`).
+    executable_reach : bool
+        Make the grasp's executable reach, as `PlannerOptions`'s.
+    seed : int
+        Seed of the random draws: plans are deterministic.
+
+    Raises
+    ------
+    ValueError
+        On creation, for any field out of its range; the message names the
+        field and its allowed range.
+
+    Examples
+    --------
+    >>> AnnealingOptions(steps=500).steps
+    500
+    >>> AnnealingOptions(cooling=0)
+    Traceback (most recent call last):
+        ...
+    ValueError: AnnealingOptions.cooling must be in (0, 100.0], got 0
+    """
+
+    steps: int = 20000
+    time_limit: float | None = 10.0
+    t0: float = 1.0e6
+    k0: int = 30000
+    cooling: float = 7.0
+    dims: int = 8
+    energy_scale: float = 1.0e-6
+    neighbour_scale: float = 1.0
+    alignment: float = 50.0
+    position_margin: float = 100.0
+    legal_tries: int = 11
+    autograsp_energy: float | None = None
+    autograsp_spacing: float = 0.1
+    close_step: float = 0.05
+    eps_c: float = 5.0
+    mu: float = 0.3
+    edges: int = 8
+    q_accept: float = -0.01
+    max_penetration: float = 3.0
+    start_distance: float = 150.0
+    start_clearance: float = 5.0
+    executable_reach: bool = True
+    seed: int = 0
+
+    def __post_init__(self):
+        set_, own = object.__setattr__, "AnnealingOptions"
+
+        def number(name, low, high, **kw):
+            set_(self, name, _number(getattr(self, name), name, low, high, owner=own, **kw))
+
+        for name in ("steps", "legal_tries", "dims"):
+            number(name, 1, None, integer=True)
+        for name in ("k0", "seed"):
+            number(name, 0, None, integer=True)
+        number("edges", 3, 64, integer=True)
+        number("time_limit", 0, None, open_low=True, allow_none=True)
+        for name, high in (("t0", 1e300), ("cooling", 100.0), ("energy_scale", 1e6), ("neighbour_scale", 1e6),
+                           ("close_step", 1.0), ("eps_c", 50.0)):
+            number(name, 0, high, open_low=True)
+        for name in ("alignment", "position_margin", "autograsp_spacing", "max_penetration", "start_clearance"):
+            number(name, 0, 1000.0)
+        number("start_distance", 0, 10000.0, open_low=True)
+        number("autograsp_energy", 0, 1e6, open_low=True, allow_none=True)
+        number("mu", 0, 10.0)
+        number("q_accept", -10.0, 0.0)
+        set_(self, "executable_reach", _flag(self.executable_reach, "executable_reach", own))
