@@ -161,7 +161,7 @@ def main(argv=None):
     parser.add_argument("--loop-cost", metavar="DIR", help=argparse.SUPPRESS)  # step 6, in a fresh process
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
-    objects = BUILTINS if args.quick else [MESHES, *BUILTINS]
+    objects = BUILTINS if args.quick else [*sorted(MESHES.glob("*.stl")), *BUILTINS]  # not the random_urdfs folder
     tasks = expand(objects, GRASPS)
     if args.loop_cost:
         warm_up()
