@@ -354,10 +354,12 @@ def _load_words(rows, resumed):
     words = (f"The 1-minute load average of the 2-core machine at the end of the plans was {min(loads):.1f} to "
              f"{max(loads):.1f} (median {np.median(loads):.1f}; {len(loads)} of {len(rows)} plans recorded it)"
              if loads else "The plans' rows do not record the machine's load")
-    words += "; other measurements ran at the same time: wall-clock times are noisy, the CPU times less so."
+    words += ("; wall-clock times stretch when the load exceeds the machine's cores (the annealing's 10 s limit is"
+              " of wall-clock time), the CPU times much less.")
     if resumed:
-        words += (f" The run was resumed (`--resume`) after an interruption: {resumed} of the {len(rows)} plans were"
-                  " read from the rows of its earlier part(s).")
+        words += (f" {resumed} of the {len(rows)} plans were read from the rows of earlier parts of the run (`--resume`:"
+                  " after an interruption, or the parts run side by side, e.g. one `--grasp` each, their rows"
+                  " concatenated).")
     return words
 
 
