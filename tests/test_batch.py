@@ -324,6 +324,27 @@ def test_plan_task_pins_blas_to_one_thread(tmp_path):
 # --------------------------------------------------------------------------- the command line
 
 
+@pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")  # the lost KeyboardInterrupt
+def test_ctrl_c_is_kept_in_a_flag_even_where_its_exception_is_lost():
+    from synergrasp.batch.runner import _note_interrupts
+
+    outer = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        requested, restore = _note_interrupts()
+        handler = signal.getsignal(signal.SIGINT)
+
+        class Finalised:
+            def __del__(self):  # a KeyboardInterrupt raised here is printed and dropped by Python
+                handler(signal.SIGINT, None)
+
+        Finalised()
+        assert requested.is_set()
+        restore()
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGINT, outer)
+
+
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
 def test_interrupt_stops_the_command_and_keeps_what_was_written(tmp_path, cluster, capsys, sig):
     def terminate_after_one_result():

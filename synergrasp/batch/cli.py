@@ -72,6 +72,10 @@ def register(sub, epilog: str = "") -> None:
 
 
 def _interrupt(signum, frame):
+    """SIGTERM does what Ctrl-C does at that moment (during a batch: `run` notes it and stops)."""
+    handler = signal.getsignal(signal.SIGINT)
+    if callable(handler):
+        handler(signum, frame)
     raise KeyboardInterrupt
 
 

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import logging
 import os
+import signal
+import threading
 import time
 import uuid
 from dataclasses import dataclass, field
@@ -294,6 +296,37 @@ def _connect(workers, scheduler, connect_timeout):
     return client, cluster, threads
 
 
+def _note_interrupts():
+    """Have Ctrl-C also set a flag, which the batch checks after every result.
+
+    Python raises a ``KeyboardInterrupt`` wherever the main thread is when it
+    handles the signal, and one raised inside a finalizer or another
+    library's callback is lost; the flag is not. The handler in place before
+    (Python's, or a caller's) still runs first. Nothing changes outside the
+    main thread or where Ctrl-C is ignored.
+
+    Returns
+    -------
+    requested : threading.Event
+        Set by Ctrl-C.
+    restore : callable
+        Puts the previous handler back.
+    """
+    requested = threading.Event()
+    previous = signal.getsignal(signal.SIGINT)
+    if threading.current_thread() is not threading.main_thread() or previous is signal.SIG_IGN:
+        return requested, lambda: None
+
+    def note(signum, frame):
+        requested.set()
+        if callable(previous):
+            previous(signum, frame)
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, note)
+    return requested, lambda: signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+
+
 def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale, validate,
               progress, connect_timeout):
     from distributed import as_completed
@@ -305,6 +338,7 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     futures, token = {}, uuid.uuid4().hex[:8]
     bar = tqdm(total=len(todo), unit="plan", desc="batch", disable=not progress, dynamic_ncols=True)
     counts = dict.fromkeys(("grasps", "no grasp", "failed"), 0)
+    interrupted, restore = _note_interrupts()
     try:
         start = time.perf_counter()
         by_object = {}
@@ -332,9 +366,12 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
             report.wall_s = time.perf_counter() - start
             bar.update(1)
             bar.set_postfix(counts, refresh=False)
+            if interrupted.is_set():  # Ctrl-C whose KeyboardInterrupt was lost on the way
+                raise KeyboardInterrupt
     except KeyboardInterrupt:
         report.interrupted = True
     finally:
+        restore()
         bar.close()
         if futures:
             client.cancel(list(futures))
