@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import os
+
+from pathlib import Path
 
 import numpy as np
 
@@ -65,6 +68,13 @@ def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     if not np.isfinite(arr).all():
         raise ValueError(f"{name} contains NaN or inf")
     return arr
+
+
+def as_path(value, what: str) -> Path:
+    """A file path given as a str or os.PathLike (not a dict, None, ...)."""
+    if not isinstance(value, (str, os.PathLike)):
+        raise TypeError(f"{what} must be a file path (str or os.PathLike), got {type(value).__name__}")
+    return Path(value)
 
 
 def positive_scalar(value, name: str, maximum: float | None = None) -> float:

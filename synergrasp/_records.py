@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._checks import as_path
 from ._files import atomic_path
 
 
@@ -75,7 +76,7 @@ def load_record(cls, path, tag, arrays) -> dict:
         fields, or an array field is not numbers of its shape; the message names
         the file (and the field).
     """
-    path = Path(path)
+    path = as_path(path, f"the {cls.__name__} file")
     name = cls.__name__
     if not path.is_file():
         raise FileNotFoundError(f"{name} file not found: '{path}'")

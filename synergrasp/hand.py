@@ -26,6 +26,7 @@ is ``R[:, 2]``.
 from __future__ import annotations
 
 import copy
+import difflib
 import json
 import math
 from dataclasses import dataclass
@@ -35,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._checks import as_path
 from ._jit import kernel
 
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
@@ -158,6 +160,15 @@ class _Spec:
             self.fail(field, "must be a non-empty list of distinct names")
         return value
 
+    def known(self, data, keys, field):
+        """Refuse a key that is not one of ``keys`` (a misspelt optional field would be silently ignored)."""
+        for key in data if isinstance(data, dict) else ():
+            if key not in keys:
+                close = difflib.get_close_matches(str(key), keys, n=1)
+                where = f"{field}.{key}" if field else str(key)
+                self.fail(where, "is not a field of a hand file" + (f" (did you mean '{close[0]}'?)" if close else
+                                                                     f"; fields here are {sorted(keys)}"))
+
     def items(self, data, key, field):
         value = self.get(data, key, field)
         if not isinstance(value, list) or not value:
@@ -222,6 +233,8 @@ class SynergyHand:
         self.source = str(source)
         if not isinstance(data, dict):
             spec.fail("<root>", "must be a JSON object")
+        spec.known(data, ("name", "description", "actuated", "mean_pose", "synergies", "synergy_limits",
+                          "finger_radius", "contact_offset", "palm", "fingers"), "")
         name = spec.get(data, "name", "name")
         self.name = str(name)
         self.actuated_names = spec.name_list(data, "actuated", "actuated")
@@ -241,6 +254,7 @@ class SynergyHand:
         if self.contact_offset < 0:
             spec.fail("contact_offset", "must be >= 0")
         palm = spec.get(data, "palm", "palm")
+        spec.known(palm, ("center", "size", "point"), "palm")
         self._palm_center = spec.array(palm, "center", "palm.center", (3,))
         self.palm_half_extents = 0.5 * spec.array(palm, "size", "palm.size", (3,))
         if np.any(self.palm_half_extents <= 0):
@@ -258,13 +272,16 @@ class SynergyHand:
         chains = []
         for f, finger in enumerate(fingers):
             fld = f"fingers[{f}]"
+            spec.known(finger, ("name", "base", "joints"), fld)
             fname = spec.get(finger, "name", f"{fld}.name")
             if not isinstance(fname, str) or not fname:
                 spec.fail(f"{fld}.name", "must be a non-empty string")
             base = spec.get(finger, "base", f"{fld}.base")
+            spec.known(base, ("position", "rotation_xyz"), f"{fld}.base")
             joints = []
             for j, joint in enumerate(spec.items(finger, "joints", f"{fld}.joints")):
                 jf = f"{fld}.joints[{j}]"
+                spec.known(joint, ("name", "axis", "length", "coupling", "offset"), jf)
                 jname = spec.get(joint, "name", f"{jf}.name")
                 if not isinstance(jname, str) or not jname:
                     spec.fail(f"{jf}.name", "must be a non-empty string")
@@ -444,7 +461,7 @@ class SynergyHand:
         >>> hand.name, hand.finger_radius
         ('thick_fingers', 10.0)
         """
-        path = Path(path)
+        path = as_path(path, "the hand file")
         if not path.is_file():
             raise FileNotFoundError(f"hand file not found: '{path}'")
         try:

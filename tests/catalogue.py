@@ -63,6 +63,23 @@ def _write(folder, name, text=None, data=None):
     return path
 
 
+def _npz_mesh(folder, faces_of):
+    ball = trimesh.creation.icosphere(subdivisions=1, radius=30.0)
+    path = Path(folder) / "m.npz"
+    np.savez(path, vertices=ball.vertices, faces=faces_of(ball.faces))
+    return path
+
+
+def _hand_dict():
+    return sg.SynergyHand.default().to_dict()
+
+
+def _with_joint_field(key, value):
+    data = _hand_dict()
+    data["fingers"][1]["joints"][0][key] = value
+    return data
+
+
 def _nan_obj(folder):
     ball = trimesh.creation.icosphere(subdivisions=1, radius=30.0)
     v = ball.vertices.copy()
@@ -160,11 +177,23 @@ API = [
     Case("sg.plan", "u0 of 3 numbers", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 1.0]), ValueError, "u0 must have shape (8,)"),
     Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),
     Case("sg.plan", "a zero approach direction", lambda tmp: sg.plan("ellipsoid", approach=[0.0, 0.0, 0.0]), ValueError, "approach must be a non-zero direction"),
+    Case("sg.plan", "an approach of 1e300 (its norm overflows)",
+         lambda tmp: sg.plan("ellipsoid", approach=[1e300, 1e300, 0.0], max_iter=3, executable_reach=False), None,
+         "planned from the direction (1, 1, 0)",
+         check=lambda r: np.allclose(r.trajectory[0], sg.plan("ellipsoid", approach=[1.0, 1.0, 0.0], max_iter=3,
+                                                                executable_reach=False).trajectory[0])),
+    Case("sg.plan", "an unknown validation setting", lambda tmp: sg.plan("ellipsoid", validate={"foo": 1}, max_iter=1),
+         ValueError, "unknown protocol settings ['foo']"),
+    Case("sg.plan", "a hand with two fingers",
+         lambda tmp: sg.plan("ellipsoid", hand=sg.SynergyHand({**_hand_dict(), "fingers": _hand_dict()["fingers"][:2]})),
+         ValueError, "the planner needs a thumb (the first chain) and at least two fingers"),
     Case("sg.plan", "an approach that is a word", lambda tmp: sg.plan("ellipsoid", approach="up"), TypeError, "approach must be a numeric vector"),
     Case("sg.plan", "an unknown option", lambda tmp: sg.plan("ellipsoid", foo=1), ValueError, "unknown planner options ['foo']"),
     Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "PlannerOptions.max_iter must be in [1, inf]"),
     Case("PlanResult.save", "a path that is a number", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(3), TypeError, "an output path must be a str or os.PathLike"),
     Case("PlanResult.save", "a path that is a folder", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(tmp), IsADirectoryError, "it is a folder; give a file name"),
+    Case("sg.PlanResult.load", "None as the path", lambda tmp: sg.PlanResult.load(None), TypeError,
+         "the PlanResult file must be a file path (str or os.PathLike), got NoneType"),
     Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
@@ -177,6 +206,12 @@ API = [
     Case("sg.objects.load", "a folder", lambda tmp: so.load(tmp), FileNotFoundError, "object file not found"),
     Case("sg.objects.load", "an unknown extension", lambda tmp: so.load(_write(tmp, "o.abc", "1 2 3\n")), ValueError, "unknown format '.abc'; supported extensions"),
     Case("sg.objects.load", "an .stl of garbage bytes", lambda tmp: so.load(_write(tmp, "g.stl", b"\x00\x01garbage" * 7)), ValueError, "could not read"),
+    Case("sg.objects.load", "an .xyz with a short row", lambda tmp: so.load(_write(tmp, "r.xyz", "0 0 0\n30 0\n0 30 0\n")),
+         ValueError, "the number of columns changed from 3 to 2 at row 2"),
+    Case("sg.objects.load", "an .npz mesh with negative face indices", lambda tmp: so.load(_npz_mesh(tmp, lambda f: -f - 1)),
+         ValueError, "'faces' must be an (m, 3) array of integer vertex indices from 0 to 41"),
+    Case("sg.objects.load", "an .npz mesh with fractional face indices", lambda tmp: so.load(_npz_mesh(tmp, lambda f: f + 0.5)),
+         ValueError, "'faces' must be an (m, 3) array of integer vertex indices"),
     Case("sg.objects.load", "an .xyz of words", lambda tmp: so.load(_write(tmp, "w.xyz", "no numbers here\n")), ValueError, "could not read"),
     Case("sg.objects.load", "an empty .npy", lambda tmp: so.load(_write(tmp, "e.npy", data=np.zeros((0, 3)))), ValueError, "it contains no points"),
     Case("sg.objects.load", "an .obj with a NaN vertex", lambda tmp: so.load(_nan_obj(tmp), cache=False), ValueError, "ball.obj vertices contains NaN or inf at rows [5]"),
@@ -256,9 +291,17 @@ API = [
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
     Case("SynergyHand.points", "a NaN u", lambda tmp: HAND.points(np.full(8, np.nan)), ValueError, "u must be finite"),
     Case("SynergyHand.segments", "u is a word", lambda tmp: HAND.segments("open"), TypeError, "u must be a numeric vector of 8 numbers"),
+    Case("SynergyHand.from_file", "None as the path", lambda tmp: sg.SynergyHand.from_file(None), TypeError,
+         "the hand file must be a file path (str or os.PathLike), got NoneType"),
     Case("SynergyHand.from_file", "a missing file", lambda tmp: sg.SynergyHand.from_file(Path(tmp) / "none.json"), FileNotFoundError, "hand file not found"),
     Case("SynergyHand.from_file", "a file that is not JSON", lambda tmp: sg.SynergyHand.from_file(_write(tmp, "h.json", "{")), ValueError, "not valid JSON"),
     Case("SynergyHand", "a hand without a name", lambda tmp: sg.SynergyHand({}), ValueError, "field 'name' is missing"),
+    Case("SynergyHand", "a misspelt optional field",
+         lambda tmp: sg.SynergyHand({**{k: v for k, v in _hand_dict().items() if k != "contact_offset"}, "contact_ofset": 8.0}),
+         ValueError, "field 'contact_ofset' is not a field of a hand file (did you mean 'contact_offset'?)"),
+    Case("SynergyHand", "an unknown field of a joint",
+         lambda tmp: sg.SynergyHand(_with_joint_field("lenght", 1.0)), ValueError,
+         "field 'fingers[1].joints[0].lenght' is not a field of a hand file (did you mean 'length'?)"),
     Case("sg.lp.get_backend", "an unknown name", lambda tmp: sg.lp.get_backend("gurobi"), ValueError, "unknown LP backend 'gurobi'; available"),
     Case("Backend.solve", "mismatched shapes", lambda tmp: sg.lp.get_backend("highs").solve([1.0, 1.0], [[1.0, 1.0, 1.0]], [1.0]), ValueError, "LP data of mismatched shapes"),
     Case("Backend.solve", "a NaN cost", lambda tmp: sg.lp.get_backend("highs").solve([np.nan, 1.0], [[1.0, 1.0]], [1.0]), ValueError, "LP data contains NaN or inf"),
@@ -441,6 +484,13 @@ BATCH = [
     Case("sg.batch.run", "a scheduler that does not answer",
          lambda tmp: _batch(scheduler=f"tcp://127.0.0.1:{_silent_port()}", connect_timeout=1)(tmp), ConnectionError,
          "no Dask scheduler answered"),
+    Case("sg.batch.run", "a connect timeout that is not a number", _batch(connect_timeout=float("nan")), ValueError,
+         "connect_timeout must be a finite number > 0"),
+    Case("sg.batch.run", "a scheduler address that is a number", _batch(scheduler=123), TypeError,
+         "scheduler must be a Dask scheduler's address"),
+    Case("synergrasp batch", "--connect-timeout nan",
+         argv=["batch", "cup", "--scheduler", "tcp://127.0.0.1:9", "--connect-timeout", "nan", "--out", "{tmp}/out"],
+         says="connect_timeout must be a finite number > 0"),
     Case("sg.batch.write_report", "a folder without results", lambda tmp: sg.batch.write_report(tmp), FileNotFoundError,
          "no batch results"),
     Case("sg.batch.write_report", "a negative gallery", lambda tmp: sg.batch.write_report(tmp, gallery=-1), ValueError,

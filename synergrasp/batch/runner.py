@@ -184,7 +184,7 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     tasks = expand(objects, grasps)
     store = ResultStore(out)
     store.check_writable()
-    _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate)
+    _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate, connect_timeout)
     with store.lock():
         rows, unreadable = store.scan()
         for path in unreadable:
@@ -209,8 +209,12 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     return report
 
 
-def _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate):
+def _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate, connect_timeout):
     get_backend(backend)
+    positive_scalar(connect_timeout, "connect_timeout")
+    if scheduler is not None and not isinstance(scheduler, str):
+        raise TypeError(f"scheduler must be a Dask scheduler's address such as 'tcp://host:8786', "
+                        f"got {type(scheduler).__name__}")
     if validate is not None:
         from ..physics import PRESETS
         from ..physics.simulate import mujoco_module

@@ -602,8 +602,12 @@ def _read_array_file(path: Path, ext: str):
     if ext == ".xyz":
         try:
             data = np.loadtxt(path, ndmin=2, comments="#")
-        except ValueError:
-            data = np.loadtxt(path, ndmin=2, comments="#", delimiter=",")
+        except ValueError as whitespace:
+            try:
+                data = np.loadtxt(path, ndmin=2, comments="#", delimiter=",")
+            except ValueError:
+                # the first reading's reason (a row of another length, a word), without numpy's advice on usecols
+                raise ValueError(str(whitespace).split("; use `usecols`")[0] + " (expected x y z per line)") from None
         if data.ndim != 2 or data.shape[1] < 3:
             raise ValueError(f"expected at least 3 columns x y z per line, got shape {data.shape}")
         return "points", data[:, :3]
@@ -612,7 +616,14 @@ def _read_array_file(path: Path, ext: str):
     with np.load(path, allow_pickle=False) as data:
         keys = list(data.keys())
         if "vertices" in keys and "faces" in keys:
-            return "mesh", trimesh.Trimesh(data["vertices"], data["faces"])
+            faces, n = np.asarray(data["faces"]), len(np.atleast_1d(data["vertices"]))
+            if faces.dtype.kind not in "iu" or faces.ndim != 2 or faces.shape[1] != 3 \
+                    or (faces.size and (faces.min() < 0 or faces.max() >= n)):
+                raise ValueError(f"'faces' must be an (m, 3) array of integer vertex indices from 0 to {n - 1}, "
+                                 f"got {faces.dtype} of shape {faces.shape}"
+                                 + (f" from {faces.min()} to {faces.max()}" if faces.size and faces.dtype.kind in "iuf"
+                                    else ""))
+            return "mesh", trimesh.Trimesh(data["vertices"], faces)
         if "points" in keys:
             return "points", data["points"]
         if len(keys) == 1:

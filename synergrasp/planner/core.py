@@ -176,6 +176,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
     hand = SynergyHand.default() if hand is None else hand
     if not isinstance(hand, SynergyHand):
         raise TypeError(f"hand must be a SynergyHand (e.g. SynergyHand.from_file(path)), got {type(hand).__name__}")
+    if len(hand.finger_names) < 3:
+        raise ValueError(f"hand {hand.name!r} has {len(hand.finger_names)} finger chain(s); the planner needs a thumb "
+                         "(the first chain) and at least two fingers to oppose it")
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable as progress(check, status), got {type(progress).__name__}")
     obj = _check_object(obj, hand)
@@ -277,9 +280,13 @@ def _validator(validate, obj, hand, backend):
     """The physics test of a plan's accepted grasps (a function of u -> Validation), or None."""
     if validate is False:
         return None
-    from ..physics import validate as simulate  # noqa: PLC0415 - MuJoCo only when asked for
+    from ..physics import mujoco_module, protocol  # noqa: PLC0415 - MuJoCo only when asked for
+    from ..physics import validate as simulate  # noqa: PLC0415
 
     settings = {} if validate is True else dict(validate)
+    # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
+    mujoco_module()
+    protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
     return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 

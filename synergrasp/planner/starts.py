@@ -96,6 +96,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     a = as_vector(approach, "approach", 3)
     if np.linalg.norm(a) < 1e-9:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
+    a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows
     a = a / np.linalg.norm(a)
     if abs(a[0]) > 0.95:  # palm normal along x: the XYZ Euler angles would start in gimbal lock
         a = a + np.array([0.0, 0.0, 0.35])
