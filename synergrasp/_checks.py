@@ -36,10 +36,8 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
         If it is not 2-D, is empty, has the wrong dimension or a non-finite entry.
     """
     try:
-        if np.iscomplexobj(value):
-            raise TypeError("complex")
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
+        arr = _floats(value)
+    except (TypeError, ValueError, OverflowError) as exc:
         raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value)}") from exc
     if arr.ndim != 2:
         raise ValueError(f"{name} must have shape (n, d), got shape {arr.shape}")
@@ -54,13 +52,21 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     return arr
 
 
+def _floats(value) -> np.ndarray:
+    """``value`` as floats; numbers only: not text, booleans, complex numbers or masked entries."""
+    if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
+        raise TypeError("masked entries")
+    raw = np.asarray(value)
+    if raw.dtype.kind in "USbc" or np.iscomplexobj(value):
+        raise TypeError(raw.dtype.name)
+    return np.asarray(raw, dtype=float)
+
+
 def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     """Validate a finite 1-D vector (optionally of a given size)."""
     try:
-        if np.iscomplexobj(value):
-            raise TypeError("complex")
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
+        arr = _floats(value)
+    except (TypeError, ValueError, OverflowError) as exc:
         raise TypeError(f"{name} must be a numeric vector, got {_kind(value)}") from exc
     if arr.ndim != 1 or (size is not None and arr.shape[0] != size):
         expected = f"({size},)" if size is not None else "(n,)"
@@ -80,7 +86,7 @@ def as_path(value, what: str) -> Path:
 def positive_scalar(value, name: str, maximum: float | None = None) -> float:
     """Validate a finite, strictly positive number (at most ``maximum`` if given)."""
     try:
-        if isinstance(value, (str, bytes)):
+        if isinstance(value, (str, bytes, bool, np.bool_)):
             raise TypeError(type(value).__name__)
         out = float(value)
     except (TypeError, ValueError) as exc:
@@ -101,8 +107,18 @@ def integer(value, name: str, minimum: int = 1, what: str = "") -> int:
 
 def _kind(value) -> str:
     """How a value that is not a numeric array is named in messages."""
+    if np.ma.isMaskedArray(value):
+        return "a masked array with masked entries (fill or drop them first)"
     if isinstance(value, np.ndarray):
         return f"an array of dtype {value.dtype}"
+    try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        kind = ""
+    if kind in ("U", "S"):
+        return f"a {type(value).__name__} of text"
+    if kind == "b":
+        return f"a {type(value).__name__} of booleans"
     try:
         complex_values = np.iscomplexobj(value) and not isinstance(value, (str, bytes))
     except (TypeError, ValueError):  # ragged nested lists

@@ -291,6 +291,9 @@ class SynergyHand:
                 length = float(spec.array(joint, "length", f"{jf}.length", ()))
                 if length < 0:
                     spec.fail(f"{jf}.length", "must be >= 0")
+                if length > 0 and np.linalg.norm(np.cross(axis / np.linalg.norm(axis), [0.0, 1.0, 0.0])) < 1e-6:
+                    spec.fail(f"{jf}.axis", "must not be along the link (the joint frame's y axis) for a link of "
+                                            "positive length: the link's palmar side, where it flexes to, is undefined")
                 coupling = spec.get(joint, "coupling", f"{jf}.coupling")
                 if not isinstance(coupling, dict):
                     spec.fail(f"{jf}.coupling", "must be an object {actuated joint name: coefficient}")
