@@ -57,7 +57,7 @@ def _floats(value) -> np.ndarray:
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise TypeError("masked entries")
     raw = np.asarray(value)
-    if raw.dtype.kind in "USbc" or np.iscomplexobj(value):
+    if raw.dtype.kind in "USbc":
         raise TypeError(raw.dtype.name)
     return np.asarray(raw, dtype=float)
 
@@ -77,9 +77,9 @@ def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
 
 
 def as_path(value, what: str) -> Path:
-    """A file path given as a str or os.PathLike (not a dict, None, ...)."""
+    """A file path given as a str or os.PathLike (not a dict, None, ...); ``what`` names it in the error."""
     if not isinstance(value, (str, os.PathLike)):
-        raise TypeError(f"{what} must be a file path (str or os.PathLike), got {type(value).__name__}")
+        raise TypeError(f"{what} must be a str or os.PathLike, got {type(value).__name__}")
     return Path(value)
 
 

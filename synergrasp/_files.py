@@ -8,6 +8,8 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+from ._checks import as_path
+
 
 @contextmanager
 def atomic_path(path):
@@ -39,9 +41,7 @@ def atomic_path(path):
     >>> (folder / "out.txt").read_text(), sorted(p.name for p in folder.iterdir())
     ('done', ['out.txt'])
     """
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"an output path must be a str or os.PathLike, got {type(path).__name__}")
-    path = Path(path)
+    path = as_path(path, "an output path")
     if path.is_dir():
         raise IsADirectoryError(f"cannot write '{path}': it is a folder; give a file name")
     if not path.parent.is_dir():
