@@ -516,3 +516,24 @@ def test_default_centre_on_a_cut_between_pieces_is_inside():
     obj = so.GraspObject([box + [100.0, 50.0, 0.0], box + [100.0, 50.0, 80.0]])
     assert obj.contains(obj.center[None])[0]
     assert np.linalg.norm(obj.center - [100.0, 50.0, 40.0]) < 25.0
+
+
+def test_distance_grid_is_the_signed_distance_of_a_box_inside_and_a_lower_bound_outside():
+    corners = np.array([[x, y, z] for x in (-30.0, 30.0) for y in (-25.0, 25.0) for z in (-45.0, 45.0)])
+    box = so.GraspObject([corners], name="box")
+    grid = box.distance_grid
+    rng = np.random.default_rng(0)
+    inside = rng.uniform([-29.0, -24.0, -44.0], [29.0, 24.0, 44.0], size=(400, 3))
+    exact_inside = -np.min(np.r_[[30.0, 25.0, 45.0]] - np.abs(inside), axis=1)  # closed form: nearest face
+    # linear interpolation of a function with unit slope: off by at most the node spacing near the ridges
+    np.testing.assert_allclose(grid(inside), exact_inside, atol=grid.spacing)
+    outside = rng.uniform(-50.0, 50.0, size=(400, 3)) * [1.0, 1.0, 1.3]
+    outside = outside[~box.contains(outside)]
+    exact_outside = np.linalg.norm(np.maximum(np.abs(outside) - [30.0, 25.0, 45.0], 0.0), axis=1)
+    values = grid(outside)
+    # a lower bound of the distance at the nodes; between them the interpolation is off by less than the spacing
+    assert np.all(values <= exact_outside + grid.spacing) and np.all(values > 0.0)
+    on_axis = np.array([[35.0, 0.0, 0.0], [0.0, -29.0, 10.0], [5.0, 5.0, 52.0]])  # facing one face: exact
+    np.testing.assert_allclose(grid(on_axis), [5.0, 4.0, 7.0], atol=1e-9)
+    assert grid(np.array([[0.0, 0.0, 500.0]]))[0] == grid.pad  # beyond the grid
+    assert grid(np.zeros((2, 4, 3))).shape == (2, 4)

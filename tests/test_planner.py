@@ -24,6 +24,7 @@ from synergrasp.planner import (
     start_configuration,
     starts,
     status_rows,
+    wrap_seeds,
 )
 from synergrasp.planner import attempt as attempt_module
 from synergrasp.planner.clearance import HandClearance
@@ -310,6 +311,43 @@ def test_power_starts_alternate_the_pre_shapes_and_keep_every_phalanx_clear(hand
         assert big.penetration(geo.capsules, geo.radius).distances.min() >= opts.start_clearance - 1e-6
 
 
+def test_wrap_seeds_lay_the_palm_on_the_surface_with_no_phalanx_in_the_object(hand):
+    cup = so.cup()
+    opts = PlannerOptions()
+    seeds = list(wrap_seeds(hand, cup, opts))
+    assert 1 <= len(seeds) <= 12 and {s.kind for s in seeds} == {"wrap"}
+    mesh = cup.mesh
+    for s in seeds:
+        palm = hand.points(s.u, "power")[-1]
+        assert trimesh.proximity.closest_point(mesh, [palm])[1][0] < opts.eps_c  # the palm point is on the surface
+        # no phalanx capsule (sampled along its axis) is deeper than max_penetration in the true mesh
+        geo = hand.segments(s.u)
+        a, b = geo.capsules[:, 0], geo.capsules[:, 1]
+        t = np.linspace(0.0, 1.0, 7)[:, None, None]
+        axis = (a * (1.0 - t) + b * t).reshape(-1, 3)
+        depth = geo.radius + trimesh.proximity.signed_distance(mesh, axis).max()  # signed distance: > 0 inside
+        assert depth <= opts.max_penetration + 0.5
+    checks = [s.detail["g_Q"] for s in seeds]
+    met = [check_grasp(cup, grasp_status(hand, cup, s.u, "power"), "power").done for s in seeds]
+    assert met == sorted(met, reverse=True)  # seeds meeting the criterion come first
+    assert all(np.isfinite(q) for q in checks)
+
+
+def test_one_attempt_from_the_first_wrap_seed_grasps_the_ellipsoid(hand, ellipsoid):
+    start = next(wrap_seeds(hand, ellipsoid, PlannerOptions()))
+    r = plan(ellipsoid, "power", u0=start.u)
+    verify(r, ellipsoid)
+    assert len(r.attempts) == 1 and r.iterations < 60
+
+
+def test_power_plans_start_with_wrap_seeds_then_the_direction_schedule(hand):
+    box = so.from_mesh(trimesh.creation.box((60.0, 70.0, 90.0)), cache=False)
+    opts = PlannerOptions()
+    kinds = [s.kind for s in starts(hand, box, "power", opts)]
+    n = kinds.count("wrap")
+    assert n >= 1 and kinds[:n] == ["wrap"] * n and kinds[n:] == [s.kind for s in power_schedule(hand, box, opts)]
+
+
 def test_a_palm_centred_start_faces_the_object_with_the_palm(hand, ellipsoid):
     a = np.array([1.0, 1.0, 1.0]) / np.sqrt(3.0)
     for centred in (True, False):
@@ -343,7 +381,8 @@ def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
         return step(J, e, z, limits, first)
 
     monkeypatch.setattr(attempt_module, "limited_step", spy)
-    r = plan(obj, "power", restarts=1, refine_iterations=0)
+    far = next(power_schedule(SynergyHand.default(), obj, PlannerOptions())).u  # reaching from afar: g_sQ falls
+    r = plan(obj, "power", u0=far, refine_iterations=0)
     sq = r.status[: len(asked), -1]
     held, pulled = sq < -0.05, sq >= -0.05
     assert held.any() and pulled.any()

@@ -17,6 +17,7 @@ from .grasp_object import GraspObject
 from .loading import MESH_FORMATS, POINT_FORMATS, SUPPORTED_FORMATS, cache_dir, from_mesh, from_points, get, load
 from .collision import Penetration
 from .contact_distance import ContactDistance
+from .distance_grid import DistanceGrid
 from .scaled_contacts import ScaledContacts
 from .shapes import BUILTINS, bell, cup, ellipsoid, goblet, revolve
 
@@ -24,6 +25,7 @@ __all__ = [
     "BUILTINS",
     "ContactDistance",
     "ConvexPiece",
+    "DistanceGrid",
     "GraspObject",
     "MESH_FORMATS",
     "POINT_FORMATS",

@@ -13,6 +13,7 @@ from .broad_phase import PieceIndex
 from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
+from .distance_grid import DistanceGrid
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
 
@@ -121,6 +122,11 @@ class GraspObject:
         """(2, 3) float: axis-aligned bounding box ``[min, max]``."""
         allv = np.vstack(self.pieces)
         return np.array([allv.min(axis=0), allv.max(axis=0)])
+
+    @cached_property
+    def distance_grid(self) -> DistanceGrid:
+        """The pieces' signed-distance bound on a grid around the object (`DistanceGrid`), built on first use."""
+        return DistanceGrid(self.index, self.bounds)
 
     @property
     def extents(self) -> np.ndarray:

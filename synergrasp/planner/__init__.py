@@ -7,7 +7,8 @@ from .core import METHODS, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
-from .starts import Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts
+from .starts import (Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts,
+                     wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
@@ -50,6 +51,7 @@ __all__ = [
     "sq_request",
     "start_configuration",
     "starts",
+    "wrap_seeds",
     "status_rows",
     "widest_opening",
 ]

@@ -6,6 +6,7 @@
 
 A plan tries the starts of `synergrasp.planner.starts` in turn (precision:
 pairs of opposed surface points, then directions around the object; power:
+the palm laid on the surface with the fingers closed around it, then
 directions with two pre-shapes), one attempt each (`run_attempt`), until an
 attempt ends in an accepted grasp (the paper's criterion, no phalanx too
 deep, force-closed with a margin on the object's true surface), or
@@ -32,7 +33,7 @@ from .attempt import Outcome, run_attempt
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import executable_reach
 from .result import PlanResult
-from .starts import Start, start_configuration, starts
+from .starts import Start, preshape, start_configuration, starts
 
 #: Objects thinner than this (mm) are refused: most likely a mesh in metres.
 MIN_WIDTH = 2.0
@@ -181,6 +182,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
                          "(the first chain) and at least two fingers to oppose it")
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable as progress(check, status), got {type(progress).__name__}")
+    if grasp == "power" and method == "gradient":
+        wide = preshape(hand, opts.power_wide_preshape)
+        preshape(hand, opts.power_preshape)  # both checked before planning
     obj = _check_object(obj, hand)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else t0 + opts.time_limit
@@ -197,19 +201,19 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
     if u0 is not None:
         queue = iter([Start(as_vector(u0, "u0", hand.n_u), "given", {})])
     else:
-        queue = starts(hand, obj, grasp, opts)
+        queue = starts(hand, obj, grasp, opts, backend=solver)
         if approach is not None:
             first = start_configuration(hand, obj, as_vector(approach, "approach", 3), opts.start_distance,
                                         opts.start_clearance, palm_centred=grasp == "power")
             if grasp == "power":
-                first[6:] = np.clip(opts.power_wide_preshape or np.zeros(hand.n_syn), *hand.synergy_limits.T)
+                first[6:] = wide
             queue = itertools.chain([Start(first, "direction", {"direction": list(approach)})], queue)
     physics = _validator(validate, obj, hand, solver)
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):
         budget = min(opts.iterations_per_attempt, opts.max_iter - total)
-        if budget <= 0 or (deadline is not None and time.perf_counter() > deadline):
-            break
+        if budget <= 0 or (attempts and deadline is not None and time.perf_counter() > deadline):
+            break  # (a first attempt past the deadline ends at once, saying so)
         result = run_attempt(hand, obj, grasp, start.u, opts, backend=solver, budget=budget, deadline=deadline,
                              progress=progress)
         total += result.iterations

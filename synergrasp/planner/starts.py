@@ -5,10 +5,14 @@
   on either side of a pair, the hand opened a little wider than the pair and
   rolled about it so that the hand stays out of the object, then moved back
   along the palm normal: the attempt reaches in and closes.
+* `wrap_seeds` (power grasps): the palm laid on surface points, rolled about
+  their normal, with the synergies on a grid; the poses where most phalanges
+  touch and none cuts in (screened on the object's `DistanceGrid`, then
+  checked exactly) come first, force-closed ones first of all.
 * `direction_starts`: the hand in front of the object along its principal axes
   and the diagonals between them, palm facing its centre (the starts of
-  objects without opposed surface points, and of power grasps, in turn with
-  two pre-shapes, see `power_schedule`).
+  objects without opposed surface points, and the power starts after the
+  wrap seeds, in turn with two pre-shapes, see `power_schedule`).
 * `start_configuration`: one such pose from a given direction.
 """
 
@@ -23,6 +27,8 @@ from scipy.spatial.transform import Rotation
 
 from .._checks import as_vector
 from ..hand import rotation_xyz
+from .status import grasp_status, hand_penetration
+from .stop import check_grasp
 
 #: Largest angle (deg) between one point's inward normal and the other's outward normal in a pair.
 PAIR_ANGLE = 30.0
@@ -33,6 +39,19 @@ ROLLS = 12
 #: Pair width (mm) tried first: pairs are taken in order of their width's distance from it plus their
 #: axis's distance from the object's centre.
 PAIR_WIDTH = 65.0
+#: Surface points where a wrap seed lays the palm, per plan.
+WRAP_SAMPLES = 64
+#: Rolls of the palm about the surface normal tried at each point.
+WRAP_ROLLS = 8
+#: Synergy values per synergy on the wrap seeds' grid (between the hand's limits).
+WRAP_GRID = 5
+#: Gap (mm) between the palm point and the surface in a wrap seed.
+WRAP_STANDOFF = 2.0
+#: Most wrap seeds per plan.
+WRAP_SEEDS = 12
+#: Palm orientations with ``|R[0, 2]|`` (the sine of the second XYZ Euler angle) above this are not used
+#: as starts: near the angles' lock their Jacobian is singular.
+GIMBAL = 0.95
 
 
 @dataclass(frozen=True)
@@ -314,6 +333,115 @@ def _clear(hand, obj, u, back, clearance):
     return u
 
 
+def _wrap_table(hand, steps=WRAP_GRID, fractions=6):
+    """The synergy grid and, at each of its values, the hand's screening points in the palm frame.
+
+    Returns
+    -------
+    z : (g, n_syn) float
+    points : (g, k + p + k * fractions, 3) float
+        The power points of the k phalanges, the palm's p skin points (the
+        palm point first), then points along every phalanx capsule's axis.
+    k, p : int
+    """
+    grid = np.linspace(0.0, 1.0, steps)
+    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
+    z = np.array(list(itertools.product(*[a + grid * (b - a) for a, b in zip(lo, hi)])))
+    along = np.linspace(0.0, 1.0, fractions)[:, None, None]
+    points = []
+    for zi in z:
+        u = np.r_[np.zeros(6), zi]
+        skin, palm, _, _ = hand.skin_and_jacobian(u)
+        capsules = hand.segments(u).capsules
+        axis = (capsules[None, :, 0] * (1.0 - along) + capsules[None, :, 1] * along).reshape(-1, 3)
+        points.append(np.vstack([hand.points(u, "power")[:-1], palm, axis]))
+    return z, np.array(points), len(skin), len(palm)
+
+
+_WRAP_TABLES = weakref.WeakKeyDictionary()
+
+
+def _roll_frames(normal, rolls):
+    """Palm orientations facing along ``-normal``, rolled about it: (rolls, 3, 3), columns x, y, z."""
+    z = -normal
+    a = np.cross(z, [1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.cross(z, [0.0, 1.0, 0.0])
+    a /= np.linalg.norm(a)
+    b = np.cross(z, a)
+    frames = []
+    for angle in np.linspace(0.0, 2.0 * np.pi, rolls, endpoint=False):
+        y = np.cos(angle) * a + np.sin(angle) * b
+        frames.append(np.column_stack([np.cross(y, z), y, z]))
+    return np.array(frames)
+
+
+def wrap_seeds(hand, obj, options, *, backend="highs"):
+    """Power starts with the palm on the object and the fingers closed around it (see the module docstring).
+
+    The palm point is put `WRAP_STANDOFF` mm off each of `WRAP_SAMPLES`
+    surface points (`surface_samples`), the palm facing the surface, in
+    `WRAP_ROLLS` rolls about the normal, with every synergy value of a
+    `WRAP_GRID` grid. Each pose is screened on the object's `DistanceGrid`:
+    it is kept when no phalanx axis is nearer the surface than the finger
+    radius less ``options.max_penetration`` and no palm skin point deeper
+    than ``options.max_penetration``, and scored by the phalanges whose power
+    point is within ``options.eps_c`` of the surface (nearer ones count a
+    little more). The best pose of each point and roll, in order of score,
+    is then checked exactly (python-fcl, `hand_penetration`) and its grasp
+    judged (`check_grasp`); up to `WRAP_SEEDS` are yielded, those meeting
+    the paper's criterion first, then by their Q distance.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    options : PlannerOptions
+    backend : str
+        LP backend of the grasp checks.
+
+    Yields
+    ------
+    Start
+        Of kind ``"wrap"``; ``detail`` has the surface point, the roll, the
+        phalanges in contact and the grasp's g_Q.
+    """
+    if hand not in _WRAP_TABLES:
+        _WRAP_TABLES[hand] = _wrap_table(hand)
+    z, local, n_fingers, n_palm = _WRAP_TABLES[hand]
+    palm_point = local[0, n_fingers]
+    points, normals, _, _ = surface_samples(obj, WRAP_SAMPLES, options.seed)
+    if not len(points):
+        return
+    R = np.concatenate([_roll_frames(n, WRAP_ROLLS) for n in normals])  # (m * rolls, 3, 3)
+    t = np.repeat(points + WRAP_STANDOFF * normals, WRAP_ROLLS, axis=0) - R @ palm_point
+    d = obj.distance_grid(np.einsum("fij,gpj->fgpi", R, local) + t[:, None, None, :])  # (poses, g, points)
+    fingers = d[..., :n_fingers]
+    clear = ((d[..., n_fingers:n_fingers + n_palm].min(axis=2) >= -options.max_penetration)
+             & (d[..., n_fingers + n_palm:].min(axis=2) >= hand.finger_radius - options.max_penetration)
+             & (np.abs(R[:, 0, 2]) < GIMBAL)[:, None])  # the XYZ Euler angles of the palm are not near their lock
+    touching = (fingers < options.eps_c).sum(axis=2)
+    score = np.where(clear, touching + 0.1 * np.exp(-np.clip(fingers, 0.0, None) / 10.0).sum(axis=2), -np.inf)
+    best = score.argmax(axis=1)  # the best synergies of each pose
+    score = score[np.arange(len(score)), best]
+    kept, checked = [], 0
+    for f in np.argsort(-score, kind="stable"):
+        if not np.isfinite(score[f]) or len(kept) >= WRAP_SEEDS or checked >= 4 * WRAP_SEEDS:
+            break
+        checked += 1
+        u = np.r_[t[f], Rotation.from_matrix(R[f]).as_euler("XYZ"), z[best[f]]]
+        if hand_penetration(hand, obj, u).depth > options.max_penetration:
+            continue
+        status = grasp_status(hand, obj, u, "power", mu=options.mu, edges=options.edges, backend=backend)
+        check = check_grasp(obj, status, "power", eps_c=options.eps_c, mu=options.mu, edges=options.edges,
+                            backend=backend)
+        q = check.q if np.isfinite(check.q) else np.inf
+        detail = {"point": points[f // WRAP_ROLLS].round(3).tolist(), "roll": int(f % WRAP_ROLLS),
+                  "touching": int(touching[f, best[f]]), "g_Q": round(float(check.q), 6)}
+        kept.append(((not check.done, q, -score[f]), Start(u, "wrap", detail)))
+    kept.sort(key=lambda k: k[0])
+    for _, start in kept:
+        yield start
+
+
 def power_schedule(hand, obj, options):
     """Power starts: `principal_directions`, each with the wide pre-shape (palm-centred) and then the cupped one.
 
@@ -334,15 +462,31 @@ def power_schedule(hand, obj, options):
     shapes = [("wide", options.power_wide_preshape, True)] if options.power_wide_preshape is not None else []
     shapes.append(("cupped", options.power_preshape, False))
     for d in principal_directions(obj):
-        for kind, preshape, wide in shapes:
+        for kind, shape, wide in shapes:
             u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance, palm_centred=wide)
-            u[6:] = _preshape(hand, preshape)
+            u[6:] = preshape(hand, shape)
             u = _clear(hand, obj, u, -rotation_xyz(u[3:6])[:, 2], options.start_clearance)
             yield Start(u, kind, {"direction": d.round(6).tolist()})
 
 
-def _preshape(hand, value):
-    """A pre-shape option as synergy values within the hand's limits (None: the mean pose)."""
+def preshape(hand, value):
+    """A pre-shape option as synergy values within the hand's limits.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    value : sequence of float or None
+        One value per synergy; None: the mean pose (zeros).
+
+    Returns
+    -------
+    (n_syn,) float
+
+    Raises
+    ------
+    ValueError
+        If ``value`` does not have one value per synergy.
+    """
     if value is None:
         return np.zeros(hand.n_syn)
     if len(value) != hand.n_syn:
@@ -350,8 +494,8 @@ def _preshape(hand, value):
     return np.clip(np.asarray(value, dtype=float), hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
-def starts(hand, obj, grasp, options):
-    """The starts of a plan in turn: pinch seeds then direction starts (precision), or `power_schedule`.
+def starts(hand, obj, grasp, options, *, backend="highs"):
+    """The starts of a plan in turn: pinch seeds then direction starts (precision), or wrap seeds then `power_schedule`.
 
     Parameters
     ----------
@@ -359,12 +503,15 @@ def starts(hand, obj, grasp, options):
     obj : GraspObject
     grasp : {"precision", "power"}
     options : PlannerOptions
+    backend : str
+        LP backend of the wrap seeds' grasp checks.
 
     Yields
     ------
     Start
     """
     if grasp == "power":
+        yield from wrap_seeds(hand, obj, options, backend=backend)
         yield from power_schedule(hand, obj, options)
         return
     yield from pinch_seeds(hand, obj, options)
