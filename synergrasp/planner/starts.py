@@ -8,7 +8,8 @@
 * `wrap_seeds` (power grasps): the palm laid on surface points, rolled about
   their normal, with the synergies on a grid; the poses where most phalanges
   touch and none cuts in (screened on the object's `DistanceGrid`, then
-  checked exactly) come first, force-closed ones first of all.
+  checked exactly, a batch at a time) come first, force-closed ones first
+  within each batch.
 * `direction_starts`: the hand in front of the object along its principal axes
   and the diagonals between them, palm facing its centre (the starts of
   objects without opposed surface points, and the power starts after the
@@ -47,7 +48,7 @@ WRAP_ROLLS = 8
 WRAP_GRID = 5
 #: Gap (mm) between the palm point and the surface in a wrap seed.
 WRAP_STANDOFF = 2.0
-#: Most wrap seeds per plan.
+#: Wrap seeds per batch (a batch checks at most four times as many poses).
 WRAP_SEEDS = 12
 #: Palm orientations with ``|R[0, 2]|`` (the sine of the second XYZ Euler angle) above this are not used
 #: as starts: near the angles' lock their Jacobian is singular.
@@ -387,8 +388,11 @@ def wrap_seeds(hand, obj, options, *, backend="highs"):
     point is within ``options.eps_c`` of the surface (nearer ones count a
     little more). The best pose of each point and roll, in order of score,
     is then checked exactly (python-fcl, `hand_penetration`) and its grasp
-    judged (`check_grasp`); up to `WRAP_SEEDS` are yielded, those meeting
-    the paper's criterion first, then by their Q distance.
+    judged (`check_grasp`), in batches: a batch ends at `WRAP_SEEDS` poses
+    that pass the exact check or at four times as many checked, and its
+    seeds are yielded, those meeting the paper's criterion first, then by
+    their Q distance, before the next batch is checked. The batches go on
+    until every screened pose has been checked.
 
     Parameters
     ----------
@@ -402,7 +406,7 @@ def wrap_seeds(hand, obj, options, *, backend="highs"):
     ------
     Start
         Of kind ``"wrap"``; ``detail`` has the surface point, the roll, the
-        phalanges in contact and the grasp's g_Q.
+        phalanges in contact, the grasp's g_Q and the batch (0, 1, ...).
     """
     if hand not in _WRAP_TABLES:
         _WRAP_TABLES[hand] = _wrap_table(hand)
@@ -422,24 +426,30 @@ def wrap_seeds(hand, obj, options, *, backend="highs"):
     score = np.where(clear, touching + 0.1 * np.exp(-np.clip(fingers, 0.0, None) / 10.0).sum(axis=2), -np.inf)
     best = score.argmax(axis=1)  # the best synergies of each pose
     score = score[np.arange(len(score)), best]
-    kept, checked = [], 0
+    touching = touching[np.arange(len(score)), best]
+    kept, checked, batch = [], 0, 0
     for f in np.argsort(-score, kind="stable"):
-        if not np.isfinite(score[f]) or len(kept) >= WRAP_SEEDS or checked >= 4 * WRAP_SEEDS:
+        if not np.isfinite(score[f]):
             break
         checked += 1
         u = np.r_[t[f], Rotation.from_matrix(R[f]).as_euler("XYZ"), z[best[f]]]
-        if hand_penetration(hand, obj, u).depth > options.max_penetration:
-            continue
-        status = grasp_status(hand, obj, u, "power", mu=options.mu, edges=options.edges, backend=backend)
-        check = check_grasp(obj, status, "power", eps_c=options.eps_c, mu=options.mu, edges=options.edges,
-                            backend=backend)
-        q = check.q if np.isfinite(check.q) else np.inf
-        detail = {"point": points[f // WRAP_ROLLS].round(3).tolist(), "roll": int(f % WRAP_ROLLS),
-                  "touching": int(touching[f, best[f]]), "g_Q": round(float(check.q), 6)}
-        kept.append(((not check.done, q, -score[f]), Start(u, "wrap", detail)))
-    kept.sort(key=lambda k: k[0])
-    for _, start in kept:
-        yield start
+        if hand_penetration(hand, obj, u).depth <= options.max_penetration:
+            status = grasp_status(hand, obj, u, "power", mu=options.mu, edges=options.edges, backend=backend)
+            check = check_grasp(obj, status, "power", eps_c=options.eps_c, mu=options.mu, edges=options.edges,
+                                backend=backend)
+            q = check.q if np.isfinite(check.q) else np.inf
+            detail = {"point": points[f // WRAP_ROLLS].round(3).tolist(), "roll": int(f % WRAP_ROLLS),
+                      "touching": int(touching[f]), "g_Q": round(float(check.q), 6), "batch": batch}
+            kept.append(((not check.done, q, -score[f]), Start(u, "wrap", detail)))
+        if len(kept) >= WRAP_SEEDS or checked >= 4 * WRAP_SEEDS:  # a batch: its seeds in order, then the next
+            yield from _in_order(kept)
+            kept, checked, batch = [], 0, batch + 1
+    yield from _in_order(kept)
+
+
+def _in_order(kept):
+    """The starts of (key, start) pairs, by key."""
+    return [start for _, start in sorted(kept, key=lambda k: k[0])]
 
 
 def power_schedule(hand, obj, options):
