@@ -537,3 +537,15 @@ def test_distance_grid_is_the_signed_distance_of_a_box_inside_and_a_lower_bound_
     np.testing.assert_allclose(grid(on_axis), [5.0, 4.0, 7.0], atol=1e-9)
     assert grid(np.array([[0.0, 0.0, 500.0]]))[0] == grid.pad  # beyond the grid
     assert grid(np.zeros((2, 4, 3))).shape == (2, 4)
+
+
+def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():
+    from scipy.ndimage import map_coordinates
+
+    grid = so.bell().distance_grid
+    top = grid.origin + grid.spacing * (np.array(grid.values.shape) - 1)
+    points = np.random.default_rng(3).uniform(grid.origin - 20.0, top + 20.0, size=(5000, 3))
+    coords = ((points - grid.origin) / grid.spacing).T
+    expected = map_coordinates(grid.values, coords, order=1, mode="constant", cval=grid.pad)
+    np.testing.assert_allclose(grid(points), expected, rtol=0, atol=1e-9)
+    assert np.array_equal(grid(np.array([[np.nan, 0.0, 0.0], [1e9, 0.0, 0.0]])), [grid.pad, grid.pad])

@@ -12,7 +12,8 @@ interpolated linearly, which is off by less than the node spacing.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import map_coordinates
+
+from .._jit import kernel
 
 
 class DistanceGrid:
@@ -75,6 +76,27 @@ class DistanceGrid:
             mm; ``pad`` outside the grid.
         """
         points = np.asarray(points, dtype=float)
-        coords = ((points.reshape(-1, 3) - self.origin) / self.spacing).T
-        values = map_coordinates(self.values, coords, order=1, mode="constant", cval=self.pad)
-        return values.reshape(points.shape[:-1])
+        flat = points.reshape(-1, 3)
+        out = np.empty(len(flat))
+        _trilinear(self.values, self.origin, self.spacing, self.pad, flat, out)
+        return out.reshape(points.shape[:-1])
+
+
+@kernel
+def _trilinear(values, origin, spacing, pad, points, out):
+    """``out[k]``: ``values`` interpolated linearly at ``points[k]`` (node units from ``origin``), ``pad`` off the grid."""
+    nx, ny, nz = values.shape
+    for k in range(points.shape[0]):
+        x = (points[k, 0] - origin[0]) / spacing
+        y = (points[k, 1] - origin[1]) / spacing
+        z = (points[k, 2] - origin[2]) / spacing
+        if not (0.0 <= x <= nx - 1 and 0.0 <= y <= ny - 1 and 0.0 <= z <= nz - 1):  # NaN too
+            out[k] = pad
+            continue
+        i, j, m = min(int(x), nx - 2), min(int(y), ny - 2), min(int(z), nz - 2)
+        fx, fy, fz = x - i, y - j, z - m
+        c00 = values[i, j, m] * (1.0 - fx) + values[i + 1, j, m] * fx
+        c10 = values[i, j + 1, m] * (1.0 - fx) + values[i + 1, j + 1, m] * fx
+        c01 = values[i, j, m + 1] * (1.0 - fx) + values[i + 1, j, m + 1] * fx
+        c11 = values[i, j + 1, m + 1] * (1.0 - fx) + values[i + 1, j + 1, m + 1] * fx
+        out[k] = (c00 * (1.0 - fy) + c10 * fy) * (1.0 - fz) + (c01 * (1.0 - fy) + c11 * fy) * fz

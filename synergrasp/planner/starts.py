@@ -20,7 +20,7 @@
 from __future__ import annotations
 
 import itertools
-import weakref
+import json
 from dataclasses import dataclass
 
 import numpy as np
@@ -237,13 +237,22 @@ class _Apertures:
         return k, abs(self.width[k] - width)
 
 
-_APERTURES = weakref.WeakKeyDictionary()
+_APERTURES = {}
+
+
+def _per_hand(cache, hand, build):
+    """``build(hand)``, computed once per hand definition: every plan gets its own copy of the
+    default hand, so the tables are keyed by the hand file's fields, not by the object."""
+    key = json.dumps(hand.to_dict(), sort_keys=True)
+    if key not in cache:
+        if len(cache) >= 8:
+            cache.pop(next(iter(cache)))
+        cache[key] = build(hand)
+    return cache[key]
 
 
 def _apertures(hand):
-    if hand not in _APERTURES:
-        _APERTURES[hand] = _Apertures(hand)
-    return _APERTURES[hand]
+    return _per_hand(_APERTURES, hand, _Apertures)
 
 
 def pinch_seeds(hand, obj, options):
@@ -359,20 +368,27 @@ def _wrap_table(hand, steps=WRAP_GRID, fractions=6):
     return z, np.array(points), len(skin), len(palm)
 
 
-_WRAP_TABLES = weakref.WeakKeyDictionary()
+_WRAP_TABLES = {}
 
 
-def _roll_frames(normal, rolls):
-    """Palm orientations facing along ``-normal``, rolled about it: (rolls, 3, 3), columns x, y, z."""
-    z = -normal
-    a = np.cross(z, [1.0, 0.0, 0.0]) if abs(z[0]) < 0.9 else np.cross(z, [0.0, 1.0, 0.0])
-    a /= np.linalg.norm(a)
+def _roll_frames(normals, rolls):
+    """Palm orientations facing along ``-normal``, rolled about it: (m * rolls, 3, 3), columns x, y, z.
+
+    Parameters
+    ----------
+    normals : (m, 3) float
+        Unit outward normals.
+    rolls : int
+        Rolls per normal, evenly spaced over a turn.
+    """
+    z = -normals
+    a = np.cross(z, np.where(np.abs(z[:, :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
+    a /= np.linalg.norm(a, axis=1, keepdims=True)
     b = np.cross(z, a)
-    frames = []
-    for angle in np.linspace(0.0, 2.0 * np.pi, rolls, endpoint=False):
-        y = np.cos(angle) * a + np.sin(angle) * b
-        frames.append(np.column_stack([np.cross(y, z), y, z]))
-    return np.array(frames)
+    angle = np.linspace(0.0, 2.0 * np.pi, rolls, endpoint=False)[None, :, None]
+    y = np.cos(angle) * a[:, None] + np.sin(angle) * b[:, None]  # (m, rolls, 3)
+    z = np.broadcast_to(z[:, None], y.shape)
+    return np.stack([np.cross(y, z), y, z], axis=-1).reshape(-1, 3, 3)
 
 
 def wrap_seeds(hand, obj, options, *, backend="highs"):
@@ -408,16 +424,16 @@ def wrap_seeds(hand, obj, options, *, backend="highs"):
         Of kind ``"wrap"``; ``detail`` has the surface point, the roll, the
         phalanges in contact, the grasp's g_Q and the batch (0, 1, ...).
     """
-    if hand not in _WRAP_TABLES:
-        _WRAP_TABLES[hand] = _wrap_table(hand)
-    z, local, n_fingers, n_palm = _WRAP_TABLES[hand]
+    z, local, n_fingers, n_palm = _per_hand(_WRAP_TABLES, hand, _wrap_table)
     palm_point = local[0, n_fingers]
     points, normals, _, _ = surface_samples(obj, WRAP_SAMPLES, options.seed)
     if not len(points):
         return
-    R = np.concatenate([_roll_frames(n, WRAP_ROLLS) for n in normals])  # (m * rolls, 3, 3)
+    R = _roll_frames(normals, WRAP_ROLLS)  # (m * rolls, 3, 3)
     t = np.repeat(points + WRAP_STANDOFF * normals, WRAP_ROLLS, axis=0) - R @ palm_point
-    d = obj.distance_grid(np.einsum("fij,gpj->fgpi", R, local) + t[:, None, None, :])  # (poses, g, points)
+    world = local.reshape(-1, 3) @ R.transpose(0, 2, 1)  # (poses, g * points, 3)
+    world += t[:, None, :]
+    d = obj.distance_grid(world).reshape(len(R), *local.shape[:2])  # (poses, g, points)
     fingers = d[..., :n_fingers]
     clear = ((d[..., n_fingers:n_fingers + n_palm].min(axis=2) >= -options.max_penetration)
              & (d[..., n_fingers + n_palm:].min(axis=2) >= hand.finger_radius - options.max_penetration)
