@@ -549,3 +549,6 @@ def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():
     expected = map_coordinates(grid.values, coords, order=1, mode="constant", cval=grid.pad)
     np.testing.assert_allclose(grid(points), expected, rtol=0, atol=1e-9)
     assert np.array_equal(grid(np.array([[np.nan, 0.0, 0.0], [1e9, 0.0, 0.0]])), [grid.pad, grid.pad])
+    for bad in (np.zeros((6, 2)), np.zeros((2, 4)), 5.0):  # (6, 2) would read as four points if reshaped
+        with pytest.raises(ValueError, match=r"shape \(\.\.\., 3\)"):
+            grid(bad)

@@ -73,9 +73,16 @@ class DistanceGrid:
         Returns
         -------
         (...) float
-            mm; ``pad`` outside the grid.
+            mm; ``pad`` outside the grid (and for NaN points).
+
+        Raises
+        ------
+        ValueError
+            If the last axis of ``points`` is not 3.
         """
         points = np.asarray(points, dtype=float)
+        if points.shape[-1:] != (3,):
+            raise ValueError(f"points must have shape (..., 3) (mm), got shape {points.shape}")
         flat = points.reshape(-1, 3)
         out = np.empty(len(flat))
         _trilinear(self.values, self.origin, self.spacing, self.pad, flat, out)
