@@ -345,6 +345,19 @@ def test_plane_bounds_are_each_pieces_signed_distance_bound(goblet):
     assert goblet.index.plane_bounds(pts) == pytest.approx(expected, abs=1e-9)
 
 
+def test_min_plane_bound_is_the_smallest_piece_bound_exactly_and_nan_for_nan(goblet):
+    # points along a line (coherent, as the grid's nodes are) and scattered ones, inside and out
+    line = goblet.center + np.linspace(-80.0, 80.0, 200)[:, None] * [0.3, 0.2, 0.93]
+    scattered = goblet.center + np.random.default_rng(3).normal(size=(300, 3)) * 40.0
+    pts = np.vstack([line, scattered])
+    expected = np.column_stack([p.signed_distance_bound(pts) for p in goblet.convex]).min(axis=1)
+    got = goblet.index.min_plane_bound(pts)
+    assert (got < 0).any() and (got > 0).any()
+    assert np.array_equal(got, goblet.index.plane_bounds(pts).min(axis=1))
+    assert got == pytest.approx(expected, abs=1e-9)
+    assert np.isnan(goblet.index.min_plane_bound([[np.nan, 0.0, 0.0], [0.0, np.inf, 0.0]])).all()
+
+
 def test_broad_phase_prunes_far_pieces(goblet):
     # beside the bowl the foot is far: only the bowl is solved
     r = goblet.contact_distance([[45.0, 0.0, 120.0]])

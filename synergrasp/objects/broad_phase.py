@@ -196,6 +196,28 @@ class PieceIndex:
         _plane_bounds(P, self.planes, self.plane_start, out)
         return out
 
+    def min_plane_bound(self, points) -> np.ndarray:
+        """``min_j`` of `plane_bounds`: <= 0 inside the union of the pieces, else a lower bound of the distance to it.
+
+        Equal to ``plane_bounds(points).min(axis=1)``, computed without the
+        full table: a piece's facets are left as soon as their maximum exceeds
+        the smallest bound found so far, and each point starts from the piece
+        that was nearest to the point before it (nearby points first: a grid).
+
+        Parameters
+        ----------
+        points : (n, 3) float
+
+        Returns
+        -------
+        (n,) float
+            NaN for a point with a NaN or infinite coordinate.
+        """
+        P = np.ascontiguousarray(points, dtype=float)
+        out = np.empty(len(P))
+        _min_plane_bound(P, self.planes, self.plane_start, out)
+        return out
+
     def probe(self, points, planes: bool = True) -> Probe:
         """The broad phase's bounds for points (validated (n, 3) float).
 
@@ -332,6 +354,30 @@ def _plane_bounds(P, planes, plane_start, out):
             for f in range(len(sub)):
                 best = max(best, x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3])
             out[i, j] = best
+
+
+@kernel
+def _min_plane_bound(P, planes, plane_start, out):
+    J = len(plane_start) - 1
+    first = 0
+    for i in range(len(P)):
+        x, y, z = P[i, 0], P[i, 1], P[i, 2]
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(z)):
+            out[i] = np.nan
+            continue
+        best, nearest = np.inf, first
+        for step in range(J):
+            j = (first + step) % J
+            value = -np.inf
+            for f in range(plane_start[j], plane_start[j + 1]):
+                value = max(value, x * planes[f, 0] + y * planes[f, 1] + z * planes[f, 2] + planes[f, 3])
+                if value >= best:
+                    break
+            if value < best:
+                best = value
+                nearest = j
+        out[i] = best
+        first = nearest
 
 
 @helper

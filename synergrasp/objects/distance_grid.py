@@ -3,7 +3,7 @@
 The planner's power seeds (`synergrasp.planner.starts.wrap_seeds`) score
 hundreds of thousands of hand points against an object; the exact queries
 (`contact_distance`, python-fcl) are too slow for that and are kept for the
-few candidates that survive. The grid holds `PieceIndex.plane_bounds`, the
+few candidates that survive. The grid holds `PieceIndex.min_plane_bound`, the
 largest facet-plane value of the nearest piece: exactly the signed distance
 inside a piece, a lower bound of the distance outside; between nodes it is
 interpolated linearly, which is off by less than the node spacing.
@@ -59,7 +59,7 @@ class DistanceGrid:
         nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         self.origin = low
         self.pad = float(pad)
-        self.values = index.plane_bounds(nodes).min(axis=1).reshape(shape)
+        self.values = index.min_plane_bound(nodes).reshape(shape)
         self.values.setflags(write=False)
 
     def __call__(self, points) -> np.ndarray:
