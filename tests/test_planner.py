@@ -413,6 +413,20 @@ def test_refining_raises_the_margin(hand):
     assert refined.success and refined.surface.q < -0.03 and refined.iterations > plain.iterations
 
 
+def test_a_refinement_that_never_gets_the_hand_out_ends_in_penetration_not_surface(hand):
+    """The cup's first power start meets the criterion with a phalanx or the palm deeper than
+    max_penetration and stays so while refining: no grasp was judged on the true surface."""
+    cup, opts = so.cup(), PlannerOptions()
+    r = run_attempt(hand, cup, "power", next(starts(hand, cup, "power", opts)).u, opts)
+    assert r.outcome is Outcome.PENETRATION and r.surface is None
+    depth = float(r.reason.split("(")[1].split(" mm")[0])
+    assert depth > opts.max_penetration
+    # one that was judged there says what failed last: its Q on the true surface against q_accept
+    start = next(starts(hand, cup, "precision", opts)).u
+    plain = run_attempt(hand, cup, "precision", start, PlannerOptions(refine_iterations=0))
+    assert plain.outcome is Outcome.SURFACE and "on the true surface (q_accept -0.01)" in plain.reason
+
+
 def test_the_sq_request_is_what_a_step_within_the_radius_can_give():
     grad = np.array([0.0, 3.0, 4.0])
     assert sq_request(0.1, 0.2, grad) == 0.1  # the moving target as asked

@@ -46,7 +46,12 @@ from .stop import GraspCheck, SurfaceCheck, check_grasp, surface_check
 
 
 class Outcome(enum.Enum):
-    """How an attempt ended (the value is the words for a user)."""
+    """How an attempt ended (the value is the words for a user).
+
+    An attempt whose refinement ends without an accepted grasp ends in `SURFACE` when some refining
+    iteration was judged on the true surface (its Q or the contacts' gap failed there), else in
+    `PENETRATION` (the criterion held only with a phalanx or the palm box too deep in the object).
+    """
 
     GRASP = "stop criterion met"
     NO_TOUCH = "stalled: no fingertip reached the surface"
@@ -245,6 +250,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     solves = st.lp_solves + chk.lp_solves
     outcome, bests, touched = Outcome.CAP, [], False
     kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
+    judged, deep = None, 0.0  # while refining: the last grasp judged on the true surface; the hand's depth otherwise
     for _ in range(budget):
         ok, pen, surface = judge_grasp(hand, obj, u, st, chk, opts, backend=backend, penetration=pen)
         if ok and (kept is None or surface.q < kept[4].q):
@@ -257,8 +263,13 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
         elif chk.done and refining is None:  # the criterion holds: refine the margin (and the grasp on the true surface)
             refining = 0
         if refining is not None:
+            if surface is not None:
+                judged = surface
+            elif chk.done:  # the criterion held with a phalanx or the palm box too deep
+                deep = max(deep, pen.depth)
             if (ok and surface.q <= opts.q_margin) or refining >= opts.refine_iterations:
-                outcome = Outcome.GRASP if kept is not None else Outcome.SURFACE
+                outcome = (Outcome.GRASP if kept is not None else Outcome.SURFACE if judged is not None
+                           else Outcome.PENETRATION)
                 break
             refining += 1
         if deadline is not None and time.perf_counter() > deadline:
@@ -350,13 +361,15 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
         outcome = Outcome.PENETRATION
     depth = (pen if pen is not None else hand_penetration(hand, obj, traj[-1])).depth
-    reason = _reason(outcome, opts, len(traj) - 1, chk, depth)
+    reason = _reason(outcome, opts, len(traj) - 1, chk, max(depth, deep), judged)
     return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
                          surface)
 
 
-def _reason(outcome, opts, iterations, check, depth):
-    """An outcome in words, with its numbers."""
+def _reason(outcome, opts, iterations, check, depth, judged):
+    """An outcome in words, with its numbers (``judged``: the last `SurfaceCheck`, or None)."""
+    last = "" if judged is None else (f"; the last: Q = {judged.q:.4f} on the true surface (q_accept "
+                                      f"{opts.q_accept:g}), contacts up to {judged.gap:.1f} mm off it")
     details = {
         Outcome.GRASP: f"{check.n_contacts} contacts, g_Q = {check.q:.4f}",
         Outcome.NO_TOUCH: f"in {opts.touch_window} iterations",
@@ -365,6 +378,6 @@ def _reason(outcome, opts, iterations, check, depth):
         Outcome.CAP: f"{iterations} iterations",
         Outcome.BUDGET: f"after {iterations} iterations",
         Outcome.PENETRATION: f"{depth:.1f} mm deep",
-        Outcome.SURFACE: f"after {opts.refine_iterations} refining iterations",
+        Outcome.SURFACE: f"after {opts.refine_iterations} refining iterations{last}",
     }
     return f"{outcome.value} ({details[outcome]})"

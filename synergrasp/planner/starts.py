@@ -443,12 +443,13 @@ def wrap_seeds(hand, obj, options, *, backend="highs"):
     best = score.argmax(axis=1)  # the best synergies of each pose
     score = score[np.arange(len(score)), best]
     touching = touching[np.arange(len(score)), best]
+    order = np.argsort(-score, kind="stable")
+    order = order[np.isfinite(score[order])]
+    angles = Rotation.from_matrix(R[order]).as_euler("XYZ") if len(order) else np.zeros((0, 3))
     kept, checked, batch = [], 0, 0
-    for f in np.argsort(-score, kind="stable"):
-        if not np.isfinite(score[f]):
-            break
+    for f, euler in zip(order, angles):
         checked += 1
-        u = np.r_[t[f], Rotation.from_matrix(R[f]).as_euler("XYZ"), z[best[f]]]
+        u = np.r_[t[f], euler, z[best[f]]]
         if hand_penetration(hand, obj, u).depth <= options.max_penetration:
             status = grasp_status(hand, obj, u, "power", mu=options.mu, edges=options.edges, backend=backend)
             check = check_grasp(obj, status, "power", eps_c=options.eps_c, mu=options.mu, edges=options.edges,
