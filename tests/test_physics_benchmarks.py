@@ -53,3 +53,12 @@ def test_physics_study_quick(study, grasp):
     assert (out_dir / "q_vs_held.png").stat().st_size > 0
     assert (out_dir / "cases" / f"paper_ellipsoid_{grasp}" / "synergrasp.json").exists()
     assert not (tmp_path / "bench-out").exists()  # nothing written outside --out
+
+
+def test_squeeze_sweep_quick(tmp_path):
+    """The ellipsoid's precision grasp: no squeeze of the four holds at the project's kp (5 N m/rad); stiffer
+    servos (25) hold it with some."""
+    out = run("squeeze_sweep.py", "--quick", cwd=tmp_path)
+    held = {float(kp): int(n) for kp, n in re.findall(r"ellipsoid +kp ([\d.]+): (\d+)/4 squeezes hold", out)}
+    assert held[5.0] == 0 and held[25.0] >= 1
+    assert not list(tmp_path.iterdir())  # it writes nothing
