@@ -158,7 +158,7 @@ class GraspObject:
         -------
         (n,) bool
         """
-        return (self.index.plane_bounds(check_points(points)) <= 0).any(axis=1)
+        return self.index.min_plane_bound(check_points(points)) <= 0
 
     def _default_center(self) -> np.ndarray:
         if isinstance(self.mesh, trimesh.Trimesh) and self.mesh.is_watertight and self.mesh.volume > 0:
