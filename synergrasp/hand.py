@@ -43,8 +43,10 @@ __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 POINT_KINDS = ("precision", "power")
 
 _DEFAULT_FILE = "paper_hand.json"
-#: Skin points of a segment: fractions along its axis, and angles round it from the palmar side.
-SKIN_ALONG = (0.0, 0.5, 1.0)
+#: Skin points of a segment, for the status of a grasp of each kind: fractions along its axis, and
+#: angles round it from the palmar side. A power grasp wraps whole phalanges round the object, where
+#: a thin wall (a cup's or a bell's lip) can pass through a phalanx between three places along it.
+SKIN_ALONG = {"precision": (0.0, 0.5, 1.0), "power": (0.0, 0.25, 0.5, 0.75, 1.0)}
 SKIN_AROUND = (-math.pi / 2, 0.0, math.pi / 2)
 #: Palm skin points besides the palm point P: the corners and edge midpoints of the palm box's
 #: front face, as fractions of its half extents along the palm frame's x and y.
@@ -353,11 +355,12 @@ class SynergyHand:
             # the two ends of every capsule (on the axis), for collision avoidance
             "_capsules": [(f"{self.finger_names[c]}{k}{end}", {node[c, j + e]: 1.0}, c, j + 1)
                           for c, k, j in segments for e, end in ((0, "a"), (1, "b"))],
-            # points on the skin of every segment (SKIN_ALONG x SKIN_AROUND), then of the palm
-            "_skin": [(f"{self.finger_names[c]}{k}", {node[c, j]: 1.0 - t, node[c, j + 1]: t}, c, j + 1)
-                      for c, k, j in segments for t in SKIN_ALONG for _ in SKIN_AROUND]
-                     + [("P", {palm + i: 1.0}, 0, 0) for i in range(1 + len(PALM_SKIN))],
         }
+        for grasp, along in SKIN_ALONG.items():  # points on the skin of every segment, then of the palm
+            points[f"_skin_{grasp}"] = (
+                [(f"{self.finger_names[c]}{k}", {node[c, j]: 1.0 - t, node[c, j + 1]: t}, c, j + 1)
+                 for c, k, j in segments for t in along for _ in SKIN_AROUND]
+                + [("P", {palm + i: 1.0}, 0, 0) for i in range(1 + len(PALM_SKIN))])
         # the palmar side of link j: where its far end moves when joint j flexes, axis_j x e_y
         palmar = np.cross(self._axes, [0.0, 1.0, 0.0])
         palmar /= np.maximum(np.linalg.norm(palmar, axis=-1, keepdims=True), 1e-12)
@@ -366,9 +369,10 @@ class SynergyHand:
             "precision": [(c, last[c]) for c in range(n_c)],
             "power": [(c, j) for c, _, j in segments] + [None],
             "_capsules": [None] * (2 * len(segments)),
-            "_skin": [(c, j, around) for c, _, j in segments for _ in SKIN_ALONG for around in SKIN_AROUND]
-                     + [None] * (1 + len(PALM_SKIN)),
         }
+        for grasp, along in SKIN_ALONG.items():
+            links[f"_skin_{grasp}"] = ([(c, j, around) for c, _, j in segments for _ in along for around in SKIN_AROUND]
+                                       + [None] * (1 + len(PALM_SKIN)))
         self._kinds = {}
         for kind, rows in points.items():
             nodes = np.zeros((len(rows), 2), dtype=np.int64)   # each point: up to two nodes and their weights
@@ -389,11 +393,12 @@ class SynergyHand:
                         side = np.cos(link[2]) * palmar[c, j] + np.sin(link[2]) * self._axes[c, j]
                     offset[i] = self.contact_offset * side / np.linalg.norm(side)
             self._kinds[kind] = (nodes, weights, [r[0] for r in rows], upstream, frame, offset)
-        # a power grasp's status needs both: one pass of the kinematics for the two
-        self._kinds["_power_skin"] = tuple(
-            a + b if isinstance(a, list) else np.concatenate([a, b])
-            for a, b in zip(self._kinds["power"], self._kinds["_skin"])
-        )
+        # a grasp's status needs its points and its skin: one pass of the kinematics for the two
+        for grasp in POINT_KINDS:
+            self._kinds[f"_{grasp}_and_skin"] = tuple(
+                a + b if isinstance(a, list) else np.concatenate([a, b])
+                for a, b in zip(self._kinds[grasp], self._kinds[f"_skin_{grasp}"])
+            )
 
     # ------------------------------------------------------------------ construction
 
@@ -511,7 +516,7 @@ class SynergyHand:
         return u
 
     def _check_kind(self, kind):
-        if kind not in self._kinds or (kind.startswith("_") and kind not in ("_capsules", "_skin", "_power_skin")):
+        if kind not in self._kinds:
             raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
         return self._kinds[kind]
 
@@ -733,12 +738,12 @@ class SynergyHand:
         points, jac = self.points_and_jacobian(u, "_capsules")
         return points.reshape(-1, 2, 3), jac.reshape(-1, 2, 3, self.n_u)
 
-    def skin_and_jacobian(self, u):
+    def skin_and_jacobian(self, u, kind="precision"):
         """Points on the skin of every segment and of the palm, with their Jacobians.
 
-        Each segment carries ``len(SKIN_ALONG) * len(SKIN_AROUND)`` points:
-        at the fractions `SKIN_ALONG` of its axis, ``contact_offset`` mm from
-        the axis towards the angles `SKIN_AROUND` (0: the palmar side, where
+        Each segment carries ``len(SKIN_ALONG[kind]) * len(SKIN_AROUND)`` points:
+        at the fractions ``SKIN_ALONG[kind]`` of its axis, ``contact_offset`` mm
+        from the axis towards the angles `SKIN_AROUND` (0: the palmar side, where
         the power point sits; +-pi/2: the two lateral sides, along the joint
         axis). With ``contact_offset`` equal to the finger radius they lie on
         the phalanx capsule's surface. The palm carries the palm point P and
@@ -747,11 +752,15 @@ class SynergyHand:
         Parameters
         ----------
         u : (6 + n_syn,) float
+        kind : {"precision", "power"}
+            The grasp whose status the skin serves: a power grasp's phalanges
+            are sampled at five places along their axes, a precision grasp's at three.
 
         Returns
         -------
         skin : (k, m, 3) float
-            The k segments' m skin points, segments in the order of the power points.
+            The k segments' m skin points, segments in the order of the power points,
+            the points of a segment place by place along it, round it at each place.
         palm : (p, 3) float
             The palm's skin points, the palm point P first (p = 9).
         jacobian : (k, m, 3, 6 + n_syn) float
@@ -767,43 +776,50 @@ class SynergyHand:
         >>> hand = SynergyHand.default()
         >>> u = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.3, 0.5, -0.4])
         >>> skin, palm, jac, palm_jac = hand.skin_and_jacobian(u)
-        >>> skin.shape, jac.shape
-        ((15, 9, 3), (15, 9, 3, 8))
+        >>> skin.shape, jac.shape, hand.skin_and_jacobian(u, "power")[0].shape
+        ((15, 9, 3), (15, 9, 3, 8), (15, 15, 3))
         >>> bool(np.allclose(skin[:, 4], hand.points(u, "power")[:-1]))
         True
         """
-        return self._split_skin(*self.points_and_jacobian(u, "_skin"))
+        return self._split_skin(*self.points_and_jacobian(u, f"_skin_{self._skin_kind(kind)}"), kind)
 
-    def power_and_skin(self, u):
-        """The power points and the skin points with their Jacobians, from one pass of the kinematics.
+    def points_and_skin(self, u, kind):
+        """A grasp's hand points and its skin points with their Jacobians, from one pass of the kinematics.
 
         Parameters
         ----------
         u : (6 + n_syn,) float
+        kind : {"precision", "power"}
 
         Returns
         -------
         points, jacobian : (n, 3), (n, 3, 6 + n_syn) float
-            As ``points_and_jacobian(u, "power")``.
+            As ``points_and_jacobian(u, kind)``.
         skin, palm, skin_jacobian, palm_jacobian : (k, m, 3), (p, 3), (k, m, 3, 6 + n_syn), (p, 3, 6 + n_syn) float
-            As `skin_and_jacobian`.
+            As ``skin_and_jacobian(u, kind)``.
 
         Examples
         --------
         >>> import numpy as np
         >>> hand = SynergyHand.default()
         >>> u = np.array([0.0, 0.0, 0.0, 0.1, -0.2, 0.3, 0.5, -0.4])
-        >>> points, jac, skin, palm, skin_jac, palm_jac = hand.power_and_skin(u)
+        >>> points, jac, skin, palm, skin_jac, palm_jac = hand.points_and_skin(u, "power")
         >>> bool(np.array_equal(points, hand.points_and_jacobian(u, "power")[0])), skin.shape
-        (True, (15, 9, 3))
+        (True, (15, 15, 3))
         """
-        points, jac = self.points_and_jacobian(u, "_power_skin")
-        n = len(self._kinds["power"][0])
-        return (points[:n], jac[:n], *self._split_skin(points[n:], jac[n:]))
+        kind = self._skin_kind(kind)
+        points, jac = self.points_and_jacobian(u, f"_{kind}_and_skin")
+        n = len(self._kinds[kind][0])
+        return (points[:n], jac[:n], *self._split_skin(points[n:], jac[n:], kind))
 
-    def _split_skin(self, points, jac):
-        """`skin_and_jacobian`'s arrays from the rows of the ``"_skin"`` points and their Jacobian."""
-        m, p = len(SKIN_ALONG) * len(SKIN_AROUND), 1 + len(PALM_SKIN)
+    def _skin_kind(self, kind):
+        if kind not in POINT_KINDS:
+            raise ValueError(f"unknown kind of grasp {kind!r}; kinds are {list(POINT_KINDS)}")
+        return kind
+
+    def _split_skin(self, points, jac, kind):
+        """`skin_and_jacobian`'s arrays from the rows of a ``"_skin_<kind>"`` block and its Jacobian."""
+        m, p = len(SKIN_ALONG[kind]) * len(SKIN_AROUND), 1 + len(PALM_SKIN)
         k = (len(points) - p) // m
         return points[:-p].reshape(k, m, 3), points[-p:], jac[:-p].reshape(k, m, 3, self.n_u), jac[-p:]
 

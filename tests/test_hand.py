@@ -10,7 +10,7 @@ import pytest
 from scipy.optimize import linprog
 from scipy.spatial.transform import Rotation
 
-from synergrasp.hand import HandGeometry, SynergyHand, rotation_xyz
+from synergrasp.hand import SKIN_ALONG, SKIN_AROUND, HandGeometry, SynergyHand, rotation_xyz
 
 # The paper's Tables 1 and 2, typed in independently of the data file.
 TABLE1 = {"T": (46, 32, 27), "I": (47, 25, 20), "M": (48, 28, 21), "R": (46, 27, 21), "L": (40, 21, 20)}
@@ -341,15 +341,18 @@ def test_segment_end_jacobians_match_finite_differences(hand):
             np.testing.assert_allclose(jac[..., k], fd, atol=1e-6)
 
 
-def test_skin_points_lie_on_the_capsules_and_their_jacobians_match_finite_differences(hand):
+@pytest.mark.parametrize("kind", ["precision", "power"])
+def test_skin_points_lie_on_the_capsules_and_their_jacobians_match_finite_differences(hand, kind):
+    middle = SKIN_ALONG[kind].index(0.5) * len(SKIN_AROUND) + SKIN_AROUND.index(0.0)  # the palmar middle point
     for u in random_configs(3, seed=12):
-        skin, palm, jac, palm_jac = hand.skin_and_jacobian(u)
+        skin, palm, jac, palm_jac = hand.skin_and_jacobian(u, kind)
+        assert skin.shape == (15, len(SKIN_ALONG[kind]) * len(SKIN_AROUND), 3)
         capsules = hand.segments(u).capsules
         a, b = capsules[:, None, 0], capsules[:, None, 1]
         t = np.clip(np.einsum("kma,kma->km", skin - a, b - a) / np.einsum("kma,kma->km", b - a, b - a), 0, 1)
         to_axis = np.linalg.norm(skin - (a + t[..., None] * (b - a)), axis=-1)
         np.testing.assert_allclose(to_axis, hand.finger_radius, atol=1e-9)  # on the capsule surface
-        np.testing.assert_allclose(skin[:, 4], hand.points(u, "power")[:-1], atol=1e-12)  # palmar middle = power point
+        np.testing.assert_allclose(skin[:, middle], hand.points(u, "power")[:-1], atol=1e-12)  # = the power point
         np.testing.assert_allclose(palm[0], hand.points(u, "power")[-1], atol=1e-12)  # the palm point P first
         geo = hand.segments(u)  # the rest on the rim of the palm box's front face
         local = (palm[1:] - geo.palm_center) @ geo.palm_axes
@@ -359,6 +362,20 @@ def test_skin_points_lie_on_the_capsules_and_their_jacobians_match_finite_differ
         for k in range(len(u)):
             step = np.zeros(len(u))
             step[k] = 1e-6
-            plus, minus = hand.skin_and_jacobian(u + step), hand.skin_and_jacobian(u - step)
+            plus, minus = hand.skin_and_jacobian(u + step, kind), hand.skin_and_jacobian(u - step, kind)
             np.testing.assert_allclose(jac[..., k], (plus[0] - minus[0]) / 2e-6, atol=1e-6)
             np.testing.assert_allclose(palm_jac[..., k], (plus[1] - minus[1]) / 2e-6, atol=1e-6)
+
+
+@pytest.mark.parametrize("kind", ["precision", "power"])
+def test_points_and_skin_is_the_grasps_points_and_its_skin_from_one_pass(hand, kind):
+    u = random_configs(1, seed=5)[0]
+    together = hand.points_and_skin(u, kind)
+    for a, b in zip(together, (*hand.points_and_jacobian(u, kind), *hand.skin_and_jacobian(u, kind))):
+        np.testing.assert_allclose(a, b, atol=1e-12)
+
+
+@pytest.mark.parametrize("call", ["skin_and_jacobian", "points_and_skin"])
+def test_skin_of_an_unknown_grasp_kind_is_refused(hand, call):
+    with pytest.raises(ValueError, match="unknown kind of grasp 'pinch'"):
+        getattr(hand, call)(np.zeros(hand.n_u), "pinch")

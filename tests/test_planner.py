@@ -117,7 +117,7 @@ def test_status_rows_of_the_two_grasp_types(hand):
 def test_every_row_is_the_deepest_of_its_skin_points(hand, ellipsoid, backend, kind):
     u = near_start(hand, ellipsoid, distance=60.0)
     st = grasp_status(hand, ellipsoid, u, kind, backend=backend)
-    skin, palm, _, _ = hand.skin_and_jacobian(u)
+    skin, palm, _, _ = hand.skin_and_jacobian(u, kind)
     each = ellipsoid.contact_distance(skin.reshape(-1, 3), backend=backend).value.reshape(skin.shape[:2]).min(axis=1)
     if kind == "precision":  # a fingertip's row: its pad point or its distal phalanx, whichever is deeper
         pads = ellipsoid.contact_distance(hand.points(u, "precision"), backend=backend).value

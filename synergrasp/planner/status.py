@@ -329,9 +329,10 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     """Status vector and Jacobian at configuration u.
 
     All rows come from one cP call: each row is the smallest cP over its skin
-    points (`SynergyHand.skin_and_jacobian`; a fingertip's row also over its
-    pad point, the precision hand point), with the derivative of the point
-    attaining it.
+    points (``SynergyHand.skin_and_jacobian(u, kind)``: a power grasp's
+    phalanges at five places along their axes, a precision grasp's at three;
+    a fingertip's row also over its pad point, the precision hand point), with
+    the derivative of the point attaining it.
 
     Parameters
     ----------
@@ -368,16 +369,13 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     ((17,), (17, 8), ['T0', 'I0'])
     """
     _require(hand, obj)
-    power, jac_power, skin, palm, jac_skin, jac_palm = hand.power_and_skin(u)
+    points, jac, skin, palm, jac_skin, jac_palm = hand.points_and_skin(u, kind)
     labels, contact, segment_rows = status_rows(hand, kind)
     k, m = skin.shape[:2]
     groups = [np.repeat(segment_rows, m), np.full(len(palm), len(labels) - 1)]
     candidates = [skin.reshape(-1, 3), palm]
     jacobians = [jac_skin.reshape(k * m, 3, -1), jac_palm]
-    if kind == "power":
-        points, jac = power, jac_power
-    else:
-        points, jac = hand.points_and_jacobian(u, kind)  # the fingertip pads, (5, 3), (5, 3, nu)
+    if kind == "precision":  # a fingertip's row is also over its pad point
         groups.insert(0, np.arange(len(points)))
         candidates.insert(0, points)
         jacobians.insert(0, jac)
