@@ -414,10 +414,10 @@ def test_refining_raises_the_margin(hand):
 
 
 def test_a_refinement_that_never_gets_the_hand_out_ends_in_penetration_not_surface(hand):
-    """The cup's first power start meets the criterion with a phalanx or the palm deeper than
+    """The bell's first power start meets the criterion with a phalanx or the palm deeper than
     max_penetration and stays so while refining: no grasp was judged on the true surface."""
-    cup, opts = so.cup(), PlannerOptions()
-    r = run_attempt(hand, cup, "power", next(starts(hand, cup, "power", opts)).u, opts)
+    bell, cup, opts = so.bell(), so.cup(), PlannerOptions()
+    r = run_attempt(hand, bell, "power", next(starts(hand, bell, "power", opts)).u, opts)
     assert r.outcome is Outcome.PENETRATION and r.surface is None
     depth = float(r.reason.split("(")[1].split(" mm")[0])
     assert depth > opts.max_penetration
