@@ -2,6 +2,7 @@
 
 import itertools
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -30,7 +31,7 @@ from synergrasp.planner import (
 from synergrasp.planner import attempt as attempt_module
 from synergrasp.planner.clearance import HandClearance
 from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration
-from synergrasp.planner.stop import surface_check
+from synergrasp.planner.stop import mesh_depth, surface_check
 
 from .conftest import BACKENDS
 from .test_quality import origin_strictly_inside
@@ -255,6 +256,59 @@ def test_the_surface_check_judges_on_the_mesh_not_on_the_pieces():
     rim = np.c_[47.5 * np.cos(t), 47.5 * np.sin(t), np.zeros(5)]
     s = surface_check(bowl, rim, -rim / 47.5)  # five contacts on the rim, pressing inwards
     assert s.gap < 3.0 and s.points.shape == (5, 3) and np.all(np.isfinite(s.normals))
+
+
+def test_mesh_depth_of_capsules_at_a_box_face_closed_form():
+    box = so.from_mesh(trimesh.creation.box((100.0, 100.0, 100.0)), cache=False)  # top face at z = 50
+    along = lambda z: [[-20.0, 5.0, z], [20.0, 5.0, z]]  # noqa: E731
+    axes = np.array([along(55.0), along(70.0), along(49.0), [[0.0, 0.0, 43.0], [0.0, 0.0, 80.0]]])
+    # radius less the axis's height over the face, floored at 0; an axis into the box: its end's depth plus the radius
+    np.testing.assert_allclose(mesh_depth(box, axes, 8.0), [3.0, 0.0, 9.0, 15.0], atol=1e-9)
+    assert box.mesh_excess == 0.0  # the box is its own hull
+    with pytest.raises(ValueError, match=r"\(k, 2, 3\)"):
+        mesh_depth(box, axes[0], 8.0)
+    with pytest.raises(ValueError, match="no mesh"):
+        mesh_depth(sg.objects.GraspObject([box.pieces[0]]), axes, 8.0)
+
+
+def test_mesh_excess_is_how_far_the_mesh_sticks_out_of_a_coarse_hull():
+    fine = trimesh.creation.icosphere(subdivisions=4, radius=40.0)
+    coarse = trimesh.creation.icosphere(subdivisions=1, radius=40.0)
+    ball = sg.objects.GraspObject([coarse.vertices], mesh=fine)
+    outside = -trimesh.proximity.signed_distance(coarse, fine.vertices)  # trimesh: positive inside
+    assert 0.95 * outside.max() <= ball.mesh_excess <= outside.max() + 1e-9
+    assert sg.objects.GraspObject([coarse.vertices]).mesh_excess == 0.0
+
+
+def _ball_on_the_middle_fingertip(hand, depth, mesh):
+    """A 40 mm ball against the open hand's middle distal phalanx, ``depth`` mm into it by the fine sphere."""
+    u = np.zeros(hand.n_u)
+    geo = hand.segments(u)
+    a, b = geo.capsules[geo.labels.index("M3")]
+    side = np.cross(b - a, [1.0, 0.0, 0.0])
+    c = 0.5 * (a + b) + side / np.linalg.norm(side) * (40.0 + geo.radius - depth)
+    coarse = trimesh.creation.icosphere(subdivisions=1, radius=40.0).vertices + c
+    surface = (trimesh.creation.icosphere(subdivisions=4, radius=40.0) if mesh == "fine"
+               else trimesh.convex.convex_hull(coarse - c)).apply_translation(c)
+    obj = sg.objects.GraspObject([coarse], mesh=surface)
+    status = grasp_status(hand, obj, u, "power")
+    return obj, u, status, replace(check_grasp(obj, status, "power"), done=True)
+
+
+def test_a_capsule_deeper_in_the_mesh_than_allowed_is_rejected_though_shallow_in_the_pieces(hand):
+    opts = PlannerOptions()
+    obj, u, status, check = _ball_on_the_middle_fingertip(hand, 3.3, "fine")
+    pieces_depth = hand_penetration(hand, obj, u).depth
+    assert pieces_depth < opts.max_penetration < obj.mesh_excess + pieces_depth
+    ok, pen, surface = attempt_module.judge_grasp(hand, obj, u, status, check, opts)
+    assert not ok and surface is None and pen.depth == pytest.approx(3.3, abs=0.1)  # measured in the mesh
+    # the same pieces with their own hull as the mesh: nothing sticks out, the grasp goes on to the surface check
+    obj, u, status, check = _ball_on_the_middle_fingertip(hand, 3.3, "hull")
+    ok, pen, surface = attempt_module.judge_grasp(hand, obj, u, status, check, opts)
+    assert surface is not None and pen.depth == pytest.approx(pieces_depth)
+    # shallower in the mesh than the limit: accepted as far as depth goes
+    obj, u, status, check = _ball_on_the_middle_fingertip(hand, 2.5, "fine")
+    assert attempt_module.judge_grasp(hand, obj, u, status, check, opts)[2] is not None
 
 
 # --------------------------------------------------------------------------- starts

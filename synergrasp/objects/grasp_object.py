@@ -128,6 +128,21 @@ class GraspObject:
         """The pieces' signed-distance bound on a grid around the object (`DistanceGrid`), built on first use."""
         return DistanceGrid(self.index, self.bounds)
 
+    @cached_property
+    def mesh_excess(self) -> float:
+        """How far the mesh sticks out of the pieces (mm, >= 0; 0 without a mesh).
+
+        The largest signed-distance bound of the pieces (`PieceIndex.min_plane_bound`)
+        at the mesh's vertices. A simplified hull's facets cut inside the surface
+        between its vertices, so a shape can be deeper in the mesh than in the
+        pieces, by about this much at most: the planner measures the depth in the
+        mesh (`synergrasp.planner.stop.mesh_depth`) of the shapes deeper in the
+        pieces than its limit less this.
+        """
+        if self.mesh is None:
+            return 0.0
+        return max(0.0, float(self.index.min_plane_bound(np.asarray(self.mesh.vertices, dtype=float)).max()))
+
     @property
     def extents(self) -> np.ndarray:
         """(3,) float: bounding-box side lengths (mm)."""

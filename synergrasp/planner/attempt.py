@@ -23,7 +23,8 @@ fingers out of the object, the synergies shaped by the first level), then
 wraps once the palm touches.
 
 A grasp is accepted when the criterion holds, no phalanx capsule and not the
-palm box is deeper than ``max_penetration``, and its contacts, moved to the object's true surface
+palm box is deeper than ``max_penetration`` (in the convex pieces, and the
+capsules also in the object's true mesh, `mesh_depth`), and its contacts, moved to the object's true surface
 (`surface_check`), are within ``eps_c`` of it and force-closed there with a
 Q distance below ``q_accept``. Once the criterion holds, the attempt refines
 the grasp for up to ``refine_iterations`` more iterations, until its Q on
@@ -42,7 +43,7 @@ import numpy as np
 
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration
 from .step import limited_step
-from .stop import GraspCheck, SurfaceCheck, check_grasp, surface_check
+from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
 
 
 class Outcome(enum.Enum):
@@ -144,7 +145,9 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
 
     The paper's criterion (``check.done``), then no phalanx capsule and not
     the palm box deeper than ``options.max_penetration`` (python-fcl,
-    `hand_penetration`), then the contacts moved to
+    `hand_penetration`), nor a capsule in the object's true mesh (`mesh_depth`,
+    for the capsules whose depth in the pieces is within
+    `GraspObject.mesh_excess` of the limit), then the contacts moved to
     the object's true surface (`surface_check`) within ``options.eps_c`` of
     it with a Q distance below ``options.q_accept``; each test only when the
     previous holds. Both planners accept grasps with it.
@@ -168,7 +171,9 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
     -------
     accepted : bool
     penetration : Penetration or None
-        None when the criterion does not hold (not computed).
+        None when the criterion does not hold (not computed); its ``depth``
+        raised to the depth in the true mesh when a capsule is deeper than
+        the limit there.
     surface : SurfaceCheck or None
         None unless the first two tests hold.
     """
@@ -177,6 +182,12 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
     pen = penetration if penetration is not None else hand_penetration(hand, obj, u)
     if pen.depth > options.max_penetration:
         return False, pen, None
+    if obj.mesh is not None:  # the capsules that may be deeper in the mesh than in the pieces, measured there
+        geo = hand.segments(u)
+        near = np.flatnonzero(pen.depths[:len(geo.capsules)] > options.max_penetration - obj.mesh_excess)
+        depth = float(mesh_depth(obj, geo.capsules[near], geo.radius).max()) if len(near) else 0.0
+        if depth > options.max_penetration:
+            return False, replace(pen, depth=depth), None
     surface = surface_check(obj, status.nearest[check.contact], status.normals[check.contact], mu=options.mu,
                             edges=options.edges, backend=backend)
     return surface.gap <= options.eps_c and surface.q < options.q_accept, pen, surface

@@ -124,7 +124,8 @@ class PlannerOptions(_Fields):
         Most refining iterations of an attempt (0: stop at the criterion, as the paper).
     max_penetration : float
         Deepest penetration (mm) of a phalanx capsule or the palm box into the
-        object allowed in a final grasp. An attempt that meets the criterion
+        object allowed in a final grasp, in the convex pieces and, for the
+        capsules, in the object's true mesh. An attempt that meets the criterion
         with a deeper shape goes on with the capsules and the palm box watched
         (`synergrasp.planner.status.capsule_rows`) until it is out.
     start_distance : float

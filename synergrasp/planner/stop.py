@@ -1,4 +1,9 @@
-"""The stop criteria of the paper (Fig. 6) and the grasp quality of the real contacts."""
+"""The stop criteria of the paper (Fig. 6), the grasp quality of the real contacts, and the grasp on the true mesh.
+
+`check_grasp` is the paper's criterion on the convex pieces; `surface_check`
+moves the contacts to the object's true mesh and judges them there, and
+`mesh_depth` measures how deep the phalanx capsules are in it.
+"""
 
 from __future__ import annotations
 
@@ -80,6 +85,68 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="highs") -> 
         q = q_distance(closest, inward, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
                        backend=backend).value
     return SurfaceCheck(closest, inward, float(gap.max()) if len(gap) else 0.0, float(q))
+
+
+def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
+    """Penetration depth of capsules in the object's true mesh (mm, >= 0).
+
+    A capsule's depth is its radius plus the largest signed distance into the
+    mesh (trimesh, positive inside) over points along its axis at most
+    ``spacing`` apart, floored at 0: the depth of its deepest point, within
+    ``spacing / 2``. The convex pieces' depth (python-fcl,
+    `GraspObject.penetration`) can be smaller where the mesh sticks out of
+    them (`GraspObject.mesh_excess`).
+
+    Parameters
+    ----------
+    obj : GraspObject
+        An object with a mesh (a watertight one for the inside test).
+    capsules : (k, 2, 3) float
+        Each capsule's axis end points (mm).
+    radius : float
+        Capsule radius (mm).
+    spacing : float
+        Largest distance between axis samples (mm).
+
+    Returns
+    -------
+    (k,) float
+
+    Raises
+    ------
+    ValueError
+        If the object has no mesh (its pieces are then its surface: use
+        `GraspObject.penetration`), or ``capsules`` is not (k, 2, 3) finite.
+
+    Examples
+    --------
+    A 16 mm capsule whose axis runs 5 mm outside a box's face and one 20 mm out:
+
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> box = objects.from_mesh(trimesh.creation.box((100.0, 100.0, 100.0)), cache=False)
+    >>> axes = np.array([[[-20.0, 0.0, 55.0], [20.0, 0.0, 55.0]], [[-20.0, 0.0, 70.0], [20.0, 0.0, 70.0]]])
+    >>> mesh_depth(box, axes, 8.0).round(3).tolist()
+    [3.0, 0.0]
+    """
+    from .._checks import as_points, positive_scalar
+
+    if obj.mesh is None:
+        raise ValueError(f"{obj.name} has no mesh: its convex pieces are its surface, whose penetration "
+                         "GraspObject.penetration measures")
+    capsules = np.asarray(capsules, dtype=float)
+    if capsules.ndim != 3 or capsules.shape[1:] != (2, 3) or not np.isfinite(capsules).all():
+        raise ValueError(f"capsules must be a finite (k, 2, 3) array of axis end points, got shape {capsules.shape}")
+    radius, spacing = positive_scalar(radius, "radius"), positive_scalar(spacing, "spacing")
+    if not len(capsules):
+        return np.zeros(0)
+    import trimesh
+
+    counts = np.maximum(2, np.ceil(np.linalg.norm(capsules[:, 1] - capsules[:, 0], axis=1) / spacing).astype(int) + 1)
+    t = np.concatenate([np.linspace(0.0, 1.0, n) for n in counts])[:, None]
+    a, b = np.repeat(capsules[:, 0], counts, axis=0), np.repeat(capsules[:, 1], counts, axis=0)
+    inside = trimesh.proximity.signed_distance(obj.mesh, as_points(a + t * (b - a), "axis points", dim=3))
+    return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 
 
 @dataclass(frozen=True)
