@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._checks import as_points, positive_scalar
 from ..quality import q_distance
 
 
@@ -129,8 +130,6 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     >>> mesh_depth(box, axes, 8.0).round(3).tolist()
     [3.0, 0.0]
     """
-    from .._checks import as_points, positive_scalar
-
     if obj.mesh is None:
         raise ValueError(f"{obj.name} has no mesh: its convex pieces are its surface, whose penetration "
                          "GraspObject.penetration measures")
