@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._checks import as_points, positive_scalar
+from .._checks import positive_scalar
 from ..quality import q_distance
 
 
@@ -144,7 +144,7 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     counts = np.maximum(2, np.ceil(np.linalg.norm(capsules[:, 1] - capsules[:, 0], axis=1) / spacing).astype(int) + 1)
     t = np.concatenate([np.linspace(0.0, 1.0, n) for n in counts])[:, None]
     a, b = np.repeat(capsules[:, 0], counts, axis=0), np.repeat(capsules[:, 1], counts, axis=0)
-    inside = trimesh.proximity.signed_distance(obj.mesh, as_points(a + t * (b - a), "axis points", dim=3))
+    inside = trimesh.proximity.signed_distance(obj.mesh, a + t * (b - a))
     return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 
 
