@@ -267,6 +267,10 @@ def test_mesh_depth_of_capsules_at_a_box_face_closed_form():
     assert box.mesh_excess == 0.0  # the box is its own hull
     with pytest.raises(ValueError, match=r"\(k, 2, 3\)"):
         mesh_depth(box, axes[0], 8.0)
+    with pytest.raises(ValueError, match="finite"):
+        mesh_depth(box, np.where(axes == 80.0, np.nan, axes), 8.0)
+    with pytest.raises(ValueError, match="radius"):
+        mesh_depth(box, axes, 0.0)
     with pytest.raises(ValueError, match="no mesh"):
         mesh_depth(sg.objects.GraspObject([box.pieces[0]]), axes, 8.0)
 
