@@ -423,14 +423,29 @@ def test_a_palm_centred_start_faces_the_object_with_the_palm(hand, ellipsoid):
 # --------------------------------------------------------------------------- attempts
 
 
-def test_an_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch):
-    obj = so.goblet()
+def _watched(monkeypatch):
+    """The penetrations `capsule_rows` is called with during an attempt (a list filled as it runs)."""
     calls = []
     rows = attempt_module.capsule_rows
     monkeypatch.setattr(attempt_module, "capsule_rows", lambda h, o, u, st, pen=None: calls.append(pen) or rows(h, o, u, st, pen))
-    r = plan(obj, "power")
-    verify(r, obj)
-    assert calls and calls[0].depth > 3.0  # first when the criterion met a deep phalanx, then every iteration
+    return calls
+
+
+def test_a_precision_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch, hand):
+    cup = so.cup()
+    start = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 5))[-1].u
+    calls = _watched(monkeypatch)
+    r = run_attempt(hand, cup, "precision", start, PlannerOptions())
+    # not from the start: first when the criterion met a phalanx 6.3 mm deep, then at every evaluation
+    assert len(calls) < r.iterations and calls[0].depth > 3.0
+
+
+def test_a_power_attempt_watches_the_capsules_from_its_start(monkeypatch, hand):
+    goblet = so.goblet()
+    calls = _watched(monkeypatch)
+    r = run_attempt(hand, goblet, "power", next(starts(hand, goblet, "power", PlannerOptions())).u, PlannerOptions(),
+                    budget=4)
+    assert len(calls) == r.iterations + 1 == 5  # the start's evaluation and every step's
 
 
 def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
@@ -472,10 +487,10 @@ def test_refining_raises_the_margin(hand):
 
 
 def test_a_refinement_that_never_gets_the_hand_out_ends_in_penetration_not_surface(hand):
-    """The bell's first power start meets the criterion with a phalanx or the palm deeper than
+    """The goblet's first power start meets the criterion with a phalanx or the palm deeper than
     max_penetration and stays so while refining: no grasp was judged on the true surface."""
-    bell, cup, opts = so.bell(), so.cup(), PlannerOptions()
-    r = run_attempt(hand, bell, "power", next(starts(hand, bell, "power", opts)).u, opts)
+    goblet, cup, opts = so.goblet(), so.cup(), PlannerOptions()
+    r = run_attempt(hand, goblet, "power", next(starts(hand, goblet, "power", opts)).u, opts)
     assert r.outcome is Outcome.PENETRATION and r.surface is None
     depth = float(r.reason.split("(")[1].split(" mm")[0])
     assert depth > opts.max_penetration

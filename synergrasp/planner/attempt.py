@@ -5,9 +5,10 @@ Each iteration:
 1. the status g (cP rows and g_sQ) and its Jacobian (`grasp_status`);
 2. stop when the paper's criterion holds with no phalanx capsule and not the
    palm box deeper than ``max_penetration`` (`check_grasp`,
-   `hand_penetration`); a grasp that meets the criterion with a deeper shape
-   goes on with that attempt's capsules and palm box watched (`capsule_rows`),
-   so their rows push the shape out;
+   `hand_penetration`); a power attempt watches its capsules and palm box
+   from its start (`capsule_rows`: a shape deeper than its skin points read
+   gets its depth as its row, which pushes it out), a precision attempt once
+   it meets the criterion with a deeper shape;
 3. the requested change of the status, in rows of comparable scale (cP
    divided by the object's size): contact rows towards their target
    (precision: into the contact band; power: ``contact_target``), clearance
@@ -233,7 +234,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size
     power = grasp == "power"
-    watching = False  # capsules and palm box watched once the criterion held with one too deep
+    watching = power  # capsules and palm box watched: power from the start, precision once the criterion held with one too deep
 
     def evaluate(u):
         st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)

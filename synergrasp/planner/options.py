@@ -125,9 +125,11 @@ class PlannerOptions(_Fields):
     max_penetration : float
         Deepest penetration (mm) of a phalanx capsule or the palm box into the
         object allowed in a final grasp, in the convex pieces and, for the
-        capsules, in the object's true mesh. An attempt that meets the criterion
-        with a deeper shape goes on with the capsules and the palm box watched
-        (`synergrasp.planner.status.capsule_rows`) until it is out.
+        capsules, in the object's true mesh. A power attempt watches the
+        capsules and the palm box from its start, a precision attempt once it
+        meets the criterion with a deeper shape
+        (`synergrasp.planner.status.capsule_rows`), so that a deep shape is
+        pushed out.
     start_distance : float
         Distance (mm) of a direction start from the object's centre
         (`start_configuration`).
