@@ -393,6 +393,7 @@ PLANNER_OPTIONS: list[Case] = [
     _option("radius_min", 0.0, "PlannerOptions.radius_min must be in"),
     _option("radius_max", 0.001, "PlannerOptions.radius_max must be in"),
     _option("stall_window", -3, "PlannerOptions.stall_window must be in"),
+    _option("stall_window", (20, 12, 4), "PlannerOptions.stall_window must be an integer or a (precision, power) pair"),
     _option("crawl_window", 2.5, "PlannerOptions.crawl_window must be an integer"),
     _option("crawl_fraction", 2.0, "PlannerOptions.crawl_fraction must be in"),
     _option("touch_window", -1, "PlannerOptions.touch_window must be in"),

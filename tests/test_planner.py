@@ -448,6 +448,22 @@ def test_a_power_attempt_watches_the_capsules_from_its_start(monkeypatch, hand):
     assert len(calls) == r.iterations + 1 == 5  # the start's evaluation and every step's
 
 
+def test_the_stall_window_is_per_grasp_kind(hand):
+    """The cup's second precision start stands still for 12 iterations, then closes its grasp."""
+    cup = so.cup()
+    pinch = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 2))[-1].u
+    short = run_attempt(hand, cup, "precision", pinch, PlannerOptions(stall_window=12))
+    default = run_attempt(hand, cup, "precision", pinch, PlannerOptions())  # (20, 12): precision 20
+    assert PlannerOptions().stall_window == (20, 12) and PlannerOptions(stall_window=12).stall_window == (12, 12)
+    assert short.outcome is Outcome.STALLED and short.reason.endswith("(in 12 iterations)")
+    assert default.success and default.iterations > short.iterations
+    # the same path until then (to round-off: the LPs start from the bases the first attempt left)
+    np.testing.assert_allclose(default.trajectory[: short.iterations + 1], short.trajectory, rtol=0, atol=1e-9)
+    wrap = run_attempt(hand, cup, "power", next(starts(hand, cup, "power", PlannerOptions())).u,
+                       PlannerOptions(stall_window=(20, 4)))  # the power window is the second
+    assert wrap.outcome is Outcome.STALLED and wrap.reason.endswith("(in 4 iterations)")
+
+
 def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):
     """Below power_sq_hold the sQ row asks to keep g_sQ, not for sq_step less; above it, for sq_step less."""
     obj = so.cup()

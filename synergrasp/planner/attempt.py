@@ -234,6 +234,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size
     power = grasp == "power"
+    window = opts.stall_window[1 if power else 0]
     watching = power  # capsules and palm box watched: power from the start, precision once the criterion held with one too deep
 
     def evaluate(u):
@@ -358,7 +359,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
         if grasp == "precision" and opts.touch_window and not touched and len(traj) > opts.touch_window:
             outcome = Outcome.NO_TOUCH
             break
-        if stalled >= opts.stall_window:
+        if stalled >= window:
             outcome = Outcome.STALLED
             break
         if opts.crawl_window and len(bests) > opts.crawl_window:
@@ -373,19 +374,19 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
         outcome = Outcome.PENETRATION
     depth = (pen if pen is not None else hand_penetration(hand, obj, traj[-1])).depth
-    reason = _reason(outcome, opts, len(traj) - 1, chk, max(depth, deep), judged)
+    reason = _reason(outcome, opts, window, len(traj) - 1, chk, max(depth, deep), judged)
     return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
                          surface)
 
 
-def _reason(outcome, opts, iterations, check, depth, judged):
-    """An outcome in words, with its numbers (``judged``: the last `SurfaceCheck`, or None)."""
+def _reason(outcome, opts, window, iterations, check, depth, judged):
+    """An outcome in words, with its numbers (``window``: the attempt's stall window; ``judged``: the last `SurfaceCheck`, or None)."""
     last = "" if judged is None else (f"; the last: Q = {judged.q:.4f} on the true surface (q_accept "
                                       f"{opts.q_accept:g}), contacts up to {judged.gap:.1f} mm off it")
     details = {
         Outcome.GRASP: f"{check.n_contacts} contacts, g_Q = {check.q:.4f}",
         Outcome.NO_TOUCH: f"in {opts.touch_window} iterations",
-        Outcome.STALLED: f"in {opts.stall_window} iterations",
+        Outcome.STALLED: f"in {window} iterations",
         Outcome.CRAWLED: f"less than {opts.crawl_fraction:.0%} in {opts.crawl_window} iterations",
         Outcome.CAP: f"{iterations} iterations",
         Outcome.BUDGET: f"after {iterations} iterations",

@@ -92,9 +92,11 @@ class PlannerOptions(_Fields):
     radius, radius_min, radius_max : float
         Initial trust radius of the normalised step (position in object
         sizes, angles in rad, synergies in units) and its bounds.
-    stall_window : int
+    stall_window : int or (int, int)
         An attempt whose merit (the contact errors plus g_sQ floored at -0.1)
-        has not improved in this many iterations has stalled.
+        has not improved in this many iterations has stalled: (precision,
+        power), or one number for both. A precision attempt gets more: its
+        merit can stand still for longer before its grasp closes.
     crawl_window, crawl_fraction : int, float
         An attempt whose best merit fell by less than ``crawl_fraction`` of
         (its size + 0.1) over the last ``crawl_window`` iterations has
@@ -190,7 +192,7 @@ class PlannerOptions(_Fields):
     radius: float = 0.05
     radius_min: float = 0.002
     radius_max: float = 0.2
-    stall_window: int = 12
+    stall_window: tuple = (20, 12)
     crawl_window: int = 30
     crawl_fraction: float = 0.05
     touch_window: int = 30
@@ -230,7 +232,12 @@ class PlannerOptions(_Fields):
         set_(self, "radius_min", _number(self.radius_min, "radius_min", 0, 1.0, open_low=True))
         set_(self, "radius_max", _number(self.radius_max, "radius_max", self.radius_min, 10.0))
         set_(self, "radius", _number(self.radius, "radius", self.radius_min, self.radius_max))
-        for name, low in (("stall_window", 1), ("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
+        windows = self.stall_window if isinstance(self.stall_window, (tuple, list)) else (self.stall_window,) * 2
+        if len(windows) != 2:
+            raise ValueError(f"PlannerOptions.stall_window must be an integer or a (precision, power) pair of integers, "
+                             f"got {self.stall_window!r}")
+        set_(self, "stall_window", tuple(_number(w, "stall_window", 1, None, integer=True) for w in windows))
+        for name, low in (("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
                           ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
         set_(self, "q_accept", _number(self.q_accept, "q_accept", -10.0, 0.0))
