@@ -3,7 +3,8 @@
 Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
-                                    [--option NAME=VALUE ...] [--jobs N] [--out DIR] [--docs] [--quick] [--rows]
+                                    [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
+                                    [--rows]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -13,7 +14,10 @@ phalanx capsule and not the palm box deeper than 3 mm in it).
 Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
 accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, the
 hand's depth in it, how many accepted grasps have a collision-free executable reach, and a
-taxonomy of why every failed attempt ended. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
+taxonomy of why every failed attempt ended. With ``--runs R`` every object is planned R times (run
+after run); the verified count is then the median of the runs' counts, each run's count beside it
+(plan times near the time limit move a few objects between runs on a loaded machine), and the other
+figures pool the runs' plans. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
 ``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
 README summary; ``--rows`` plans nothing and summarises (and documents) the rows already there.
 """
@@ -95,22 +99,41 @@ def run(entry_name, grasp, options):
     return row
 
 
+def _runs(rows):
+    """The run numbers of the rows (rows of a single run have none: run 0)."""
+    return sorted({r.get("run", 0) for r in rows})
+
+
+def _verified(rows, source=None):
+    """The median over the runs of the verified count (of one source), and each run's count."""
+    counts = [sum(r["verified"] for r in rows if r.get("run", 0) == k and source in (None, r["source"]))
+              for k in _runs(rows)]
+    return float(np.median(counts)), counts
+
+
+def _count(value):
+    return f"{value:g}"
+
+
 def summarise(rows, grasp):
-    """Lines of the summary of one grasp type."""
+    """Lines of the summary of one grasp type (the median over the runs of the verified count, see --runs)."""
     mine = [r for r in rows if r["grasp"] == grasp]
     if not mine:
         return []
-    n, ok = len(mine), sum(r["verified"] for r in mine)
+    runs = _runs(mine)
+    n = len(mine) // len(runs)
+    ok, counts = _verified(mine)
+    spread = f", median of {len(runs)} runs: {', '.join(map(str, counts))}" if len(runs) > 1 else ""
     times = np.array([r["time"] for r in mine])
     accepted = [r for r in mine if r["success"]]
     q = np.array([r["q_true"] for r in accepted]) if accepted else np.array([np.nan])
     gaps = np.array([r["gap"] for r in accepted]) if accepted else np.array([np.nan])
     lines = [
-        f"{grasp}: {ok}/{n} verified ({100.0 * ok / n:.1f}%), by source: "
-        + ", ".join(f"{s} {sum(r['verified'] for r in mine if r['source'] == s)}/{sum(r['source'] == s for r in mine)}"
+        f"{grasp}: {_count(ok)}/{n} verified ({100.0 * ok / n:.1f}%{spread}), by source: "
+        + ", ".join(f"{s} {_count(_verified(mine, s)[0])}/{sum(r['source'] == s for r in mine) // len(runs)}"
                     for s in sorted({r["source"] for r in mine})),
         f"  plan time: median {np.median(times):.2f} s, p90 {np.percentile(times, 90):.2f} s, max {times.max():.2f} s",
-        f"  accepted {len(accepted)}: median Q on the true surface {np.nanmedian(q):+.3f}, "
+        f"  accepted {len(accepted)}{f' (the {len(runs)} runs pooled)' if len(runs) > 1 else ''}: median Q on the true surface {np.nanmedian(q):+.3f}, "
         f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
         f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
@@ -128,9 +151,14 @@ def summarise(rows, grasp):
     unverified = [r for r in accepted if not r["verified"]]
     if unverified:
         lines.append("  accepted but not verified: " + ", ".join(
-            f"{r['name']} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['depth']:.1f}, palm {r['palm_depth']:.1f} mm)"
+            f"{r['name']}{_run_tag(r, runs)} (gap {r['gap']:.1f} mm, hull {'closed' if r['closed'] else 'open'}, depth {r['depth']:.1f}, palm {r['palm_depth']:.1f} mm)"
             for r in unverified))
     return lines
+
+
+def _run_tag(row, runs):
+    """" in run k" when the rows hold several runs."""
+    return f" in run {row.get('run', 0)}" if len(runs) > 1 else ""
 
 
 def _largest(rows, key):
@@ -152,6 +180,7 @@ def main(argv=None):
     parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes (e.g. urdf/)")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
+    parser.add_argument("--runs", type=int, default=1, help="plan every object this many times (a median count)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "generalise", help="folder of the rows")
     parser.add_argument("--docs", action="store_true",
@@ -160,6 +189,8 @@ def main(argv=None):
     parser.add_argument("--rows", action="store_true",
                         help="plan nothing: summarise (and with --docs, write the docs from) the rows already in --out")
     args = parser.parse_args(argv)
+    if args.runs < 1:
+        parser.error(f"--runs must be at least 1, got {args.runs}")
     options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
@@ -171,16 +202,16 @@ def main(argv=None):
 def _plan_all(args, options):
     """Plan and verify every (object, grasp) task of the run; the rows, also written to --out."""
     entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only)
-    tasks = [(e.name, g) for g in args.grasp for e in entries]
+    tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        futures = [pool.submit(run, name, grasp, options) for name, grasp in tasks]
-        for future in futures:
-            row = future.result()
+        futures = [(k, pool.submit(run, name, grasp, options)) for k, name, grasp in tasks]
+        for k, future in futures:
+            row = {**future.result(), "run": k}
             rows.append(row)
-            print(f"{row['name']:32s} {row['grasp']:9s} {'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  "
-                  f"{row['reason'][:90]}", flush=True)
+            print(f"{'run ' + str(k) + ' ' if args.runs > 1 else ''}{row['name']:32s} {row['grasp']:9s} "
+                  f"{'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  {row['reason'][:90]}", flush=True)
     for grasp in args.grasp:
         with open(args.out / f"{args.split}_{grasp}.jsonl", "w") as f:
             for row in rows:
@@ -201,7 +232,7 @@ def _read_rows(out, split, grasps):
 
 
 def plot(rows, path):
-    """The figure of a run: the verified share per source and grasp, and the plan times (cumulative)."""
+    """The figure of a run: the verified share per source and grasp, and the plan times (cumulative; runs pooled)."""
     import matplotlib  # noqa: PLC0415 - only for the docs
 
     matplotlib.use("Agg")
@@ -239,12 +270,24 @@ def plot(rows, path):
     plt.close(fig)
 
 
+def _per_object(rows):
+    """Per (object, grasp), in order: its first run's row, "yes"/"no" (or "k/R" when the runs differ), its median time."""
+    groups = {}
+    for r in rows:
+        groups.setdefault((r["name"], r["grasp"]), []).append(r)
+    for mine in groups.values():
+        ok = sum(r["verified"] for r in mine)
+        verified = "yes" if ok == len(mine) else "no" if ok == 0 else f"{ok}/{len(mine)}"
+        yield mine[0], verified, float(np.median([r["time"] for r in mine]))
+
+
 def _write_docs(rows, split, options, summary):
     """The results page and the README's summary lines."""
+    runs = len(_runs(rows))
     lines = [
         "# Generalisation",
         "",
-        f"Written by `python benchmarks/generalise.py --split {split} --docs`"
+        f"Written by `python benchmarks/generalise.py --split {split}{f' --runs {runs}' if runs > 1 else ''} --docs`"
         + (f" with options {options}" if options else "") + ".",
         "",
         "```text",
@@ -253,11 +296,13 @@ def _write_docs(rows, split, options, summary):
         "",
         f"![Verified grasps by source and plan times, {split} split](figures/{FIGURE.name})",
         "",
+        *([f"With {runs} runs, an object's *verified* says in how many runs it was, its time is the median of "
+           "its runs' and the other columns are its first run's.", ""] if runs > 1 else []),
         "| object | source | grasp | verified | time (s) | attempts | Q | Q on the true surface | gap (mm) | pieces' overhang (mm) | reason |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in rows:
-        lines.append(f"| {r['name']} | {r['source']} | {r['grasp']} | {'yes' if r['verified'] else 'no'} | {r['time']:.2f} "
+    for r, verified, seconds in _per_object(rows):
+        lines.append(f"| {r['name']} | {r['source']} | {r['grasp']} | {verified} | {seconds:.2f} "
                      f"| {r.get('n_attempts', '')} | {r.get('q', float('nan')):.3f} | {r.get('q_true', float('nan')):.3f} "
                      f"| {r.get('gap', float('nan')):.1f} | {r.get('overhang', float('nan')):.1f} | {r['reason'][:80]} |")
     PAGE.write_text("\n".join(lines) + "\n")

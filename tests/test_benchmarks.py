@@ -48,6 +48,7 @@ def test_first_plan_quick(tmp_path, capsys):
 from types import SimpleNamespace  # noqa: E402
 
 import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 import trimesh  # noqa: E402
 
 import synergrasp as sg  # noqa: E402
@@ -130,3 +131,21 @@ def test_generalise_rows_mode_summarises_an_earlier_run(tmp_path, capsys):
     assert "precision: 2/4 verified (50.0%)" in out and "collision-free executable reach: 3/3" in out
     generalise.plot(rows, tmp_path / "figure.png")
     assert (tmp_path / "figure.png").stat().st_size > 10_000
+
+
+def test_generalise_reports_the_median_of_several_runs(tmp_path, capsys):
+    """With rows of three runs, the verified count is the median of the runs' counts; the table marks disagreements."""
+    verdicts = [(1, 1, 0, 0), (1, 0, 1, 0), (1, 1, 1, 0)]  # 2, 2 and 3 verified
+    rows = [dict(name=f"o{i}", source="urdf", split="test", grasp="power", success=True, verified=bool(v), time=1.0 + k,
+                 reason="r", refused=False, q=-0.05, q_true=-0.04, gap=1.0, closed=True, depth=0.5, palm_depth=0.0,
+                 collision_free=True, overhang=1.0, attempts=[], run=k)
+            for k, verdict in enumerate(verdicts) for i, v in enumerate(verdict)]
+    (tmp_path / "test_power.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+    generalise.main(["--rows", "--grasp", "power", "--out", str(tmp_path)])
+    out = capsys.readouterr().out
+    assert "power: 2/4 verified (50.0%, median of 3 runs: 2, 2, 3), by source: urdf 2/4" in out
+    assert "accepted 12 (the 3 runs pooled)" in out and "o3 in run 0" in out
+    table = {r["name"]: (verified, seconds) for r, verified, seconds in generalise._per_object(rows)}
+    assert table == {"o0": ("yes", 2.0), "o1": ("2/3", 2.0), "o2": ("2/3", 2.0), "o3": ("no", 2.0)}
+    with pytest.raises(SystemExit):
+        generalise.main(["--runs", "0", "--out", str(tmp_path)])

@@ -453,8 +453,8 @@ def test_the_stall_window_is_per_grasp_kind(hand):
     cup = so.cup()
     pinch = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 2))[-1].u
     short = run_attempt(hand, cup, "precision", pinch, PlannerOptions(stall_window=12))
-    default = run_attempt(hand, cup, "precision", pinch, PlannerOptions())  # (20, 12): precision 20
-    assert PlannerOptions().stall_window == (20, 12) and PlannerOptions(stall_window=12).stall_window == (12, 12)
+    default = run_attempt(hand, cup, "precision", pinch, PlannerOptions())  # (20, 16): precision 20
+    assert PlannerOptions().stall_window == (20, 16) and PlannerOptions(stall_window=12).stall_window == (12, 12)
     assert short.outcome is Outcome.STALLED and short.reason.endswith("(in 12 iterations)")
     assert default.success and default.iterations > short.iterations
     # the same path until then (to round-off: the LPs start from the bases the first attempt left)

@@ -192,7 +192,7 @@ class PlannerOptions(_Fields):
     radius: float = 0.05
     radius_min: float = 0.002
     radius_max: float = 0.2
-    stall_window: tuple = (20, 12)
+    stall_window: tuple = (20, 16)
     crawl_window: int = 30
     crawl_fraction: float = 0.05
     touch_window: int = 30
