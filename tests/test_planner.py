@@ -21,11 +21,13 @@ from synergrasp.planner import (
     plan,
     power_schedule,
     principal_directions,
+    recess,
     run_attempt,
     sq_request,
     start_configuration,
     starts,
     status_rows,
+    surface_samples,
     wrap_seeds,
 )
 from synergrasp.planner import attempt as attempt_module
@@ -345,6 +347,41 @@ def test_pinch_seeds_straddle_opposed_surface_points(hand, box):
     assert all(np.array_equal(a.u, b.u) for a, b in zip(seeds, again))  # deterministic
 
 
+@pytest.fixture(scope="module")
+def channel():
+    """A U-shaped block: a base 100 x 120 x 65 mm with two walls rising 40 mm, a channel 60 mm wide between them."""
+    def block(lo, hi):
+        return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])], float)
+
+    parts = [block((-50, -60, 0), (50, 60, 65)), block((-50, -60, 65), (-30, 60, 105)), block((30, -60, 65), (50, 60, 105))]
+    mesh = trimesh.boolean.union([trimesh.convex.convex_hull(p) for p in parts])
+    return so.GraspObject(parts, name="channel", mesh=mesh)
+
+
+def test_recess_is_the_way_out_to_the_hull(channel, box):
+    """0 on the hull; on the channel's floor its depth (40 mm, to 2 % with the discrete directions); on a wall inside
+    the channel, 25 mm below the top, the way up and out within 60 degrees of its normal: at least 25 / sin 60 mm."""
+    points = np.array([[0.0, 0.0, 65.0], [40.0, 0.0, 105.0], [50.0, 0.0, 30.0], [-30.0, 0.0, 80.0]])
+    normals = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    depth = recess(channel, points, normals)
+    assert 40.0 <= depth[0] <= 40.0 * 1.02
+    assert depth[1] == depth[2] == 0.0
+    assert 25.0 / np.sin(np.radians(60.0)) <= depth[3] <= 40.0
+    p, n, _, _ = surface_samples(box, 100, 0)
+    assert np.all(recess(box, p, n) < 1e-9)  # a convex object has no recess
+
+
+def test_pinch_seeds_keep_out_of_recesses_first(hand, channel):
+    """Across the channel's floor is the pair nearest the aperture and the centre; a fingertip would have to reach
+    40 mm into the channel, so the pair across the outer walls comes first."""
+    seeds = list(pinch_seeds(hand, channel, PlannerOptions()))
+    first = np.array([seeds[0].detail["thumb"], seeds[0].detail["finger"]])
+    np.testing.assert_allclose(np.sort(np.abs(first[:, 0])), [50.0, 50.0])  # the outer walls
+    floor = [k for k, s in enumerate(seeds) if any(abs(q[2] - 65.0) < 1e-6 and abs(q[0]) < 30.0
+                                                   for q in (s.detail["thumb"], s.detail["finger"]))]
+    assert floor and floor[0] > 0  # a pair across the floor is among the seeds, later
+
+
 def test_seeds_start_back_from_the_object_with_every_phalanx_clear(hand, box):
     opts = PlannerOptions()
     for s in list(pinch_seeds(hand, box, opts))[:4]:
@@ -433,7 +470,7 @@ def _watched(monkeypatch):
 
 def test_a_precision_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch, hand):
     cup = so.cup()
-    start = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 5))[-1].u
+    start = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 7))[-1].u  # the seventh
     calls = _watched(monkeypatch)
     r = run_attempt(hand, cup, "precision", start, PlannerOptions())
     # not from the start: first when the criterion met a phalanx 6.3 mm deep, then at every evaluation

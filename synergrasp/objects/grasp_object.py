@@ -124,6 +124,12 @@ class GraspObject:
         return np.array([allv.min(axis=0), allv.max(axis=0)])
 
     @cached_property
+    def hull_planes(self) -> np.ndarray:
+        """(f, 4) float: the facet planes ``[n, o]`` of the convex hull of every piece (``n . x + o <= 0`` inside),
+        of at most 128 of its vertices (farthest-point sampled)."""
+        return ConvexPiece(np.vstack(self.pieces), name=f"{self.name} hull", max_vertices=128).planes
+
+    @cached_property
     def distance_grid(self) -> DistanceGrid:
         """The pieces' signed-distance bound on a grid around the object (`DistanceGrid`), built on first use."""
         return DistanceGrid(self.index, self.bounds)

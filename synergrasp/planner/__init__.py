@@ -7,8 +7,8 @@ from .core import METHODS, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
-from .starts import (Start, direction_starts, pinch_seeds, power_schedule, principal_directions, start_configuration, starts,
-                     wrap_seeds)
+from .starts import (Start, direction_starts, pinch_seeds, power_schedule, principal_directions, recess, start_configuration,
+                     starts, surface_samples, wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
@@ -45,12 +45,14 @@ __all__ = [
     "plan",
     "power_schedule",
     "principal_directions",
+    "recess",
     "retreat_directions",
     "run_attempt",
     "smoothed_normals",
     "sq_request",
     "start_configuration",
     "starts",
+    "surface_samples",
     "wrap_seeds",
     "status_rows",
     "widest_opening",

@@ -1,7 +1,8 @@
 """Where the planner's attempts start: poses placed by the object's geometry.
 
 * `pinch_seeds` (precision grasps): pairs of opposed surface points whose
-  distance the hand can span; the thumb and the index/middle fingers are put
+  distance the hand can span, those that a fingertip reaches without going
+  into a recess of the object first (`recess`); the thumb and the index/middle fingers are put
   on either side of a pair, the hand opened a little wider than the pair and
   rolled about it so that the hand stays out of the object, then moved back
   along the palm normal: the attempt reaches in and closes.
@@ -33,12 +34,25 @@ from .stop import check_grasp
 
 #: Largest angle (deg) between one point's inward normal and the other's outward normal in a pair.
 PAIR_ANGLE = 30.0
+#: Half-angle (deg) of the cone about a surface point's normal in which `recess` looks for the way out.
+RECESS_CONE = 60.0
+
+
+def _sphere_directions(n):
+    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
+    z = np.linspace(1.0 - 1.0 / n, -1.0 + 1.0 / n, n)
+    angle = np.arange(n) * np.pi * (3.0 - np.sqrt(5.0))
+    return np.stack([np.sqrt(1.0 - z**2) * np.cos(angle), np.sqrt(1.0 - z**2) * np.sin(angle), z], axis=1)
+
+
+#: Directions of `recess`.
+_DIRECTIONS = _sphere_directions(64)
 #: Surface points sampled per plan for the pairs.
 PAIR_SAMPLES = 200
 #: Rolls of the hand about a pair's axis tried for each seed.
 ROLLS = 12
 #: Pair width (mm) tried first: pairs are taken in order of their width's distance from it plus their
-#: axis's distance from the object's centre.
+#: axis's distance from the object's centre plus their points' `recess`.
 PAIR_WIDTH = 65.0
 #: Surface points where a wrap seed lays the palm, per plan.
 WRAP_SAMPLES = 64
@@ -260,10 +274,12 @@ def pinch_seeds(hand, obj, options):
 
     Pairs are drawn from `surface_samples` (their inward ray's exit, within
     `PAIR_ANGLE` of opposed normals), those the hand can span with
-    ``options.seed_opening`` to spare on either side, the ones whose axis
-    passes nearest the object's centre and whose width is nearest
-    `PAIR_WIDTH` first, pairs too alike to an earlier one (midpoints within
-    10 mm, axes within 20 degrees) skipped.
+    ``options.seed_opening`` to spare on either side. They are taken in
+    order of a score in mm: how far their width is from `PAIR_WIDTH`, plus
+    how far their axis passes from the object's centre, plus how deep either
+    point lies in a recess (`recess`: a fingertip reaching into a bowl or a
+    channel); pairs too alike to an earlier one (midpoints within 10 mm,
+    axes within 20 degrees) are skipped.
 
     Parameters
     ----------
@@ -285,7 +301,7 @@ def pinch_seeds(hand, obj, options):
     offset = obj.center - p1
     off_axis = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, axis)[:, None] * axis, axis=1)
     taken = []
-    score = np.abs(width - PAIR_WIDTH) + off_axis
+    score = np.abs(width - PAIR_WIDTH) + off_axis + recess(obj, p1, n1) + recess(obj, p2, n2)
     for i in np.flatnonzero(usable)[np.argsort(score[usable], kind="stable")]:
         mid = 0.5 * (p1[i] + p2[i])
         if any(np.linalg.norm(mid - m) < 10.0 and abs(axis[i] @ a) > np.cos(np.radians(20.0)) for m, a in taken):
@@ -301,6 +317,36 @@ def pinch_seeds(hand, obj, options):
         u = _clear(hand, obj, u, back, options.start_clearance)
         yield Start(u, "pinch", {"thumb": a.round(3).tolist(), "finger": b.round(3).tolist(),
                                  "width": round(float(width[i]), 3), "off_axis": round(float(off_axis[i]), 3)})
+
+
+def recess(obj, points, normals):
+    """How deep in a recess of the object each surface point lies (mm): 0 on its convex hull.
+
+    The shortest way out to the hull's surface along the directions within
+    `RECESS_CONE` of the point's outward normal (the way a fingertip comes
+    in): a point inside a bowl near its rim is a few mm deep, one at its
+    bottom as deep as the bowl.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    points, normals : (m, 3) float
+        Surface points and their unit outward normals.
+
+    Returns
+    -------
+    (m,) float
+    """
+    planes = obj.hull_planes
+    gap = np.maximum(-(points @ planes[:, :3].T + planes[:, 3]), 0.0)  # (m, f): how far inside each facet
+    facing = _DIRECTIONS @ planes[:, :3].T  # (d, f)
+    slowness = np.where(facing > 1e-9, 1.0 / np.maximum(facing, 1e-9), 1e12)  # a facet not ahead is never reached
+    within = normals @ _DIRECTIONS.T >= np.cos(np.radians(RECESS_CONE))  # (m, d)
+    way_out = np.full(len(points), np.inf)
+    for d in range(len(_DIRECTIONS)):
+        some = within[:, d]
+        way_out[some] = np.minimum(way_out[some], (gap[some] * slowness[d]).min(axis=1))
+    return way_out
 
 
 def _straddle(hand, obj, apertures, thumb_at, fingers_at, opening):
