@@ -125,8 +125,10 @@ class GraspObject:
 
     @cached_property
     def hull_planes(self) -> np.ndarray:
-        """(f, 4) float: the facet planes ``[n, o]`` of the convex hull of every piece (``n . x + o <= 0`` inside),
-        of at most 128 of its vertices (farthest-point sampled)."""
+        """(f, 4) float: facet planes ``[n, o]`` of the convex hull of all the pieces (``n . x + o <= 0`` inside).
+
+        The hull of at most 128 of the pieces' vertices (farthest-point sampled): on or a little inside the full hull.
+        """
         return ConvexPiece(np.vstack(self.pieces), name=f"{self.name} hull", max_vertices=128).planes
 
     @cached_property

@@ -1,11 +1,12 @@
 """Where the planner's attempts start: poses placed by the object's geometry.
 
 * `pinch_seeds` (precision grasps): pairs of opposed surface points whose
-  distance the hand can span, those that a fingertip reaches without going
-  into a recess of the object first (`recess`); the thumb and the index/middle fingers are put
-  on either side of a pair, the hand opened a little wider than the pair and
-  rolled about it so that the hand stays out of the object, then moved back
-  along the palm normal: the attempt reaches in and closes.
+  distance the hand can span, those a fingertip reaches without going into
+  a recess of the object (`recess`) first; the thumb and the index/middle
+  fingers are put on either side of a pair, the hand opened a little wider
+  than the pair and rolled about it so that the hand stays out of the
+  object, then moved back along the palm normal: the attempt reaches in and
+  closes.
 * `wrap_seeds` (power grasps): the palm laid on surface points, rolled about
   their normal, with the synergies on a grid; the poses where most phalanges
   touch and none cuts in (screened on the object's `DistanceGrid`, then
