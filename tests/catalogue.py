@@ -25,7 +25,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
-from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance
+from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance, recess
 
 
 @dataclass(frozen=True)
@@ -275,6 +275,9 @@ API = [
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
     Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
+    Case("planner.recess", "a NaN point", lambda tmp: recess(so.ellipsoid(), [[np.nan, 0.0, 0.0]], [[1.0, 0.0, 0.0]]), ValueError, "points contains NaN or inf at rows [0]"),
+    Case("planner.recess", "two points, one normal", lambda tmp: recess(so.ellipsoid(), np.zeros((2, 3)), [[1.0, 0.0, 0.0]]), ValueError, "recess needs one normal per point"),
+    Case("planner.recess", "normals of dimension 2", lambda tmp: recess(so.ellipsoid(), np.zeros((1, 3)), [[1.0, 0.0]]), ValueError, "normals has points of dimension 2, expected 3"),
     # ------------------------------------------------------------ the executable reach
     Case("planner.hand_clearance", "a hand given by name", lambda tmp: hand_clearance("paper_hand", so.ellipsoid(), np.zeros(8)), TypeError, "hand must be a SynergyHand"),
     Case("planner.hand_clearance", "u of 7 numbers", lambda tmp: hand_clearance(HAND, so.ellipsoid(), np.zeros(7)), ValueError, "u must have shape (8,)"),

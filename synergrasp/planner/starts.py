@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .._checks import as_vector
+from .._checks import as_points, as_vector
 from ..hand import rotation_xyz
 from .status import grasp_status, hand_penetration
 from .stop import check_grasp
@@ -337,7 +337,15 @@ def recess(obj, points, normals):
     Returns
     -------
     (m,) float
+
+    Raises
+    ------
+    ValueError
+        If ``points`` or ``normals`` is not an (m, 3) array of finite numbers, or their shapes differ.
     """
+    points, normals = as_points(points, "points", dim=3), as_points(normals, "normals", dim=3)
+    if normals.shape != points.shape:
+        raise ValueError(f"recess needs one normal per point: points has shape {points.shape}, normals {normals.shape}")
     planes = obj.hull_planes
     gap = np.maximum(-(points @ planes[:, :3].T + planes[:, 3]), 0.0)  # (m, f): how far inside each facet
     facing = _DIRECTIONS @ planes[:, :3].T  # (d, f)
