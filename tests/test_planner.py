@@ -27,11 +27,11 @@ from synergrasp.planner import (
     start_configuration,
     starts,
     status_rows,
-    surface_samples,
     wrap_seeds,
 )
 from synergrasp.planner import attempt as attempt_module
 from synergrasp.planner.clearance import HandClearance
+from synergrasp.planner.starts import surface_samples
 from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration
 from synergrasp.planner.stop import mesh_depth, surface_check
 

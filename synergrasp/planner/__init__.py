@@ -8,7 +8,7 @@ from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
 from .starts import (Start, direction_starts, pinch_seeds, power_schedule, principal_directions, recess, start_configuration,
-                     starts, surface_samples, wrap_seeds)
+                     starts, wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
@@ -52,7 +52,6 @@ __all__ = [
     "sq_request",
     "start_configuration",
     "starts",
-    "surface_samples",
     "wrap_seeds",
     "status_rows",
     "widest_opening",
