@@ -54,6 +54,12 @@ def _box_corners(half=10.0):
     return np.array([[x, y, z] for x in (-half, half) for y in (-half, half) for z in (-half, half)])
 
 
+def _inside_out_box():
+    box = trimesh.creation.box((60.0, 50.0, 70.0))
+    box.invert()
+    return box
+
+
 def _write(folder, name, text=None, data=None):
     path = Path(folder) / name
     if text is not None:
@@ -247,6 +253,8 @@ API = [
          ValueError, "mesh vertices contains NaN or inf at rows [8]"),
     Case("sg.objects.from_mesh", "an open surface that encloses nothing", lambda tmp: so.from_mesh(_arch(), name="arch", cache=False), ValueError,
          "arch is not watertight and cannot be capped"),
+    Case("sg.objects.from_mesh", "a closed mesh wound inside out: a result", lambda tmp: so.from_mesh(_inside_out_box(), cache=False),
+         None, "the box, its faces turned outward (with a warning)", check=lambda o: abs(o.mesh.volume - 60 * 50 * 70) < 1e-6),
     Case("sg.objects.from_mesh", "a negative scale", lambda tmp: so.from_mesh(trimesh.creation.box((30.0, 30.0, 30.0)), scale=-1.0), ValueError, "scale must be a finite number > 0"),
     Case("sg.objects.GraspObject", "no pieces", lambda tmp: so.GraspObject([]), ValueError, "pieces is empty"),
     Case("sg.objects.GraspObject", "a flat piece", lambda tmp: so.GraspObject([np.eye(3)]), ValueError, "pieces[0] has no volume"),

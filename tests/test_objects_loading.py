@@ -207,6 +207,32 @@ def test_open_mesh_is_capped_and_the_repair_reported(tmp_path):
     assert obj.extents == pytest.approx([60, 80, 100]) and obj.volume == pytest.approx(8 * 30 * 40 * 50)
 
 
+def test_a_mesh_wound_inward_is_turned_outward(tmp_path):
+    """A closed box exported inside out (negative volume, normals into the solid) loads as the box, facing out."""
+    mesh = trimesh.creation.box((60.0, 50.0, 70.0))
+    mesh.invert()
+    path = tmp_path / "inside_out.stl"
+    mesh.export(path)
+    with pytest.warns(UserWarning, match="wound inward or inconsistently.*turned outward"):
+        obj = so.load(path)
+    assert obj.mesh.volume == pytest.approx(60 * 50 * 70) and obj.mesh.is_winding_consistent
+    assert obj.volume == pytest.approx(60 * 50 * 70)
+    centres = obj.mesh.triangles_center - obj.center  # every face normal points away from the centre
+    assert np.all(np.einsum("ij,ij->i", obj.mesh.face_normals, centres) > 0)
+
+
+def test_a_grasp_object_given_a_mesh_wound_inward_keeps_an_outward_copy():
+    mesh = trimesh.creation.box((60.0, 50.0, 70.0))
+    mesh.invert()
+    with pytest.warns(UserWarning, match="inside-out box: the mesh's faces were wound inward"):
+        obj = so.GraspObject([mesh.vertices], mesh=mesh, name="inside-out box")
+    assert obj.mesh.volume == pytest.approx(60 * 50 * 70) and mesh.volume == pytest.approx(-60 * 50 * 70)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an outward mesh is kept as it is, without a warning
+        box = trimesh.creation.box((60.0, 50.0, 70.0))
+        assert so.GraspObject([box.vertices], mesh=box).mesh is box
+
+
 def test_open_box_cloud_is_the_whole_box():
     """The cloud of a box without its lid: the opening is closed across, the solid is the box."""
     mesh = open_box()

@@ -371,6 +371,17 @@ def test_recess_is_the_way_out_to_the_hull(channel, box):
     assert np.all(recess(box, p, n) < 1e-9)  # a convex object has no recess
 
 
+def test_a_mesh_no_inward_ray_leaves_gives_no_pairs_and_the_direction_starts(hand):
+    """An object whose mesh is an open sheet (only a box's lid): no inward ray leaves it, so there are no pinch pairs
+    and a precision plan starts from the directions, without an error."""
+    box = trimesh.creation.box((60.0, 50.0, 70.0))
+    lid = trimesh.Trimesh(box.vertices, box.faces[box.face_normals[:, 2] > 0.5])
+    obj = so.GraspObject([box.vertices], mesh=lid, name="lid only")
+    assert all(a.shape == (0, 3) for a in surface_samples(obj, 50, 0))
+    kinds = [s.kind for s in itertools.islice(starts(hand, obj, "precision", PlannerOptions()), 3)]
+    assert kinds == ["direction"] * 3
+
+
 def test_pinch_seeds_keep_out_of_recesses_first(hand, channel):
     """Across the channel's floor is the pair nearest the aperture and the centre; a fingertip would have to reach
     40 mm into the channel, so the pair across the outer walls comes first."""

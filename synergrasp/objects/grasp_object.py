@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from functools import cached_property
 
 import fcl
@@ -14,6 +15,7 @@ from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
+from .repair import orient_outward
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
 
@@ -38,7 +40,10 @@ class GraspObject:
     name : str
         Display name.
     mesh : trimesh.Trimesh, optional
-        The surface the pieces approximate (kept for display).
+        The surface the pieces approximate: shown, sampled for the
+        precision seeds and used to judge a grasp on the true surface. A
+        watertight mesh wound inward is replaced by a copy turned outward
+        (`synergrasp.objects.repair.orient_outward`), with a warning.
     info : dict, optional
         Provenance (source file, method, cache use...).
 
@@ -84,6 +89,11 @@ class GraspObject:
             p if isinstance(p, ConvexPiece) else ConvexPiece(p, name=f"pieces[{i}]") for i, p in enumerate(pieces)
         )
         self.name = str(name)
+        if isinstance(mesh, trimesh.Trimesh):
+            mesh, turned = orient_outward(mesh)
+            if turned:
+                warnings.warn(f"{self.name}: the mesh's faces were wound inward or inconsistently (its normals pointed "
+                              "into the solid); a copy turned outward is used", UserWarning, stacklevel=2)
         self.mesh = mesh
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")

@@ -7,7 +7,8 @@
   the ``coacd`` package; ``COACD_PARAMS``: remeshed on a 20-voxel grid, then
   concavity threshold 0.07 with a light tree search, about 4-10 s for a 10k-face
   mesh on 2 cores). A mesh that is not watertight has no inside to
-  decompose. It is closed first where that is sound (`close_mesh`:
+  decompose. A watertight mesh wound inward is turned outward first
+  (`orient_outward`, with a warning). An open one is closed first where that is sound (`close_mesh`:
   seams welded, planar holes capped; ``info["repair"]`` says what changed)
   and then treated like a watertight one. One that cannot be closed so (its
   holes are not planar, its edges non-manifold) is closed on a voxel grid:
@@ -52,7 +53,7 @@ import trimesh
 from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, _hull
 from .grasp_object import GraspObject
-from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, close_mesh
+from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, close_mesh, orient_outward
 
 #: Mesh file extensions (read with trimesh).
 MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
@@ -248,6 +249,10 @@ def _from_mesh(
     _hull(np.unique(vertices, axis=0), what)  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
+    mesh, turned = orient_outward(mesh)
+    if turned:
+        _warn(f"{what}'s faces were wound inward or inconsistently (its normals pointed into the solid); "
+              "they were turned outward")
     if not watertight:
         try:
             mesh, repair = close_mesh(mesh, what)

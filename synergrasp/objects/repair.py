@@ -20,6 +20,9 @@ The result must be a closed, consistently oriented 2-manifold (checked by buildi
 (`RepairError`) that says why (a loop that is not planar or crosses itself, open boundaries that
 touch at a vertex, edges shared by more than two faces, a surface that would be
 mostly cap), rather than guessed at.
+
+`orient_outward` turns a closed mesh wound inward (or inconsistently) outward: its normals must
+point out of the solid for the planner's tests against the true surface.
 """
 
 from __future__ import annotations
@@ -51,6 +54,44 @@ PLANARITY = 0.1
 WELD_TOLERANCE = 1e-5
 #: The caps may make up at most this fraction of the closed surface's area.
 MAX_CAP_FRACTION = 0.5
+
+
+def orient_outward(mesh: trimesh.Trimesh):
+    """A watertight mesh wound consistently with its faces facing out: ``mesh`` itself if it is, else a fixed copy.
+
+    Exporters sometimes write a closed surface wound inward (a negative
+    volume) or with some faces flipped; its normals then point into the
+    solid, and every test against it (the planner's depth in the true mesh,
+    the surface samples of its seeds) reads inside as outside. Each body of
+    the mesh is wound consistently and turned outward
+    (``trimesh.repair.fix_normals``).
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+
+    Returns
+    -------
+    oriented : trimesh.Trimesh
+        ``mesh`` when it is not watertight (`close_mesh` orients what it
+        closes) or already outward, else an outward copy.
+    changed : bool
+        Whether a copy was made.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> box = trimesh.creation.box(extents=[60.0, 50.0, 40.0])
+    >>> box.invert()
+    >>> fixed, changed = orient_outward(box)
+    >>> changed, round(float(fixed.volume)), round(float(box.volume))
+    (True, 120000, -120000)
+    """
+    if not mesh.is_watertight or (mesh.is_winding_consistent and mesh.volume > 0):
+        return mesh, False
+    fixed = mesh.copy()
+    trimesh.repair.fix_normals(fixed, multibody=True)
+    return fixed, True
 
 
 def close_mesh(mesh: trimesh.Trimesh, what: str = "mesh"):

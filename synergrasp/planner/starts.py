@@ -225,7 +225,8 @@ def surface_samples(obj, count, seed):
     points, faces = trimesh.sample.sample_surface(mesh, count, seed=seed)
     normals = mesh.face_normals[faces]
     exits, rays, triangles = mesh.ray.intersects_location(points - 1e-3 * normals, -normals, multiple_hits=False)
-    return points[rays], normals[rays], exits, mesh.face_normals[triangles]
+    rays, triangles = np.asarray(rays, dtype=np.int64), np.asarray(triangles, dtype=np.int64)  # empty: no ray left
+    return points[rays], normals[rays], np.asarray(exits, dtype=float).reshape(-1, 3), mesh.face_normals[triangles]
 
 
 def _aperture_table(hand, partner=(1, 2), steps=41):
@@ -294,6 +295,8 @@ def pinch_seeds(hand, obj, options):
     """
     apertures = _apertures(hand)
     p1, n1, p2, n2 = surface_samples(obj, PAIR_SAMPLES, options.seed)
+    if not len(p1):  # no inward ray leaves the surface (an open sheet): no pairs
+        return
     width = np.linalg.norm(p2 - p1, axis=1)
     opposed = np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))
     spare = 2.0 * options.seed_opening
