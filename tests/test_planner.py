@@ -712,6 +712,14 @@ def test_an_object_in_metres_is_refused():
         plan(tiny, "precision")
 
 
+def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():
+    """A card 85 mm long and 1 mm thick is in plausible units: the message says it is too thin, not "metres?"."""
+    card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)
+    with pytest.raises(ValueError, match="card is too thin to grasp: its thinnest extent is 1 mm.*85 mm long") as info:
+        plan(card, "precision")
+    assert "scale=" not in str(info.value)
+
+
 def test_an_object_the_hand_cannot_hold():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -35,7 +35,7 @@ from .reach import executable_reach
 from .result import PlanResult
 from .starts import Start, preshape, start_configuration, starts
 
-#: Objects thinner than this (mm) are refused: most likely a mesh in metres.
+#: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
 #: The planners by name, with their options' class.
 METHODS = {"gradient": PlannerOptions, "annealing": AnnealingOptions}
@@ -70,10 +70,16 @@ def _check_object(obj, hand):
     elif not isinstance(obj, objects.GraspObject):
         raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}")
     width, opening = float(np.min(obj.extents)), hand_opening(hand)
-    if width < MIN_WIDTH:
+    if width < MIN_WIDTH and obj.size < objects.loading.SIZE_RANGE[0]:
         raise ValueError(
             f"{obj.name} is too small to grasp: its smallest extent is {width:.2g} mm "
             f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
+        )
+    if width < MIN_WIDTH:
+        raise ValueError(
+            f"{obj.name} is too thin to grasp: its thinnest extent is {width:.2g} mm, less than the {MIN_WIDTH:g} mm "
+            f"the fingertips need between them, while it is {obj.size:.0f} mm long (a sheet or a wire: its units "
+            "are plausible, its shape is not one this hand can hold)"
         )
     if width > opening:
         raise ValueError(
