@@ -233,6 +233,22 @@ def test_a_grasp_object_given_a_mesh_wound_inward_keeps_an_outward_copy():
         assert so.GraspObject([box.vertices], mesh=box).mesh is box
 
 
+def test_a_large_mesh_is_tested_on_a_simplified_surface_within_the_tolerance():
+    """A 81,920-face ball: the planner's surface keeps a few thousand faces, closed, within 0.1 mm of the mesh;
+    a mesh of at most SURFACE_FACES faces is its own surface."""
+    from synergrasp.objects.grasp_object import SURFACE_FACES, SURFACE_TOLERANCE
+
+    fine = trimesh.creation.icosphere(subdivisions=6, radius=30.0)
+    obj = so.from_mesh(fine, cache=False)
+    surface = obj.surface
+    assert len(fine.faces) > SURFACE_FACES >= len(surface.faces) and surface.is_watertight
+    gap = np.abs(trimesh.proximity.signed_distance(surface, fine.vertices[::40]))
+    assert gap.max() <= SURFACE_TOLERANCE + 1e-6
+    assert np.abs(trimesh.proximity.signed_distance(fine, surface.vertices)).max() <= SURFACE_TOLERANCE + 1e-6
+    small = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=30.0), cache=False)
+    assert small.surface is small.mesh
+
+
 def test_open_box_cloud_is_the_whole_box():
     """The cloud of a box without its lid: the opening is closed across, the solid is the box."""
     mesh = open_box()

@@ -15,8 +15,14 @@ from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
-from .repair import orient_outward
+from .repair import orient_outward, simplify
 from .scaled_contacts import ScaledContacts, scaled_contacts
+
+
+#: A mesh with more faces than this is simplified for the planner's tests against the true surface (`GraspObject.surface`).
+SURFACE_FACES = 20000
+#: How far (mm) that simplified surface may lie from the mesh.
+SURFACE_TOLERANCE = 0.1
 
 
 class GraspObject:
@@ -145,6 +151,28 @@ class GraspObject:
     def distance_grid(self) -> DistanceGrid:
         """The pieces' signed-distance bound on a grid around the object (`DistanceGrid`), built on first use."""
         return DistanceGrid(self.index, self.bounds)
+
+    @cached_property
+    def surface(self):
+        """The mesh the planner tests the true surface on: ``mesh``, simplified when it is large (None without a mesh).
+
+        The precision seeds cast rays into it, and an accepted grasp's
+        contacts and depth are judged on it. A mesh of at most
+        `SURFACE_FACES` faces is used as it is; a larger closed one is
+        simplified (`synergrasp.objects.repair.simplify`) to a surface within
+        `SURFACE_TOLERANCE` mm of it, a few thousand faces, built on first use
+        (about a second for 300,000 faces): on a fine scan those tests would
+        otherwise take seconds each. A large mesh that cannot be simplified
+        (not a closed manifold) is used as it is.
+
+        Returns
+        -------
+        trimesh.Trimesh or None
+        """
+        if self.mesh is None or len(self.mesh.faces) <= SURFACE_FACES:
+            return self.mesh
+        coarse = simplify(self.mesh, SURFACE_TOLERANCE)
+        return self.mesh if coarse is None else coarse
 
     @cached_property
     def mesh_excess(self) -> float:

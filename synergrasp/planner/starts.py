@@ -204,8 +204,8 @@ def direction_starts(hand, obj, options):
 def surface_samples(obj, count, seed):
     """Points on the object's surface with their outward normals, and the exit of the inward ray from each.
 
-    The surface is the object's mesh when it has one (the true surface),
-    else the hulls of its pieces.
+    The surface is the object's true surface when it has a mesh
+    (`GraspObject.surface`), else the hulls of its pieces.
 
     Parameters
     ----------
@@ -221,7 +221,7 @@ def surface_samples(obj, count, seed):
     """
     import trimesh
 
-    mesh = obj.mesh if obj.mesh is not None else obj.to_mesh()
+    mesh = obj.surface if obj.surface is not None else obj.to_mesh()
     points, faces = trimesh.sample.sample_surface(mesh, count, seed=seed)
     normals = mesh.face_normals[faces]
     exits, rays, triangles = mesh.ray.intersects_location(points - 1e-3 * normals, -normals, multiple_hits=False)

@@ -2,7 +2,8 @@
 
 `check_grasp` is the paper's criterion on the convex pieces; `surface_check`
 moves the contacts to the object's true mesh and judges them there, and
-`mesh_depth` measures how deep the phalanx capsules are in it.
+`mesh_depth` measures how deep the phalanx capsules are in it (both on
+`GraspObject.surface`: the mesh, simplified within 0.1 mm when it is large).
 """
 
 from __future__ import annotations
@@ -42,7 +43,8 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="highs") -> 
 
     The convex pieces the planner works on cover the object's concavities and
     facet its curves; a grasp is judged on the surface they approximate: the
-    object's mesh (trimesh's closest points and their face normals). An
+    object's mesh (`GraspObject.surface`; trimesh's closest points and their
+    face normals). An
     object without a mesh (a point cloud) is its pieces: the contacts and
     ``normals`` stay as they are.
 
@@ -79,8 +81,8 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="highs") -> 
     else:
         import trimesh
 
-        closest, gap, triangle = trimesh.proximity.closest_point(obj.mesh, points)
-        inward = -obj.mesh.face_normals[triangle]
+        closest, gap, triangle = trimesh.proximity.closest_point(obj.surface, points)
+        inward = -obj.surface.face_normals[triangle]
     q = np.nan
     if len(points) >= 2:
         q = q_distance(closest, inward, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
@@ -144,7 +146,7 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     counts = np.maximum(2, np.ceil(np.linalg.norm(capsules[:, 1] - capsules[:, 0], axis=1) / spacing).astype(int) + 1)
     t = np.concatenate([np.linspace(0.0, 1.0, n) for n in counts])[:, None]
     a, b = np.repeat(capsules[:, 0], counts, axis=0), np.repeat(capsules[:, 1], counts, axis=0)
-    inside = trimesh.proximity.signed_distance(obj.mesh, a + t * (b - a))
+    inside = trimesh.proximity.signed_distance(obj.surface, a + t * (b - a))
     return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 
 
