@@ -24,6 +24,17 @@ def test_time_limit_quick(capsys):
     assert "largest overrun" in capsys.readouterr().out
 
 
+def test_small_objects_quick(tmp_path, capsys):
+    """The 50 mm sphere (about the benchmark's smallest object) is grasped, and its row is written under --out."""
+    from benchmarks import small_objects
+
+    rows = small_objects.main(["--quick", "--out", str(tmp_path)])
+    written = [json.loads(line) for line in (tmp_path / "small_objects.jsonl").read_text().splitlines()]
+    assert written == rows and len(rows) == 1
+    assert rows[0]["success"] and rows[0]["attempts"] >= 1 and rows[0]["shape"] == "sphere"
+    assert "precision: 1/1 grasped" in capsys.readouterr().out
+
+
 def test_torus_has_the_faces_asked_for():
     mesh = bench_large_mesh.torus(330_000)
     assert 320_000 <= len(mesh.faces) <= 340_000 and mesh.is_watertight
