@@ -246,7 +246,7 @@ def _from_mesh(
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} has no faces; load a point cloud with from_points instead")
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
-    _hull(np.unique(vertices, axis=0), what)  # raises "has no volume" for flat meshes
+    hull_volume = _hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
     mesh, turned = orient_outward(mesh)
@@ -257,11 +257,11 @@ def _from_mesh(
         try:
             mesh, repair = close_mesh(mesh, what)
             vertices = np.asarray(mesh.vertices, dtype=float)
+            hull_volume = _hull(np.unique(vertices, axis=0), what).volume  # of what was kept and welded
         except RepairError as exc:  # not closable by capping: closed on a voxel grid below, or refused there
             refusal = exc.reason
     ratio = None
     if refusal is None:
-        hull_volume = mesh.convex_hull.volume
         ratio = float(abs(mesh.volume) / hull_volume) if hull_volume > 0 else 0.0
 
     def compute():
