@@ -23,6 +23,7 @@ from synergrasp.planner import (
     principal_directions,
     recess,
     run_attempt,
+    smallest_pinch,
     sq_request,
     start_configuration,
     starts,
@@ -710,6 +711,30 @@ def test_an_object_in_metres_is_refused():
         tiny = so.ellipsoid(0.03, 0.04, 0.05)
     with pytest.raises(ValueError, match="too small to grasp.*scale=1000"):
         plan(tiny, "precision")
+
+
+def thin_bowl():
+    """A hemispherical shell, 100 mm across with a 4 mm wall: its true mesh, and 24 convex pieces of its patches."""
+    outer, inner = trimesh.creation.icosphere(3, 50.0), trimesh.creation.icosphere(3, 46.0)
+    lid = trimesh.creation.box((120.0, 120.0, 60.0))
+    lid.apply_translation((0.0, 0.0, 30.0))
+    bowl = trimesh.boolean.difference([outer, inner, lid], engine="manifold")
+    v = bowl.vertices
+    sector = np.floor((np.arctan2(v[:, 1], v[:, 0]) + np.pi) / (2 * np.pi) * 8).clip(0, 7)
+    band = np.floor(-v[:, 2] / 50.0 * 3).clip(0, 2)
+    pieces = [v[(sector == a) & (band == b)] for a in range(8) for b in range(3)]
+    return so.GraspObject([p for p in pieces if len(p) >= 4], mesh=bowl, name="thin bowl")
+
+
+def test_a_failed_plan_on_a_thin_wall_says_the_pinch_cannot_close_on_it(hand):
+    """Every pinch pair of a 4 mm shell spans its wall, narrower than the hand's smallest pinch (15 mm): the
+    failure says so. A plan that fails for another reason (its iterations ran out on the ellipsoid) does not."""
+    assert 14.0 < smallest_pinch(hand) < 16.0
+    r = plan(thin_bowl(), "precision", restarts=3, executable_reach=False)
+    assert not r.success and all(a["kind"] == "pinch" and a["width"] < 5.0 for a in r.attempts)
+    assert "at most 4 mm apart, less than the 15 mm the thumb and the index and middle fingertips close to" in r.reason
+    short = plan(so.ellipsoid(), "precision", max_iter=3)
+    assert not short.success and "fingertips close to" not in short.reason
 
 
 def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():

@@ -271,6 +271,30 @@ def _apertures(hand):
     return _per_hand(_APERTURES, hand, _Apertures)
 
 
+def smallest_pinch(hand):
+    """The nearest the thumb tip and the index/middle fingertips' centroid come (mm), over the synergy box.
+
+    The fingertips' pad points of `SynergyHand.points` on a 41 x 41 grid of
+    the synergies: a pinch pair narrower than this cannot be held between
+    those pads (the paper's hand: about 15 mm).
+
+    Parameters
+    ----------
+    hand : SynergyHand
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand
+    >>> round(smallest_pinch(SynergyHand.default()), 1)
+    15.1
+    """
+    return float(_apertures(hand).width.min())
+
+
 def pinch_seeds(hand, obj, options):
     """Precision starts from pairs of opposed surface points (see the module docstring).
 
