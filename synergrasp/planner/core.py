@@ -240,7 +240,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, smallest_pinch(hand))
+    failure = None if result.success else _failure(attempts, smallest_pinch(hand), opts.eps_c)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -300,13 +300,14 @@ def _validator(validate, obj, hand, backend):
     return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 
-def _failure(attempts, pinch):
+def _failure(attempts, pinch, eps_c):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
-    pinch (``pinch``, mm), it says so: the object's opposed surfaces are a
-    wall too thin for the pads to straddle. No clock time in it (that is
-    `PlanResult.time_s`): the same plan gives the same words.
+    pinch (``pinch``, mm) less the contact threshold ``eps_c`` on either
+    side, it says so: the object's opposed surfaces are a wall too thin for
+    the pads to touch both. No clock time in it (that is `PlanResult.time_s`):
+    the same plan gives the same words.
     """
     counts = {}
     for a in attempts:
@@ -315,8 +316,9 @@ def _failure(attempts, pinch):
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
     reason = f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
     widths = [a["width"] for a in attempts if a["kind"] == "pinch"]
-    if widths and max(widths) < pinch:
-        reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, less "
-                   f"than the {pinch:.0f} mm the thumb and the index and middle fingertips close to, so they could "
-                   "not close on them (a wall or sheet too thin for this hand's pinch)")
+    if widths and max(widths) < pinch - 2.0 * eps_c:
+        reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
+                   f"the thumb and the index and middle fingertips close to no less than {pinch:.0f} mm, too far "
+                   f"apart to touch both within the contact threshold of {eps_c:g} mm (a wall or sheet too thin for "
+                   "this hand's pinch)")
     return reason
