@@ -249,6 +249,28 @@ def test_a_large_mesh_is_tested_on_a_simplified_surface_within_the_tolerance():
     assert small.surface is small.mesh
 
 
+def test_stray_points_of_a_scan_are_dropped_with_a_warning():
+    """Three stray points 150-250 mm from a 60 x 50 x 70 mm box's cloud: dropped, the box is what is left."""
+    box = trimesh.creation.box((60.0, 50.0, 70.0))
+    points = trimesh.sample.sample_surface(box, 3000, seed=0)[0]
+    strays = np.array([[200.0, 0.0, 0.0], [0.0, 250.0, 0.0], [-180.0, 30.0, 90.0]])
+    with pytest.warns(UserWarning, match="3 stray point\\(s\\) dropped"):
+        obj = so.from_points(np.vstack([points, strays]), cache=False)
+    assert obj.n_pieces == 1 and obj.extents == pytest.approx([60.0, 50.0, 70.0], abs=0.5)
+
+
+@pytest.mark.parametrize("count", [100, 400, 5000])
+def test_a_random_sample_of_a_surface_has_no_strays(count):
+    """Points drawn at random on a ball (uneven spacing, as any random sample): none is taken for a stray."""
+    ball = trimesh.creation.icosphere(3, 30.0)
+    for seed in range(3):
+        points = trimesh.sample.sample_surface(ball, count, seed=seed)[0]
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # no "stray points" warning
+            obj = so.from_points(points, cache=False)
+        assert obj.n_pieces == 1 and obj.extents == pytest.approx([60.0, 60.0, 60.0], abs=6.0)
+
+
 def test_open_box_cloud_is_the_whole_box():
     """The cloud of a box without its lid: the opening is closed across, the solid is the box."""
     mesh = open_box()

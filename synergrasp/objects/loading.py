@@ -16,7 +16,8 @@
   point cloud whose enclosed solid is clustered (below); if that encloses no
   volume either, the mesh is refused with the reason. Either way a warning
   says what was done.
-* Point clouds (.ply without faces, .xyz, .npy, .npz, or an array): a small
+* Point clouds (.ply without faces, .xyz, .npy, .npz, or an array): stray
+  points first dropped (a scan's outliers: `STRAY_FACTOR`), then a small
   cloud, or a convex one (no facet of its hull farther than ``CLOUD_CONCAVITY``
   = 3 % of its size, or 4 sampling spacings, from its points), is one
   hull. Otherwise the cloud is voxelised, its gaps closed and its inside
@@ -75,6 +76,12 @@ OPEN_MESH_SAMPLES = 20000
 ENCLOSED_DIRECTIONS = 5
 #: Clouds with fewer points are always one hull.
 SMALL_CLOUD = 64
+#: Stray points of a cloud: a point whose `STRAY_NEIGHBOURS`-th nearest neighbour is farther than
+#: `STRAY_FACTOR` times the cloud's median such distance is dropped, when such points are at most
+#: `STRAY_SHARE` of the cloud (more of them are a sparse part of the object, not strays).
+STRAY_NEIGHBOURS = 8
+STRAY_FACTOR = 10.0
+STRAY_SHARE = 0.01
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
 #: CoACD parameters (``coacd.run_coacd``) besides ``max_convex_hull`` (``max_parts``) and
@@ -342,6 +349,24 @@ def _spacing(points: np.ndarray) -> float:
     return float(np.median(dist[:, 1]))
 
 
+def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
+    """``points`` without its stray points (a scan's outliers; see `STRAY_FACTOR`), with a warning if any."""
+    if len(points) < SMALL_CLOUD:
+        return points
+    from scipy.spatial import cKDTree
+
+    dist, _ = cKDTree(points).query(points, k=STRAY_NEIGHBOURS + 1)
+    reach = dist[:, STRAY_NEIGHBOURS]
+    typical = float(np.median(reach))
+    stray = reach > STRAY_FACTOR * typical
+    if not stray.any() or stray.sum() > STRAY_SHARE * len(points):
+        return points
+    _warn(f"{what}: {int(stray.sum())} stray point(s) dropped, each farther than {STRAY_FACTOR:g} times the cloud's "
+          f"typical spacing ({typical:.2g} mm to the {STRAY_NEIGHBOURS}th neighbour) from its {STRAY_NEIGHBOURS}th "
+          "nearest neighbour (a scan's outliers would make the object larger than it is)")
+    return points[~stray]
+
+
 def _concavity(members: np.ndarray, name: str) -> float:
     """How far the hull of ``members`` bulges away from them: the largest distance
     from a hull facet's centroid to the nearest member (0 for points filling a convex set)."""
@@ -455,9 +480,11 @@ def _from_points(
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
+    pts = _without_strays(pts, what)
     _hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
-              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS}
+              "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,
+              "strays": [STRAY_NEIGHBOURS, STRAY_FACTOR, STRAY_SHARE]}
     pieces, meta, status = _cached(
         pts.tobytes(), params, lambda: _cluster_cloud(pts, max_parts, max_vertices, what), cache
     )
@@ -580,7 +607,9 @@ def from_points(
     Warns
     -----
     UserWarning
-        If the object's size is outside 10-500 mm.
+        If the object's size is outside 10-500 mm, or if stray points were dropped
+        (at most 1 % of the cloud, each farther than `STRAY_FACTOR` times the cloud's
+        typical spacing from its `STRAY_NEIGHBOURS`-th nearest neighbour).
 
     Examples
     --------
