@@ -252,7 +252,8 @@ def test_the_surface_check_judges_on_the_mesh_not_on_the_pieces():
         trimesh.creation.icosphere(subdivisions=3, radius=45.0), engine="manifold")
     lid = trimesh.creation.box((150.0, 150.0, 100.0))
     lid.apply_translation((0.0, 0.0, 50.0))
-    bowl = so.from_mesh(bowl_mesh.difference(lid, engine="manifold"), name="bowl", cache=False, max_parts=1)
+    surface = bowl_mesh.difference(lid, engine="manifold")
+    bowl = so.GraspObject([surface.vertices], mesh=surface, name="bowl")  # one piece, the hull: it covers the hollow
     over_the_hollow = [[0.0, 0.0, 0.0]]  # on the hull's top face, over the bowl's inside
     assert surface_check(bowl, over_the_hollow, [[0.0, 0.0, -1.0]]).gap > 40.0
     t = 2 * np.pi * np.arange(5) / 5
