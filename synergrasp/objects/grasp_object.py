@@ -15,7 +15,7 @@ from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
-from .repair import orient_outward, simplify
+from .repair import TURNED_OUTWARD, orient_outward, simplify
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
 
@@ -98,8 +98,7 @@ class GraspObject:
         if isinstance(mesh, trimesh.Trimesh):
             mesh, turned = orient_outward(mesh)
             if turned:
-                warnings.warn(f"{self.name}: the mesh's faces were wound inward or inconsistently (its normals pointed "
-                              "into the solid); a copy turned outward is used", UserWarning, stacklevel=2)
+                warnings.warn(f"{self.name}: {TURNED_OUTWARD} (in a copy)", UserWarning, stacklevel=2)
         self.mesh = mesh
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")

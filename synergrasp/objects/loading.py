@@ -54,7 +54,7 @@ import trimesh
 from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, _hull
 from .grasp_object import GraspObject
-from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, close_mesh, orient_outward
+from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, TURNED_OUTWARD, close_mesh, orient_outward
 
 #: Mesh file extensions (read with trimesh).
 MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
@@ -258,8 +258,7 @@ def _from_mesh(
     repair, refusal = None, None
     mesh, turned = orient_outward(mesh)
     if turned:
-        _warn(f"{what}'s faces were wound inward or inconsistently (its normals pointed into the solid); "
-              "they were turned outward")
+        _warn(f"{what}: {TURNED_OUTWARD}")
     if not watertight:
         try:
             mesh, repair = close_mesh(mesh, what)

@@ -57,6 +57,11 @@ WELD_TOLERANCE = 1e-5
 MAX_CAP_FRACTION = 0.5
 
 
+#: What `orient_outward` did when it made a copy, in words (the loader and `GraspObject` warn with it).
+TURNED_OUTWARD = ("its faces were wound inward or inconsistently (their normals pointed into the solid); they were "
+                  "turned outward")
+
+
 def orient_outward(mesh: trimesh.Trimesh):
     """A watertight mesh wound consistently with its faces facing out: ``mesh`` itself if it is, else a fixed copy.
 
