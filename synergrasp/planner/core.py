@@ -70,12 +70,12 @@ def _check_object(obj, hand):
     elif not isinstance(obj, objects.GraspObject):
         raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}")
     width, opening = float(np.min(obj.extents)), hand_opening(hand)
-    if width < MIN_WIDTH and obj.size < objects.loading.SIZE_RANGE[0]:
-        raise ValueError(
-            f"{obj.name} is too small to grasp: its smallest extent is {width:.2g} mm "
-            f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
-        )
     if width < MIN_WIDTH:
+        if obj.size < objects.loading.SIZE_RANGE[0]:  # small every way: most likely in metres
+            raise ValueError(
+                f"{obj.name} is too small to grasp: its smallest extent is {width:.2g} mm "
+                f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
+            )
         raise ValueError(
             f"{obj.name} is too thin to grasp: its thinnest extent is {width:.2g} mm, less than the {MIN_WIDTH:g} mm "
             f"the fingertips need between them, while it is {obj.size:.0f} mm long (a sheet or a wire: its units "
