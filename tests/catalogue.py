@@ -60,6 +60,11 @@ def _inside_out_box():
     return box
 
 
+def _two_balls():
+    ball = trimesh.creation.icosphere(radius=25.0)
+    return trimesh.util.concatenate([ball.copy().apply_translation([-100.0, 0.0, 0.0]), ball.copy().apply_translation([100.0, 0.0, 0.0])])
+
+
 def _write(folder, name, text=None, data=None):
     path = Path(folder) / name
     if text is not None:
@@ -257,6 +262,8 @@ API = [
          "arch is not watertight and cannot be capped"),
     Case("sg.objects.from_mesh", "a closed mesh wound inside out: a result", lambda tmp: so.from_mesh(_inside_out_box(), cache=False),
          None, "the box, its faces turned outward (with a warning)", check=lambda o: abs(o.mesh.volume - 60 * 50 * 70) < 1e-6),
+    Case("sg.objects.from_mesh", "two balls 150 mm apart in one mesh: a result", lambda tmp: so.from_mesh(_two_balls(), cache=False),
+         None, "one object of both balls, with a warning that they are separate parts", check=lambda o: o.n_pieces == 2),
     Case("sg.objects.from_mesh", "a negative scale", lambda tmp: so.from_mesh(trimesh.creation.box((30.0, 30.0, 30.0)), scale=-1.0), ValueError, "scale must be a finite number > 0"),
     Case("sg.objects.GraspObject", "no pieces", lambda tmp: so.GraspObject([]), ValueError, "pieces is empty"),
     Case("sg.objects.GraspObject", "a flat piece", lambda tmp: so.GraspObject([np.eye(3)]), ValueError, "pieces[0] has no volume"),

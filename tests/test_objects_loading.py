@@ -221,6 +221,20 @@ def test_a_mesh_wound_inward_is_turned_outward(tmp_path):
     assert np.all(np.einsum("ij,ij->i", obj.mesh.face_normals, centres) > 0)
 
 
+def test_a_mesh_of_separate_objects_is_one_object_with_a_warning():
+    """Two balls 150 mm apart in one file: planned as one rigid object, and the loader says so; touching parts do not warn."""
+    ball = trimesh.creation.icosphere(radius=25.0)
+    apart = trimesh.util.concatenate([ball.copy().apply_translation([-100.0, 0, 0]), ball.copy().apply_translation([100.0, 0, 0])])
+    with pytest.warns(UserWarning, match=r"two balls is 2 separate parts, some 150 mm from the rest: they are planned as one "
+                                         r"rigid object\. To grasp one of them, load it alone"):
+        obj = so.from_mesh(apart, name="two balls", cache=False)
+    assert obj.n_pieces == 2
+    cube = trimesh.creation.box((40.0, 40.0, 40.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        so.from_mesh(trimesh.util.concatenate([cube, cube.copy().apply_translation([40.0, 0, 0])]), name="two cubes", cache=False)
+
+
 def test_a_grasp_object_given_a_mesh_wound_inward_keeps_an_outward_copy():
     mesh = trimesh.creation.box((60.0, 50.0, 70.0))
     mesh.invert()

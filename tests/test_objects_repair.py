@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from synergrasp.objects.repair import RepairError, close_mesh
+from synergrasp.objects.repair import RepairError, close_mesh, separate_parts
 
 
 def box():
@@ -103,3 +103,18 @@ def test_unsound_repairs_are_refused_with_the_reason(case, reason):
         close_mesh(mesh, "part")
     assert isinstance(info.value, ValueError) and str(info.value).startswith("part is not watertight and cannot be closed soundly")
     assert info.value.reason in str(info.value)
+
+
+def test_separate_parts_and_the_widest_gap_that_joins_them():
+    cube = trimesh.creation.box((10.0, 10.0, 10.0))
+    at = lambda x: cube.copy().apply_translation([x, 0.0, 0.0])  # noqa: E731
+    assert separate_parts(cube) == (1, 0.0)
+    assert separate_parts(trimesh.util.concatenate([at(0.0), at(30.0)])) == (2, pytest.approx(20.0))
+    assert separate_parts(trimesh.util.concatenate([at(0.0), at(10.0)])) == (2, 0.0)  # a shared face
+    # joined by the shortest gaps first: 5 mm then 80 mm (not the 95 mm between the outer two)
+    assert separate_parts(trimesh.util.concatenate([at(0.0), at(15.0), at(105.0)])) == (3, pytest.approx(80.0))
+    # a handle that enters the body: parts that overlap are joined
+    body = trimesh.creation.cylinder(radius=30.0, height=80.0)
+    handle = trimesh.creation.box((30.0, 8.0, 50.0)).apply_translation([35.0, 0.0, 0.0])
+    parts, gap = separate_parts(trimesh.util.concatenate([body, handle]))
+    assert parts == 2 and gap < 1.0

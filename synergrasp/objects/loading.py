@@ -15,7 +15,9 @@
   its vertices and ``OPEN_MESH_SAMPLES`` points sampled on its surface are a
   point cloud whose enclosed solid is clustered (below); if that encloses no
   volume either, the mesh is refused with the reason. Either way a warning
-  says what was done.
+  says what was done. A mesh whose parts lie more than ``PART_GAP`` apart
+  (`separate_parts`: several objects in one file, a scan's loose fragment)
+  is planned as one rigid object, with a warning that says so.
 * Point clouds (.ply without faces, .xyz, .npy, .npz, or an array): stray
   points first dropped (a scan's outliers: `STRAY_FACTOR`), then a small
   cloud, or a convex one (no facet of its hull farther than ``CLOUD_CONCAVITY``
@@ -54,7 +56,16 @@ import trimesh
 from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, _hull
 from .grasp_object import GraspObject
-from .repair import MAX_CAP_FRACTION, PLANARITY, WELD_TOLERANCE, RepairError, TURNED_OUTWARD, close_mesh, orient_outward
+from .repair import (
+    MAX_CAP_FRACTION,
+    PLANARITY,
+    TURNED_OUTWARD,
+    WELD_TOLERANCE,
+    RepairError,
+    close_mesh,
+    orient_outward,
+    separate_parts,
+)
 
 #: Mesh file extensions (read with trimesh).
 MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
@@ -82,6 +93,8 @@ SMALL_CLOUD = 64
 STRAY_NEIGHBOURS = 8
 STRAY_FACTOR = 10.0
 STRAY_SHARE = 0.01
+#: Parts of a mesh that no face joins and that lie farther apart than this (mm) are reported as separate objects.
+PART_GAP = 10.0
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
 #: CoACD parameters (``coacd.run_coacd``) besides ``max_convex_hull`` (``max_parts``) and
@@ -320,6 +333,10 @@ def _from_mesh(
               "watertight": watertight, "repair": repair, "scale": scale},
     )
     _check_size(obj, what)
+    parts, gap = separate_parts(shown)
+    if gap > PART_GAP:
+        _warn(f"{what} is {parts} separate parts, some {gap:.0f} mm from the rest: they are planned as one rigid "
+              "object. To grasp one of them, load it alone (trimesh: mesh.split())")
     return obj
 
 

@@ -23,7 +23,9 @@ mostly cap), rather than guessed at.
 
 `orient_outward` turns a closed mesh wound inward (or inconsistently) outward: its normals must
 point out of the solid for the planner's tests against the true surface. `simplify` gives a closed
-mesh with fewer faces within a tolerance of it (those tests on a large scan).
+mesh with fewer faces within a tolerance of it (those tests on a large scan). `separate_parts`
+finds the parts of a mesh that no face joins and the gap between them (a file holding several
+objects, or a scan with a loose fragment).
 """
 
 from __future__ import annotations
@@ -209,6 +211,73 @@ def simplify(mesh: trimesh.Trimesh, tolerance: float):
         return None
     out = built.simplify(float(tolerance)).to_mesh64()
     return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=False)
+
+
+#: Surface samples per part (besides its vertices) with which `separate_parts` measures the gaps.
+PART_SAMPLES = 2000
+#: Largest number of parts, the largest by area, between which `separate_parts` measures the gaps.
+MAX_PARTS = 32
+
+
+def separate_parts(mesh: trimesh.Trimesh):
+    """How many parts a mesh has that no face joins, and the widest gap that must be bridged to join them.
+
+    Parts are the connected components of the faces (through shared
+    vertices). The gap between two parts is the smallest distance between
+    points of their surfaces (their vertices and `PART_SAMPLES` samples of
+    each, so it is exact for parts that touch at a vertex and within the
+    samples' spacing otherwise); the parts are joined by the shortest gaps
+    first (a minimum spanning tree) and the widest of those is returned:
+    0 for parts that touch or overlap, like a handle modelled apart from a
+    mug's body, the distance between two objects saved in one file. At most
+    the `MAX_PARTS` largest parts by area are measured.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+
+    Returns
+    -------
+    parts : int
+        Number of parts.
+    gap : float
+        The widest gap joining them (mesh units); 0 for one part.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> a = trimesh.creation.box((10.0, 10.0, 10.0))
+    >>> parts, gap = separate_parts(trimesh.util.concatenate([a, a.copy().apply_translation([30.0, 0.0, 0.0])]))
+    >>> parts, round(gap, 6)
+    (2, 20.0)
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components, minimum_spanning_tree
+    from scipy.spatial import cKDTree
+
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    n = len(mesh.vertices)
+    edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    count, labels = connected_components(graph, directed=False)
+    face_label = labels[faces[:, 0]]
+    parts = np.unique(face_label)
+    if len(parts) < 2:
+        return int(len(parts)), 0.0
+    area = np.bincount(face_label, weights=mesh.area_faces, minlength=count)
+    measured = parts[np.argsort(-area[parts], kind="stable")][:MAX_PARTS]
+    trees = []
+    for label in measured:
+        part = mesh.submesh([np.flatnonzero(face_label == label)], append=True)
+        samples, _ = trimesh.sample.sample_surface(part, PART_SAMPLES, seed=0)
+        trees.append(cKDTree(np.vstack([part.vertices, samples])))
+    k = len(measured)
+    gaps = np.zeros((k, k))
+    for i in range(k):
+        for j in range(i + 1, k):
+            gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
+    tree = minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray()  # (a zero entry would be no edge)
+    return int(len(parts)), float(tree.max())
 
 
 def _edge_use(edges_sorted):
