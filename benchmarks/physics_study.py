@@ -101,9 +101,14 @@ def object_sets(names, meshes=None, scale=1.0, quick=False):
     return sets
 
 
+def case_folder(out, group, name, grasp):
+    """The folder of one case's files under ``out``."""
+    return out / "cases" / "_".join(re.sub(r"[^A-Za-z0-9_]+", "-", part) for part in (group, name, grasp))
+
+
 def study_case(group, name, obj, grasp, out):
     """Plan one grasp and validate it every way; one row of the study (dict)."""
-    folder = out / "cases" / "_".join(re.sub(r"[^A-Za-z0-9_]+", "-", part) for part in (group, name, grasp))
+    folder = case_folder(out, group, name, grasp)
     folder.mkdir(parents=True, exist_ok=True)
     row = dict(set=group, object=name, grasp=grasp)
     start = time.perf_counter()
@@ -120,13 +125,18 @@ def study_case(group, name, obj, grasp, out):
         except ValueError as exc:  # e.g. a failed plan whose hand touches nothing
             row[variant] = dict(held=False, outcome="not a grasp", reason=str(exc))
             continue
-        check.save(folder / f"{variant.replace(', ', '_').replace(' ', '_')}.json")
+        check.save(folder / variant_file(variant))
         row[variant] = dict(held=check.held, outcome=check.outcome, reason=check.reason,
                             penetration=check.initial_penetration, body=check.penetration_body, mass=check.object_mass,
                             settle=check.settle_displacement, grip=check.grip_force, cpu=check.cpu_time,
                             displacement=float(np.nanmax(check.displacement, initial=-1.0)),
                             rotation=float(np.nanmax(check.rotation, initial=-1.0)))
     return row
+
+
+def variant_file(variant):
+    """The file name of a variant's validation in a case folder."""
+    return f"{variant.replace(', ', '_').replace(' ', '_')}.json"
 
 
 def held(row, variant):
