@@ -55,6 +55,14 @@ def test_physics_study_quick(study, grasp):
     assert not (tmp_path / "bench-out").exists()  # nothing written outside --out
 
 
+def test_revalidate_finds_the_study_s_own_verdicts(study):
+    """The same code validates the quick study's saved plans (the ellipsoid's two) to the verdicts it stored."""
+    tmp_path, out_dir, _ = study
+    out = run("revalidate.py", str(out_dir), "--set", "paper", cwd=tmp_path)
+    for variant in ("synergrasp", "dexgraspbench"):
+        assert re.search(rf"^{variant}: 2 validations, held (\d) before and \1 now, 0 outcomes changed", out, re.M), out
+
+
 def test_squeeze_sweep_quick(tmp_path):
     """The ellipsoid's precision grasp: no squeeze of the four holds at the project's kp (5 N m/rad); stiffer
     servos (25) hold it with some."""
