@@ -312,7 +312,7 @@ def _from_mesh(
         params["repair"] = {"planarity": PLANARITY, "caps": MAX_CAP_FRACTION, "weld": WELD_TOLERANCE,
                             "enclosed": ENCLOSED_DIRECTIONS}
     pieces, meta, status = _cached(_content, params, compute, cache)
-    shown = mesh.copy()
+    shown = mesh.copy(include_cache=True)  # at scale 1 its checks (watertight, winding) are not computed again
     shown.apply_scale(scale)
     if repair is not None:
         repair = {**repair, "cap_area": repair["cap_area"] * scale**2, "volume": repair["volume"] * scale**3}
