@@ -8,6 +8,9 @@ An object is a union of convex pieces. Each `ConvexPiece` keeps
   normal n, so that ``x`` is inside iff ``n . x + o <= 0`` for every facet;
 * ``facets`` (f, 3): the triangles (indices into ``vertices``), outward wound;
 * ``fcl`` : the piece as an ``fcl.Convex`` for python-fcl's distance queries.
+
+`checked_hull` is the hull of a point set with a clear error when it has no volume or an absurd
+size (the loader's check of every mesh and cloud).
 """
 
 from __future__ import annotations
@@ -31,8 +34,27 @@ def _no_volume(name: str, detail: str) -> ValueError:
 SIZE_LIMITS = (1e-6, 1e6)
 
 
-def _hull(points: np.ndarray, name: str) -> ConvexHull:
-    """Convex hull of ``points`` with a clear error when they span no volume or are of an absurd size."""
+def checked_hull(points: np.ndarray, name: str) -> ConvexHull:
+    """Convex hull of ``points``, with a clear error when they span no volume or are of an absurd size.
+
+    Parameters
+    ----------
+    points : (m, 3) float
+        Distinct points (mm).
+    name : str
+        What they are, for the messages.
+
+    Returns
+    -------
+    scipy.spatial.ConvexHull
+
+    Raises
+    ------
+    ValueError
+        Points more than ``SIZE_LIMITS[1]`` or less than ``SIZE_LIMITS[0]`` mm
+        across (the message suggests a scale), fewer than 4 points, or points
+        that coincide or lie on a line or a plane.
+    """
     size = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
     lo, hi = SIZE_LIMITS
     if size > hi or 0.0 < size < lo:
@@ -119,11 +141,11 @@ class ConvexPiece:
 
     def __init__(self, points, name: str = "piece", max_vertices: int | None = None):
         points = as_points(points, name, dim=3)
-        hull = _hull(np.unique(points, axis=0), name)
+        hull = checked_hull(np.unique(points, axis=0), name)
         verts = hull.points[hull.vertices]
         if max_vertices is not None and len(verts) > max_vertices:
             verts = verts[farthest_point_subset(verts, int(max_vertices))]
-            hull = _hull(verts, name)
+            hull = checked_hull(verts, name)
             verts = hull.points[hull.vertices]
         remap = np.full(len(hull.points), -1)
         remap[hull.vertices] = np.arange(len(hull.vertices))

@@ -54,7 +54,7 @@ import numpy as np
 import trimesh
 
 from .._checks import as_points, integer, positive_scalar
-from .convex import ConvexPiece, _hull
+from .convex import ConvexPiece, checked_hull
 from .grasp_object import GraspObject
 from .repair import (
     MAX_CAP_FRACTION,
@@ -266,7 +266,7 @@ def _from_mesh(
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} has no faces; load a point cloud with from_points instead")
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
-    hull_volume = _hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
+    hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
     mesh, turned = orient_outward(mesh)
@@ -276,7 +276,7 @@ def _from_mesh(
         try:
             mesh, repair = close_mesh(mesh, what)
             vertices = np.asarray(mesh.vertices, dtype=float)
-            hull_volume = _hull(np.unique(vertices, axis=0), what).volume  # of what was kept and welded
+            hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # of what was kept and welded
         except RepairError as exc:  # not closable by capping: closed on a voxel grid below, or refused there
             refusal = exc.reason
     ratio = None
@@ -388,7 +388,7 @@ def _concavity(members: np.ndarray, name: str) -> float:
     from a hull facet's centroid to the nearest member (0 for points filling a convex set)."""
     from scipy.spatial import cKDTree
 
-    hull = _hull(members, name)
+    hull = checked_hull(members, name)
     centroids = hull.points[hull.simplices].mean(axis=1)
     return float(cKDTree(members).query(centroids)[0].max())
 
@@ -443,7 +443,7 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
     concavity = _concavity(points, name)
     meta = {"method": "hull", "concavity": concavity, "tolerance": tolerance}
     if len(points) < SMALL_CLOUD or concavity <= tolerance or max_parts == 1:
-        return [_reduce(points, max_vertices, name)], {**meta, "filled_volume": float(_hull(points, name).volume)}
+        return [_reduce(points, max_vertices, name)], {**meta, "filled_volume": float(checked_hull(points, name).volume)}
     pitch = max(size / 40.0, 1.5 * spacing)
     solid, interior = _filled_voxels(points, pitch)
     if require_inside is not None and not interior.any():
@@ -497,7 +497,7 @@ def _from_points(
     max_parts, max_vertices = _options(max_parts, max_vertices)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
     pts = _without_strays(pts, what)
-    _hull(pts, what)  # raises "has no volume" for flat or too small clouds
+    checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
               "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,
               "strays": [STRAY_NEIGHBOURS, STRAY_FACTOR, STRAY_SHARE]}
