@@ -145,9 +145,10 @@ def _plan(args) -> int:
         q = "  -   " if check.q != check.q else f"{check.q:+.3f}"
         bar.set_postfix_str(f"contacts {check.n_contacts}  g_sQ {status.g[-1]:+.3f}  g_Q {q}")
 
+    limit = {} if args.time_limit is None else {"time_limit": args.time_limit}
     try:
         result = plan(obj, args.grasp, backend=args.backend, approach=args.approach, max_iter=args.max_iter,
-                      hand=hand, progress=progress)
+                      hand=hand, progress=progress, **limit)
     finally:
         bar.close()
     stem = output_stem(args.object, args.grasp)
@@ -224,6 +225,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
     p.add_argument("--max-iter", type=_positive(int), default=1500,
                    help="cap on the iterations over all attempts (default 1500)")
+    p.add_argument("--time-limit", type=_positive(float), default=None, metavar="SECONDS",
+                   help="cap on the plan's wall-clock time; an attempt running when it passes ends there "
+                        "(default: the planner's, PlannerOptions.time_limit)")
     p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -237,6 +237,7 @@ API = [
     Case("sg.objects.load", "an .npy of NaN points", lambda tmp: so.load(_write(tmp, "n.npy", data=np.full((10, 3), np.nan)), cache=False), ValueError, "contains NaN or inf"),
     Case("sg.objects.load", "scale = 0", lambda tmp: so.load(_write(tmp, "c.npy", data=_cloud()), scale=0), ValueError, "scale must be a finite number > 0"),
     Case("sg.objects.get", "an unknown name", lambda tmp: so.get("teapot"), ValueError, "not a built-in (ellipsoid, cup, bell, goblet) and no such file"),
+    Case("sg.objects.get", "a folder", lambda tmp: so.get(tmp), ValueError, "is a folder: give a mesh or point-cloud file in it"),
     Case("sg.objects.get", "a number", lambda tmp: so.get(3), TypeError, "an object is a built-in name"),
     Case("sg.objects.get", "an option the built-in lacks", lambda tmp: so.get("cup", foo=1), TypeError, "unexpected keyword argument 'foo'"),
     # ------------------------------------------------------------ objects: arrays and meshes
@@ -352,6 +353,7 @@ CLI = [
     Case("synergrasp plan", "--scale and --units together", argv=["plan", "--scale", "10", "--units", "m"], says="not allowed with argument"),
     Case("synergrasp plan", "--scale for a built-in", argv=["plan", "--object", "cup", "--scale", "2"], says="applies to object files"),
     Case("synergrasp plan", "--max-iter 0", argv=["plan", "--max-iter", "0"], says="expected an integer > 0"),
+    Case("synergrasp plan", "--time-limit 0", argv=["plan", "--time-limit", "0"], says="expected a number > 0"),
     Case("synergrasp plan", "--out is a file", argv=["plan", "--out", "{tmp}/file.txt"], says="cannot write to the output folder (--out)"),
     Case("synergrasp plan", "an .obj with a NaN vertex", argv=["plan", "--object", "{tmp}/ball.obj"], says="ball.obj vertices contains NaN or inf"),
     Case("synergrasp plan", "a cloud in metres without --units", argv=["plan", "--object", "{tmp}/metres.npy"], says="on the command line: --units m"),

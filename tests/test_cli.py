@@ -39,6 +39,7 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
     [
         (["plan", "--object", "teapot"], "unknown object 'teapot'"),
         (["plan", "--backend", "gurobi"], "unknown LP backend 'gurobi'"),
+        (["plan", "--object", "."], "object '.' is a folder: give a mesh or point-cloud file in it"),
         (["demo", "--mu", "-1"], "mu must be a finite number > 0"),
     ],
 )
@@ -93,6 +94,7 @@ def test_scale_and_units(tmp_path, capsys, units):
     (["--units", "inch"], "invalid choice: 'inch'"),
     (["--scale", "10", "--units", "m"], "not allowed with argument"),
     (["--max-iter", "0"], "expected an integer > 0"),
+    (["--time-limit", "-1"], "expected a number > 0"),
     (["--approach", "1,nan,0"], "expected three finite numbers"),
 ])
 def test_bad_arguments_exit_2(capsys, argv, message):
@@ -137,6 +139,14 @@ def test_a_failed_plan_reports_every_attempt(tmp_path, capsys):
     assert len(rows) == len(saved["attempts"]) >= 1
     for row, attempt in zip(rows, saved["attempts"]):
         assert row.rstrip().endswith(attempt["reason"]) and f" {attempt['iterations']} " in row
+
+
+def test_the_time_limit_reaches_the_planner(tmp_path, capsys):
+    """--time-limit is the plan's time_limit: with 1 ms the first attempt ends at once, saying so."""
+    code = main(["plan", "--object", "ellipsoid", "--time-limit", "0.001", "--out", str(tmp_path), "--quiet", "--no-animation"])
+    saved = json.loads((tmp_path / "ellipsoid_precision.json").read_text())
+    assert code == 1 and saved["options"]["time_limit"] == 0.001
+    assert len(saved["attempts"]) == 1 and saved["attempts"][0]["reason"].startswith("the plan's iterations or time ran out")
 
 
 def test_no_solver_banner_on_stdout(tmp_path):

@@ -854,6 +854,9 @@ def get(name_or_path, **kwargs) -> GraspObject:
     path = Path(name_or_path)
     if path.is_file():
         return load(path, **kwargs)
+    if path.is_dir():
+        raise ValueError(f"object {str(name_or_path)!r} is a folder: give a mesh or point-cloud file in it "
+                         f"({', '.join(SUPPORTED_FORMATS)}) or a built-in ({', '.join(BUILTINS)})")
     raise ValueError(
         f"unknown object {str(name_or_path)!r}: not a built-in ({', '.join(BUILTINS)}) and no such file"
     )
