@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from synergrasp.objects.repair import RepairError, close_mesh, separate_parts
+from synergrasp.objects.repair import PART_SPACING, RepairError, close_mesh, separate_parts
 
 
 def box():
@@ -110,7 +110,12 @@ def test_separate_parts_and_the_widest_gap_that_joins_them():
     at = lambda x: cube.copy().apply_translation([x, 0.0, 0.0])  # noqa: E731
     assert separate_parts(cube) == (1, 0.0)
     assert separate_parts(trimesh.util.concatenate([at(0.0), at(30.0)])) == (2, pytest.approx(20.0))
-    assert separate_parts(trimesh.util.concatenate([at(0.0), at(10.0)])) == (2, 0.0)  # a shared face
+    assert separate_parts(trimesh.util.concatenate([at(0.0), at(10.0)])) == (1, 0.0)  # corners in common: joined
+    parts, gap = separate_parts(trimesh.util.concatenate([at(0.0), at(10.0).apply_translation([0.0, 3.0, 0.0])]))
+    assert parts == 2 and gap < PART_SPACING  # face to face, no corner in common: within the samples' spacing
+    soup = trimesh.creation.icosphere(radius=20.0)  # every triangle with its own corners: one part
+    assert separate_parts(trimesh.Trimesh(soup.triangles.reshape(-1, 3), np.arange(3 * len(soup.faces)).reshape(-1, 3),
+                                          process=False)) == (1, 0.0)
     # joined by the shortest gaps first: 5 mm then 80 mm (not the 95 mm between the outer two)
     assert separate_parts(trimesh.util.concatenate([at(0.0), at(15.0), at(105.0)])) == (3, pytest.approx(80.0))
     # a handle that enters the body: parts that overlap are joined

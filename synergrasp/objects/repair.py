@@ -213,8 +213,10 @@ def simplify(mesh: trimesh.Trimesh, tolerance: float):
     return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=False)
 
 
-#: Surface samples per part (besides its vertices) with which `separate_parts` measures the gaps.
-PART_SAMPLES = 2000
+#: Spacing (mesh units, mm) of the surface samples with which `separate_parts` measures the gaps, and
+#: the bounds of their number.
+PART_SPACING = 3.0
+PART_SAMPLES = (2000, 20000)
 #: Largest number of parts, the largest by area, between which `separate_parts` measures the gaps.
 MAX_PARTS = 32
 
@@ -222,15 +224,17 @@ MAX_PARTS = 32
 def separate_parts(mesh: trimesh.Trimesh):
     """How many parts a mesh has that no face joins, and the widest gap that must be bridged to join them.
 
-    Parts are the connected components of the faces (through shared
-    vertices). The gap between two parts is the smallest distance between
-    points of their surfaces (their vertices and `PART_SAMPLES` samples of
-    each, so it is exact for parts that touch at a vertex and within the
-    samples' spacing otherwise); the parts are joined by the shortest gaps
-    first (a minimum spanning tree) and the widest of those is returned:
-    0 for parts that touch or overlap, like a handle modelled apart from a
-    mug's body, the distance between two objects saved in one file. At most
-    the `MAX_PARTS` largest parts by area are measured.
+    Parts are the connected components of the faces through shared vertex
+    positions (a triangle soup whose corners coincide is one part). The gap
+    between two parts is the smallest distance between points of their
+    surfaces: their vertices and samples about `PART_SPACING` apart (at
+    least and at most `PART_SAMPLES` in all), so it is exact for parts that
+    touch at a vertex and otherwise within about the spacing. The parts are
+    joined by the shortest gaps first (a minimum spanning tree) and the
+    widest of those is returned: 0 for parts that touch or overlap, like a
+    handle modelled apart from a mug's body; the distance between two
+    objects saved in one file. Only the `MAX_PARTS` largest parts by area
+    are measured.
 
     Parameters
     ----------
@@ -255,22 +259,24 @@ def separate_parts(mesh: trimesh.Trimesh):
     from scipy.sparse.csgraph import connected_components, minimum_spanning_tree
     from scipy.spatial import cKDTree
 
-    faces = np.asarray(mesh.faces, dtype=np.int64)
-    n = len(mesh.vertices)
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    _, same = np.unique(vertices, axis=0, return_inverse=True)  # coinciding corners join their faces
+    faces = same.reshape(-1)[np.asarray(mesh.faces, dtype=np.int64)]
+    n = int(same.max()) + 1 if len(same) else 0
     edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    graph = coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
-    count, labels = connected_components(graph, directed=False)
+    _, labels = connected_components(coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)),
+                                     directed=False)
     face_label = labels[faces[:, 0]]
     parts = np.unique(face_label)
     if len(parts) < 2:
         return int(len(parts)), 0.0
-    area = np.bincount(face_label, weights=mesh.area_faces, minlength=count)
+    area = np.bincount(face_label, weights=mesh.area_faces, minlength=labels.max() + 1)
     measured = parts[np.argsort(-area[parts], kind="stable")][:MAX_PARTS]
-    trees = []
-    for label in measured:
-        part = mesh.submesh([np.flatnonzero(face_label == label)], append=True)
-        samples, _ = trimesh.sample.sample_surface(part, PART_SAMPLES, seed=0)
-        trees.append(cKDTree(np.vstack([part.vertices, samples])))
+    count = int(np.clip(area.sum() / PART_SPACING**2, *PART_SAMPLES))
+    samples, sampled = trimesh.sample.sample_surface(mesh, count, seed=0)
+    points = np.vstack([vertices[np.asarray(mesh.faces).reshape(-1)], samples])
+    point_label = np.r_[np.repeat(face_label, 3), face_label[sampled]]
+    trees = [cKDTree(points[point_label == label]) for label in measured]
     k = len(measured)
     gaps = np.zeros((k, k))
     for i in range(k):
