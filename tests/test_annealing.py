@@ -91,8 +91,10 @@ def test_annealing_grasps_the_ellipsoid_with_a_fixed_seed():
     assert r.penetration <= 3.0 and r.collision_free
     assert r.trajectory.shape == (r.iterations + 1, 8) and r.status.shape == (r.iterations + 1, 17)
     assert np.isfinite(r.status).all() and np.array_equal(r.u, r.trajectory[-1])
-    again = sg.plan(obj, "precision", method="annealing", seed=2, steps=3000, time_limit=None, executable_reach=False)
-    np.testing.assert_array_equal(again.trajectory, r.trajectory)  # deterministic
+    short = [sg.plan(obj, "precision", method="annealing", seed=2, steps=300, time_limit=None, executable_reach=False)
+             for _ in range(2)]
+    np.testing.assert_array_equal(short[0].trajectory, short[1].trajectory)  # deterministic (a shorter run, twice)
+    assert len(short[0].trajectory) > 100
     from benchmarks.generalise import verify
 
     assert verify(r, obj)["verified"]  # the independent check on the true surface
