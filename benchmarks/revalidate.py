@@ -23,7 +23,7 @@ from pathlib import Path
 import synergrasp as sg
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from physics_study import VARIANTS, case_folder, object_sets, variant_file  # noqa: E402
+from physics_study import GRASPS, VARIANTS, case_folder, object_sets, variant_file  # noqa: E402
 
 
 def main(argv=None):
@@ -36,7 +36,7 @@ def main(argv=None):
     totals = {v: dict(cases=0, before=0, after=0, changed=0, cpu_before=0.0, cpu_after=0.0) for v in args.variants}
     for group, objects in object_sets(args.set).items():
         for name, obj in objects.items():
-            for grasp in ("precision", "power"):
+            for grasp in GRASPS:
                 folder = case_folder(args.folder, group, name, grasp)
                 if not (folder / "plan.json").exists():
                     continue
