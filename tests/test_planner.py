@@ -633,6 +633,33 @@ def test_a_plan_stops_at_its_time_limit(ellipsoid):
     assert "ran out" in r.reason
 
 
+def test_the_plan_clock_stands_still_while_numba_compiles():
+    """The time limit's clock (`clock`) does not count a compilation, and otherwise runs with perf_counter."""
+    import time
+
+    import numba
+
+    from synergrasp.planner import clock
+
+    @numba.njit(cache=False)
+    def fresh(x):  # never compiled before this test
+        total = 0.0
+        for i in range(len(x)):
+            for j in range(i):
+                total += np.sqrt(abs(x[i] - x[j])) * np.sin(x[j])
+        return total
+
+    wall, clocked = time.perf_counter(), clock()
+    fresh(np.arange(5.0))
+    wall, clocked = time.perf_counter() - wall, clock() - clocked
+    assert wall > 0.02 and 0.0 <= clocked < 0.25 * wall  # the compilation took the time, the clock stood
+    wall, clocked = time.perf_counter(), clock()
+    fresh(np.arange(5.0))
+    time.sleep(0.05)
+    wall, clocked = time.perf_counter() - wall, clock() - clocked
+    assert abs(clocked - wall) < 1e-3  # compiled: the clock runs as perf_counter
+
+
 def test_a_failed_plan_says_why_its_attempts_ended(ellipsoid):
     r = plan(ellipsoid, "precision", restarts=2, iterations_per_attempt=3)
     assert not r.success and len(r.attempts) == 2

@@ -1,5 +1,6 @@
 """The reach-to-grasp planner (paper Sec. 3.2): options, starts, attempts, status vector, step, stop rules, results; the executable reach and its clearance; the annealing baseline."""
 
+from .._jit import clock
 from .annealing import anneal, autograsp, contact_energy, contact_normals
 from .attempt import AttemptResult, Outcome, judge_grasp, run_attempt, sq_request
 from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
@@ -31,6 +32,7 @@ __all__ = [
     "autograsp",
     "check_grasp",
     "clearance_labels",
+    "clock",
     "contact_energy",
     "contact_normals",
     "direction_starts",

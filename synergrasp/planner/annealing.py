@@ -40,6 +40,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from .._jit import clock
 from .attempt import AttemptResult, Outcome, judge_grasp
 from .status import grasp_status, hand_penetration
 from .stop import check_grasp
@@ -323,7 +324,8 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
     backend : str or Backend
         LP backend.
     deadline : float, optional
-        ``time.perf_counter()`` value after which the search stops.
+        `clock` value after which the search stops (seconds of
+        ``time.perf_counter()`` less those numba spent compiling).
     progress : callable, optional
         Called as ``progress(check, status)`` after every auto-grasp.
     physics : callable, optional
@@ -355,7 +357,7 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
     found, fallback, held = None, None, None
     outcome = Outcome.CAP
     while steps < opts.steps:
-        if deadline is not None and time.perf_counter() > deadline:
+        if deadline is not None and clock() > deadline:
             outcome = Outcome.BUDGET
             break
         steps += 1

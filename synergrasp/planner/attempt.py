@@ -37,11 +37,11 @@ accepted configuration is returned. An attempt ends with an `Outcome`.
 from __future__ import annotations
 
 import enum
-import time
 from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._jit import clock
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration
 from .step import limited_step
 from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
@@ -210,7 +210,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     budget : int, optional
         Most iterations (default ``options.iterations_per_attempt``).
     deadline : float, optional
-        ``time.perf_counter()`` value after which the attempt stops (`Outcome.BUDGET`).
+        `clock` value after which the attempt stops (`Outcome.BUDGET`): seconds
+        of ``time.perf_counter()`` less those numba spent compiling.
     progress : callable, optional
         Called as ``progress(check, status)`` after every iteration.
 
@@ -285,7 +286,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
                            else Outcome.PENETRATION)
                 break
             refining += 1
-        if deadline is not None and time.perf_counter() > deadline:
+        if deadline is not None and clock() > deadline:
             outcome = Outcome.BUDGET
             break
         g = st.g[:-1]

@@ -25,6 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from .. import objects
+from .._jit import clock
 from .._checks import as_vector
 from ..hand import SynergyHand
 from ..lp import get_backend
@@ -193,7 +194,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
         preshape(hand, opts.power_preshape)  # both checked before planning
     obj = _check_object(obj, hand)
     t0 = time.perf_counter()
-    deadline = None if opts.time_limit is None else t0 + opts.time_limit
+    deadline = None if opts.time_limit is None else clock() + opts.time_limit  # compilation not counted
     if not isinstance(validate, (bool, dict)):
         raise TypeError(f"validate must be True, False or a dict of protocol settings, got {type(validate).__name__}")
     if method == "annealing":
@@ -218,7 +219,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):
         budget = min(opts.iterations_per_attempt, opts.max_iter - total)
-        if budget <= 0 or (attempts and deadline is not None and time.perf_counter() > deadline):
+        if budget <= 0 or (attempts and deadline is not None and clock() > deadline):
             break  # (a first attempt past the deadline ends at once, saying so)
         result = run_attempt(hand, obj, grasp, start.u, opts, backend=solver, budget=budget, deadline=deadline,
                              progress=progress)

@@ -111,7 +111,9 @@ class PlannerOptions(_Fields):
     max_iter : int
         Most iterations of a plan, over all its attempts.
     time_limit : float or None
-        Most wall-clock seconds of a plan (checked every iteration); None: no limit.
+        Most wall-clock seconds of a plan (checked every iteration), not
+        counting numba's compilation of the kernels in the first plan after
+        an install (`synergrasp.planner.clock`); None: no limit.
     q_accept : float
         A grasp is accepted when, besides the paper's criterion, its contacts
         moved to the object's true surface have a Q distance below this there
@@ -271,7 +273,8 @@ class AnnealingOptions(_Fields):
     steps : int
         Most annealing steps of a plan (neighbours accepted or refused).
     time_limit : float or None
-        Most wall-clock seconds of a plan; None: no limit.
+        Most wall-clock seconds of a plan, compilation not counted (as for
+        `PlannerOptions`); None: no limit.
     t0, k0, cooling, dims : float, int, float, int
         The temperature schedule (GraspIt!: 1e6, 30000, 7, 8).
     energy_scale : float
