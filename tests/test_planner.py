@@ -633,6 +633,18 @@ def test_a_plan_stops_at_its_time_limit(ellipsoid):
     assert "ran out" in r.reason
 
 
+def test_a_small_ball_is_pinched_with_the_fingertips_that_reach_it():
+    """On a 40 mm ball the little fingertip (54 mm from the index at the nearest) is only kept clear: the plan
+    succeeds in its first attempts, where steering all five fingertips into contact stalled 28 attempts."""
+    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=20.0), name="40 mm ball", cache=False)
+    hand = SynergyHand.default()
+    assert sg.planner.pinch_fingertips(hand, ball).tolist() == [True, True, True, True, False]
+    r = plan(ball, "precision")
+    assert r.success and len(r.attempts) <= 3 and r.final_q < -0.01
+    assert "T0" in r.contact_labels
+    assert np.all(np.abs(np.linalg.norm(r.contact_points, axis=1) - 20.0) < 1.0)  # on the ball
+
+
 def test_the_plan_clock_stands_still_while_numba_compiles():
     """The time limit's clock (`clock`) does not count a compilation, and otherwise runs with perf_counter."""
     import time

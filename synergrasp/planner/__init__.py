@@ -8,8 +8,8 @@ from .core import METHODS, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
-from .starts import (Start, direction_starts, pinch_seeds, power_schedule, principal_directions, recess, smallest_pinch,
-                     start_configuration, starts, wrap_seeds)
+from .starts import (Start, direction_starts, pinch_fingertips, pinch_seeds, power_schedule, principal_directions,
+                     recess, smallest_pinch, start_configuration, starts, wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import GraspCheck, check_grasp
 
@@ -43,6 +43,7 @@ __all__ = [
     "judge_grasp",
     "open_synergies",
     "path_clearance",
+    "pinch_fingertips",
     "pinch_seeds",
     "plan",
     "power_schedule",

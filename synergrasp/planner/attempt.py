@@ -12,7 +12,9 @@ Each iteration:
 3. the requested change of the status, in rows of comparable scale (cP
    divided by the object's size): contact rows towards their target
    (precision: into the contact band; power: ``contact_target``), clearance
-   rows that are too close back to ``clearance``, and the sQ row a step
+   rows that are too close back to ``clearance`` (a precision attempt on an
+   object too small for all five fingertips, `pinch_fingertips`, keeps the
+   others clear like the phalanges), and the sQ row a step
    ``sq_step`` below its value (a moving target);
 4. the step of Eq. 16 with two priorities, sQ and every penetrating or too
    close row first, the contact rows in their null space (`limited_step`),
@@ -42,6 +44,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._jit import clock
+from .starts import pinch_fingertips
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration
 from .step import limited_step
 from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
@@ -257,6 +260,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     st, chk, pen = evaluate(u)
     n = len(st.g) - 1
     contact_rows = st.contact.copy()
+    if not power:  # fingertips a small object leaves out are only kept clear
+        contact_rows[: len(hand.finger_names)] &= pinch_fingertips(hand, obj)
     palm = n - 1
     row_scale = np.r_[np.full(n, 1.0 / size), 1.0]
     radius, stalled, best = opts.radius, 0, np.inf

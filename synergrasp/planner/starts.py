@@ -229,22 +229,27 @@ def surface_samples(obj, count, seed):
     return points[rays], normals[rays], np.asarray(exits, dtype=float).reshape(-1, 3), mesh.face_normals[triangles]
 
 
-def _aperture_table(hand, partner=(1, 2), steps=41):
-    """Synergy values on a grid and the distance from the thumb tip to the partner fingertips' centroid there."""
+#: The fingers (chain indices) whose fingertips' centroid opposes the thumb tip in a pinch: index and middle.
+PARTNERS = (1, 2)
+
+
+def _aperture_table(hand, steps=41):
+    """Synergy values on a grid and the fingertips' pad points there: (k, n_syn) and (k, n_fingers, 3)."""
     grid = np.linspace(0.0, 1.0, steps)
     lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
     z = np.array(list(itertools.product(*[a + grid * (b - a) for a, b in zip(lo, hi)])))
-    tips = np.array([hand.points(np.r_[np.zeros(6), zi], "precision") for zi in z])
-    thumb, partner = tips[:, 0], tips[:, list(partner)].mean(axis=1)
-    return z, thumb, partner
+    return z, np.array([hand.points(np.r_[np.zeros(6), zi], "precision") for zi in z])
 
 
 class _Apertures:
-    """The hand's thumb-to-fingers openings, computed once per hand."""
+    """The hand's thumb-to-fingers openings and its fingertips' spread, computed once per hand."""
 
     def __init__(self, hand):
-        self.z, self.thumb, self.partner = _aperture_table(hand)
+        self.z, tips = _aperture_table(hand)
+        self.thumb, self.partner = tips[:, 0], tips[:, list(PARTNERS)].mean(axis=1)
         self.width = np.linalg.norm(self.partner - self.thumb, axis=1)
+        self.spread = np.linalg.norm(tips - tips[:, [PARTNERS[0]]], axis=2).min(axis=0)
+        self.spread[[0, *PARTNERS]] = 0.0
 
     def synergies(self, width):
         """The grid synergies whose opening is nearest ``width``, nearest the mean pose among near ties."""
@@ -293,6 +298,43 @@ def smallest_pinch(hand):
     15.1
     """
     return float(_apertures(hand).width.min())
+
+
+def pinch_fingertips(hand, obj):
+    """The fingertips a precision attempt steers into contact with ``obj``.
+
+    The thumb and its pinch partners (index and middle, `PARTNERS`) always;
+    another fingertip when the object is at least as large (its largest
+    extent) as the nearest that fingertip comes to the index fingertip over
+    the synergy box: on a smaller object the fingertips cannot all touch it,
+    and steering them all into contact stalls the attempt in a compromise.
+    The others are kept out of the object like the other phalanges.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+
+    Returns
+    -------
+    (n_fingers,) bool
+        One per finger chain, in the order of ``hand.point_labels("precision")``.
+
+    Examples
+    --------
+    The paper's hand: the ring fingertip comes no nearer than 35 mm to the
+    index fingertip, the little fingertip 54 mm.
+
+    >>> import trimesh
+    >>> from synergrasp import SynergyHand, objects
+    >>> hand = SynergyHand.default()
+    >>> pinch_fingertips(hand, objects.ellipsoid()).tolist()
+    [True, True, True, True, True]
+    >>> ball = objects.from_mesh(trimesh.creation.icosphere(3, 20.0), name="40 mm ball")
+    >>> pinch_fingertips(hand, ball).tolist()
+    [True, True, True, True, False]
+    """
+    return _apertures(hand).spread <= obj.size
 
 
 def pinch_seeds(hand, obj, options):
