@@ -261,7 +261,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, 
     n = len(st.g) - 1
     contact_rows = st.contact.copy()
     if not power:  # fingertips a small object leaves out are only kept clear
-        contact_rows[: len(hand.finger_names)] &= pinch_fingertips(hand, obj)
+        reach = pinch_fingertips(hand, obj)
+        contact_rows[: len(reach)] &= reach
     palm = n - 1
     row_scale = np.r_[np.full(n, 1.0 / size), 1.0]
     radius, stalled, best = opts.radius, 0, np.inf

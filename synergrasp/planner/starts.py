@@ -317,8 +317,8 @@ def pinch_fingertips(hand, obj):
 
     Returns
     -------
-    (n_fingers,) bool
-        One per finger chain, in the order of ``hand.point_labels("precision")``.
+    (n_tips,) bool
+        One per fingertip, in the order of ``hand.point_labels("precision")``.
 
     Examples
     --------
