@@ -6,7 +6,7 @@ Usage::
                                     [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
                                     [--rows]
 
-Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (254 objects from three
+Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (269 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
 mesh (``verification.py``: contacts within 5 mm of it, force closure by qhull at its normals, no
 phalanx capsule and not the palm box deeper than 3 mm in it).

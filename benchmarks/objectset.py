@@ -5,12 +5,12 @@
 * ``urdf``: 60 of the 1000 random compound shapes of pybullet_data's ``random_urdfs`` (files in
   ``benchmarks/meshes/random_urdfs``, picked by a seeded draw, see ``SOURCES.md`` there), each at
   two sizes: largest extent 80 mm and 120 mm.
-* ``procedural``: 90 shapes built here from a seeded random draw, 5 of each of 18 families (boxes,
+* ``procedural``: 105 shapes built here from a seeded random draw, 5 of each of 21 families (boxes,
   cylinders, cones, spheres, ellipsoids, tori, mugs with a handle, thin plates, bowls, capsules,
   L- and T-shapes, rounded boxes, random convex polytopes, smooth blobs, prisms, handle bars,
-  dumbbells).
+  dumbbells, and small objects of 16-45 mm: ellipsoids, boxes and cylinders).
 
-That is 254 objects. The split is fixed by the object's *base* name (the shape, whatever its
+That is 269 objects. The split is fixed by the object's *base* name (the shape, whatever its
 size): an object is in ``test`` when the first byte of the SHA-256 of its base name is below 128,
 else in ``train``. Options, orders and thresholds of the planner are chosen on ``train`` only;
 ``test`` is reported.
@@ -215,6 +215,20 @@ def _handle_bar(r):
     return trimesh.creation.cylinder(radius=r.uniform(8, 14), height=r.uniform(100, 180), sections=32)
 
 
+def _small_round(r):
+    m = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    m.apply_scale(r.uniform(10, 20, size=3))
+    return m
+
+
+def _small_box(r):
+    return trimesh.creation.box(r.uniform(18, 40, size=3))
+
+
+def _small_cylinder(r):
+    return trimesh.creation.cylinder(radius=r.uniform(8, 16), height=r.uniform(20, 45), sections=32)
+
+
 def _dumbbell(r):
     ball, length, bar = r.uniform(18, 30), r.uniform(90, 150), r.uniform(8, 14)
     a, b = trimesh.creation.icosphere(3, ball), trimesh.creation.icosphere(3, ball)
@@ -228,6 +242,7 @@ FAMILIES = {
     "torus": _torus, "mug": _mug, "plate": _plate, "bowl": _bowl, "capsule": _capsule, "l_shape": _l_shape,
     "t_shape": _t_shape, "rounded_box": _rounded_box, "random_convex": _random_convex, "blob": _blob,
     "prism": _prism, "handle_bar": _handle_bar, "dumbbell": _dumbbell,
+    "small_round": _small_round, "small_box": _small_box, "small_cylinder": _small_cylinder,
 }
 
 

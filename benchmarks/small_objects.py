@@ -1,12 +1,13 @@
-"""Small objects: the planner on spheres, cubes and cylinders of 20-50 mm, below the benchmark's sizes.
+"""Small objects: the planner on spheres, cubes and cylinders of 20-50 mm, size by size.
 
 Usage::
 
     python benchmarks/small_objects.py [--sizes 20 30 40 50] [--shapes sphere cube cylinder]
                                        [--grasp precision power] [--out DIR] [--quick]
 
-The generalisation benchmark (``benchmarks/objectset.py``) has no object smaller than 44 mm, while
-the loader accepts objects from 10 mm. This script plans a grasp of each shape at each size
+The loader accepts objects from 10 mm; the generalisation benchmark (``benchmarks/objectset.py``)
+has three families of small objects (16-45 mm) drawn at random. This script plans a grasp of each
+shape at a fixed series of sizes
 (``sphere``: that diameter; ``cube``: that side; ``cylinder``: that diameter, three times as
 long), with the default options, and prints for each plan whether it succeeded, its time, its
 attempts and the planner's reason, then the successes per grasp type. Rows go to
