@@ -779,6 +779,19 @@ def test_a_failed_plan_on_a_thin_wall_says_the_pinch_cannot_close_on_it(hand):
     assert not short.success and "fingertips close to" not in short.reason
 
 
+def test_a_failed_power_plan_says_when_the_fingers_did_not_close_around_the_object():
+    """A 25 mm ball is too small for the closed fingers: most power attempts end with every phalanx far from it, and
+    the failure says how far; one whose iterations ran out near the ellipsoid does not."""
+    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=12.5), name="25 mm ball", cache=False)
+    r = plan(ball, "power", restarts=6, executable_reach=False)
+    nearest = [min(a["status"][-1][:-2]) for a in r.attempts]
+    assert not r.success and sum(d > 5.0 for d in nearest) > 3
+    assert f"in {sum(d > 5.0 for d in nearest)} of them no phalanx ended within 5 mm of the object" in r.reason
+    assert "the fingers did not close around it" in r.reason
+    short = plan(so.ellipsoid(), "power", max_iter=3)
+    assert not short.success and "did not close" not in short.reason
+
+
 def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():
     """A card 85 mm long and 1 mm thick is in plausible units: the message says it is too thin, not "metres?"."""
     card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)

@@ -241,7 +241,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, smallest_pinch(hand), opts.eps_c)
+    failure = None if result.success else _failure(attempts, grasp, smallest_pinch(hand), opts.eps_c)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -301,14 +301,16 @@ def _validator(validate, obj, hand, backend):
     return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
 
 
-def _failure(attempts, pinch, eps_c):
+def _failure(attempts, grasp, pinch, eps_c):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
     pinch (``pinch``, mm) less the contact threshold ``eps_c`` on either
     side, it says so: the object's opposed surfaces are a wall too thin for
-    the pads to touch both. No clock time in it (that is `PlanResult.time_s`):
-    the same plan gives the same words.
+    the pads to touch both. When most power attempts ended with every phalanx
+    more than ``eps_c`` from the object, it says that and how far they
+    stopped: the fingers did not close around it. No clock time in it
+    (that is `PlanResult.time_s`): the same plan gives the same words.
     """
     counts = {}
     for a in attempts:
@@ -322,4 +324,10 @@ def _failure(attempts, pinch, eps_c):
                    f"the thumb and the index and middle fingertips close to no less than {pinch:.0f} mm, too far "
                    f"apart to touch both within the contact threshold of {eps_c:g} mm (a wall or sheet too thin for "
                    "this hand's pinch)")
+    if grasp == "power":
+        nearest = np.array([min(a["status"][-1][:-2]) for a in attempts])  # each attempt's nearest phalanx at its end
+        apart = nearest > eps_c
+        if 2 * apart.sum() > len(attempts):
+            reason += (f"; in {apart.sum()} of them no phalanx ended within {eps_c:g} mm of the object (the nearest "
+                       f"{np.median(nearest[apart]):.0f} mm off, median): the fingers did not close around it")
     return reason
