@@ -290,9 +290,9 @@ def reset_regime_memory() -> None:
     the same shapes of ``A`` and ``B`` ended in, and the other only when
     needed. Both orders give the value up to round-off, not bit for bit (the
     backend's warm starts differ). After this call, with a new backend instance
-    (the shared one keeps its warm starts), the next calls behave as in a new
-    process: batch planning (`synergrasp.batch`) does both before each plan, so
-    that a plan does not depend on the plans its process made before.
+    (or one told to `Backend.forget` its warm starts), the next calls behave as
+    in a new process: `synergrasp.plan` does both first, so that a plan does not
+    depend on what its process solved before.
 
     Examples
     --------

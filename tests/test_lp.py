@@ -120,6 +120,22 @@ def test_basis_hint_changes_the_path_not_the_optimum(backend, rng):
         be.solve(c, A, b, basic=np.arange(20))
 
 
+def test_forget_makes_the_next_solve_cold(backend, rng):
+    """A second solve of the same LP starts from the kept basis (HiGHS: no simplex iteration); after forget() it is
+    solved as by a new instance, to the same optimum."""
+    c, A, b = random_lp(rng, 6, 20)
+    be = sg.lp.get_backend(backend)
+    be.forget()
+    cold = be.solve(c, A, b)
+    warm = be.solve(c, A, b)
+    be.forget()
+    again = be.solve(c, A, b)
+    fresh = type(be)().solve(c, A, b)
+    assert again.objective == pytest.approx(fresh.objective, abs=1e-9) and again.iterations == fresh.iterations
+    if be.basis_hints:  # HiGHS keeps the last model and basis: the repeated LP needs no pivot
+        assert warm.iterations == 0 < cold.iterations == again.iterations
+
+
 def test_custom_backend_object_is_accepted():
     class Fixed(Backend):
         def _solve(self, c, A, b):

@@ -645,6 +645,18 @@ def test_a_small_ball_is_pinched_with_the_fingertips_that_reach_it():
     assert np.all(np.abs(np.linalg.norm(r.contact_points, axis=1) - 20.0) < 1.0)  # on the ball
 
 
+def test_a_plan_does_not_depend_on_the_plans_made_before_it():
+    """Every plan starts its LPs cold: the same plan of the same object, before and after other plans (of it and of
+    another object), is bit-identical (the warm starts kept from earlier solves used to move it at round-off)."""
+    obj = so.ellipsoid()
+    first = plan(obj, "power", executable_reach=False)
+    plan(so.cup(), "precision", executable_reach=False)
+    plan(obj, "precision", executable_reach=False)
+    again = plan(obj, "power", executable_reach=False)
+    np.testing.assert_array_equal(first.trajectory, again.trajectory)
+    np.testing.assert_array_equal(first.status, again.status)
+
+
 def test_the_plan_clock_stands_still_while_numba_compiles():
     """The time limit's clock (`clock`) does not count a compilation, and otherwise runs with perf_counter."""
     import time

@@ -7,12 +7,13 @@ tasks run after it, where Dask prefers the worker that holds its (tiny) result, 
 object from their process's memory, loading it there (from the disk cache) only if another
 worker prepared it. Objects stay in the workers: they hold fcl geometry that cannot be pickled.
 
-Each plan starts from fresh state: a new `GraspObject` over the loaded object's convex pieces,
-a new instance of the LP backend, and the pseudo-distance's memory of regimes cleared
-(``synergrasp.pseudo_distance.reset_regime_memory``). The planner's warm starts then depend
-only on the task itself, not on the tasks the worker ran before, so a batch
-gives bit-identical results whatever the number of workers and the order of the tasks, and
-the same as ``sg.plan`` on a freshly loaded object in a new process.
+Every plan starts its LPs cold (`synergrasp.plan` drops the warm starts kept from earlier
+solves), so a plan depends only on its task, not on the tasks the worker ran before: a batch
+gives bit-identical results whatever the number of workers and the order of the tasks, and the
+same as ``sg.plan`` in a new process. A plan and a validation each get a new `GraspObject` over
+the loaded object's convex pieces and a new instance of the LP backend (nothing shared between
+tasks), the validation with the pseudo-distance's memory of regimes cleared
+(``synergrasp.pseudo_distance.reset_regime_memory``).
 
 Both task functions catch every exception of the work they do and return it as a
 `TaskFailure`, so a bad object or a plan that raises is recorded and never stops the batch.
@@ -185,7 +186,6 @@ def plan_task(source: str, grasp: str, backend: str = "highs", options=None, tim
     if isinstance(loaded, TaskFailure):
         return loaded, messages, None
     if result is None:
-        reset_regime_memory()
         outcome = _plan(_fresh(loaded), grasp, backend, options, time_limit, messages)
     else:
         outcome = result

@@ -193,6 +193,14 @@ class Backend:
             x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")
         return LPSolution(status, x, objective, y, int(iterations), elapsed, self.name, message)
 
+    def forget(self) -> None:
+        """Drop what earlier solves keep for later ones (warm starts, models updated in place).
+
+        The solves after it go as those of a new instance: a plan calls it
+        first, so that its result does not depend on the LPs solved before
+        it. The base class keeps nothing.
+        """
+
     def _solve(self, c, A, b):  # pragma: no cover - abstract
         raise NotImplementedError
 

@@ -130,6 +130,11 @@ class HighsBackend(Backend):
         self._bounds_cache = {}
         self.in_place = 0  # solves done in place (a model of the same structure updated)
 
+    def forget(self) -> None:
+        """Drop the kept models and the remembered bases: the next LPs are solved cold, as by a new instance."""
+        self._models.clear()
+        self._basis.clear()
+
     def _make_highs(self):
         h = _new_highs()
         for key, value in self._options.items():

@@ -163,6 +163,10 @@ class PieceIndex:
                   self.facet_reach, self.facet_mq, self.support):
             a.setflags(write=False)
 
+    def forget(self) -> None:
+        """Drop the remembered bases of the cP LP blocks (the next ones start cold)."""
+        self.memory = BasisMemory()
+
     @cached_property
     def fcl_manager(self) -> fcl.DynamicAABBTreeCollisionManager:
         """python-fcl's broad phase over the pieces (a dynamic AABB tree), for the capsule queries."""

@@ -13,6 +13,11 @@ deep, force-closed with a margin on the object's true surface), or
 ``restarts`` attempts, ``max_iter`` iterations or ``time_limit`` seconds are
 spent. The returned search trajectory is the successful attempt's (or the
 last one's); the motion to execute is the grasp's `executable_reach`.
+
+A plan starts its LPs cold (the backend's and the object's warm starts and
+the pseudo-distance's regimes are dropped first): the same inputs give the
+same plan bit for bit, whatever was planned before in the process (up to
+its time limit).
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from .._jit import clock
 from .._checks import as_vector
 from ..hand import SynergyHand
 from ..lp import get_backend
+from ..pseudo_distance import reset_regime_memory
 from .annealing import anneal, with_history
 from .attempt import Outcome, run_attempt
 from .options import GRASPS, AnnealingOptions, PlannerOptions
@@ -193,6 +199,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
         wide = preshape(hand, opts.power_wide_preshape)
         preshape(hand, opts.power_preshape)  # both checked before planning
     obj = _check_object(obj, hand)
+    _forget_warm_starts(solver, obj)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else clock() + opts.time_limit  # compilation not counted
     if not isinstance(validate, (bool, dict)):
@@ -244,6 +251,14 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="hi
     failure = None if result.success else _failure(attempts, grasp, smallest_pinch(hand), opts.eps_c)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
+
+
+def _forget_warm_starts(solver, obj):
+    """Start a plan cold: the backend's kept models and bases, the object's cP bases and the pseudo-distance's
+    regimes are dropped, so that a plan's result depends on its inputs only, not on what was solved before it."""
+    solver.forget()
+    obj.index.forget()
+    reset_regime_memory()
 
 
 def _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix=""):
