@@ -69,7 +69,7 @@ def torus_mesh(target_faces=10_000):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--backend", default="highs")
+    parser.add_argument("--backend", default="native")
     parser.add_argument("--quick", action="store_true", help="fewer repetitions, skip the mesh loads")
     args = parser.parse_args()
     repeat = 30 if args.quick else 300

@@ -1,4 +1,4 @@
-"""Median wall-clock time of whole plans (HiGHS), per paper case, in one run.
+"""Median wall-clock time of whole plans (the default native LP backend, or --backend), per paper case, in one run.
 
 Usage::
 
@@ -25,7 +25,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
-    parser.add_argument("--backend", default="highs")
+    parser.add_argument("--backend", default="native")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]

@@ -5,7 +5,7 @@ Usage::
     python benchmarks/bench_reach.py [--repeats 3] [--out DIR] [--quick] [--docs]
 
 For each case (a precision and a power grasp of the ellipsoid, cup, bell
-and goblet, planned with the defaults and HiGHS):
+and goblet, planned with the defaults, native LP backend included):
 
 - **depth along the returned reach** (`PlanResult.path`): the library's
   fcl clearance (capsules and palm box against the convex pieces), and the

@@ -6,7 +6,7 @@ Usage::
                                        [--out DIR] [--quick] [--docs]
 
 Plans a precision and a power grasp of every object of the chosen sets
-(default options, HiGHS), then
+(default options and LP backend), then
 
 * the LP verdict: the plan succeeded and is verified on the object's true mesh
   (``benchmarks/verification.py``: contacts within 5 mm, force-closed by qhull

@@ -1,6 +1,6 @@
 """The paper's experiments (Sec. 4): precision and power grasps of its four objects.
 
-Plans the 8 cases with the default settings and HiGHS, verifies each final
+Plans the 8 cases with the default settings (the native LP backend), verifies each final
 grasp independently (origin strictly inside the convex hull of its contact
 wrenches), and writes to ``--out`` (default ``./examples-out/paper``) a table
 beside the paper's own numbers (``paper_experiments.md``), the raw rows

@@ -197,7 +197,7 @@ def build_parser() -> argparse.ArgumentParser:
                           description="Print the Q distance of contacts spread on a sphere's equator.", epilog=_epilog())
     demo.add_argument("--contacts", type=_positive(int), default=5, help="number of contacts (default 5)")
     demo.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
-    demo.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
+    demo.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
     demo.set_defaults(func=_demo)
 
     p = sub.add_parser(
@@ -215,7 +215,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--object", default="ellipsoid",
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
     p.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type (default precision)")
-    p.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
+    p.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
     units = p.add_mutually_exclusive_group()
     units.add_argument("--scale", type=_positive(float), default=None, metavar="FACTOR",
                        help="multiply the file's coordinates by FACTOR to get millimetres (1000 for metres)")
@@ -260,7 +260,7 @@ def main(argv=None) -> int:
     Examples
     --------
     >>> main(["demo", "--contacts", "5"])    # doctest: +ELLIPSIS
-    5 contacts spread on the equator of a 40 mm sphere, mu = 0.3, backend highs
+    5 contacts spread on the equator of a 40 mm sphere, mu = 0.3, backend native
     Q distance = -0.2425 (force-closed)
     ...
     0

@@ -307,7 +307,7 @@ def reset_regime_memory() -> None:
     _layout.cache_clear()
 
 
-def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
+def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     """Pseudo-distance between conv(A) and conv(B), with gradients (paper Eqs. 1-3).
 
     Parameters
@@ -386,7 +386,7 @@ def pseudo_distance(A, B, *, simplex=None, backend="highs") -> PseudoDistance:
     )
 
 
-def optimum(A, B, *, simplex=None, backend="highs", checked=False) -> Optimum:
+def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
     """The LP optimum behind :func:`pseudo_distance`: value, weights and duals, no derived arrays.
 
     What :func:`pseudo_distance` and :func:`synergrasp.q_distance` build their

@@ -366,7 +366,7 @@ class QDistance:
     lp_solves: int
 
 
-def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="highs") -> QDistance:
+def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="native") -> QDistance:
     """Q distance of a grasp and its gradients (paper Eqs. 4-10).
 
     Parameters

@@ -41,7 +41,7 @@ def cache(tmp_path, monkeypatch):
 def expected_plan(source, grasp, **options):
     """The plan of a task computed without the batch code, as in a new process (fresh object, new backend)."""
     reset_regime_memory()
-    backend = type(sg.lp.get_backend("highs"))()
+    backend = type(sg.lp.get_backend())()  # the default backend
     return sg.plan(sg.objects.get(source), grasp, backend=backend, **options)
 
 
@@ -247,7 +247,7 @@ def test_validation_of_new_and_earlier_plans(tmp_path, cluster):
     for name in ("ellipsoid", "cup", "goblet"):
         plan = expected_plan(name, "precision")
         reset_regime_memory()
-        expected = sg.validate(plan, sg.objects.get(name), backend=type(sg.lp.get_backend("highs"))())
+        expected = sg.validate(plan, sg.objects.get(name), backend=type(sg.lp.get_backend())())
         saved = sg.physics.Validation.load(out / "results" / name / "precision.validation.json")
         assert (rows[name]["held"], rows[name]["physics"]) == (saved.held, saved.outcome) == (expected.held, expected.outcome)
         assert np.allclose(saved.displacement, expected.displacement, equal_nan=True)

@@ -15,8 +15,8 @@ def random_lp(rng, m=5, n=12):
     return c, A, b
 
 
-def test_registry_lists_all_three_backends():
-    assert sg.lp.available_backends() == ["highs", "clarabel", "cvxpy"]
+def test_registry_lists_all_four_backends():
+    assert sg.lp.available_backends() == ["highs", "native", "clarabel", "cvxpy"]
 
 
 def test_unknown_backend_lists_available():

@@ -41,7 +41,7 @@ def register(sub, epilog: str = "") -> None:
                    help="worker processes of the local cluster (default: one per CPU)")
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (tcp://host:8786) instead of a local cluster")
-    b.add_argument("--backend", default="highs", help="LP backend: highs, clarabel or cvxpy (default highs)")
+    b.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
     b.add_argument("--max-iter", type=int, default=None, help="cap on each plan's iterations (default: the planner's)")
     b.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
                    help="a plan running longer is recorded as timed out (default: no limit)")

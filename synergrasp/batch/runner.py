@@ -106,7 +106,7 @@ class BatchReport:
         return "\n".join(lines)
 
 
-def run(objects, grasps=("precision",), out="batch-out", *, workers=None, scheduler=None, backend="highs",
+def run(objects, grasps=("precision",), out="batch-out", *, workers=None, scheduler=None, backend="native",
         options=None, time_limit=None, scale=1.0, validate=None, retry_failed=False, progress=True,
         connect_timeout=10.0):
     """Plan every object with every grasp type on a Dask cluster, writing each result as it finishes.

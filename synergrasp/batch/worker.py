@@ -130,7 +130,7 @@ class _TimeLimit(Exception):
     """Raised from the planner's progress callback when a task runs out of time."""
 
 
-def plan_task(source: str, grasp: str, backend: str = "highs", options=None, time_limit=None, scale: float = 1.0,
+def plan_task(source: str, grasp: str, backend: str = "native", options=None, time_limit=None, scale: float = 1.0,
               prepared=None, validate=None, result=None):
     """Plan one task of a batch (on a worker), and test its grasp in MuJoCo if asked.
 

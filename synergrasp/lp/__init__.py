@@ -21,6 +21,7 @@ from .base import CSC, STATUSES, Backend, LPError, LPSolution
 #: name -> (module, class, pip package that provides it)
 _REGISTRY = {
     "highs": (".highs", "HighsBackend", "highspy"),
+    "native": (".native", "NativeBackend", "numba"),
     "clarabel": (".clarabel", "ClarabelBackend", "clarabel"),
     "cvxpy": (".cvxpy", "CvxpyBackend", "cvxpy"),
 }
@@ -38,7 +39,7 @@ def available_backends() -> list[str]:
     Returns
     -------
     list of str
-        Subset of ``["highs", "clarabel", "cvxpy"]``, in that order.
+        Subset of ``["highs", "native", "clarabel", "cvxpy"]``, in that order.
 
     Examples
     --------
@@ -55,13 +56,14 @@ def available_backends() -> list[str]:
     return names
 
 
-def get_backend(name: str | Backend = "highs") -> Backend:
+def get_backend(name: str | Backend = "native") -> Backend:
     """The shared backend instance for ``name`` (or ``name`` itself if a Backend).
 
     Parameters
     ----------
     name : str or Backend
-        ``"highs"``, ``"clarabel"`` or ``"cvxpy"``, or a ready backend object.
+        ``"native"`` (the default), ``"highs"``, ``"clarabel"`` or ``"cvxpy"``,
+        or a ready backend object.
 
     Returns
     -------

@@ -87,7 +87,7 @@ def check_points(points) -> np.ndarray:
         raise ValueError(f"{exc}; hand points must be an (n, 3) array in mm") from None
 
 
-def contact_distance(obj, points, backend="highs", *, ids=None) -> ContactDistance:
+def contact_distance(obj, points, backend="native", *, ids=None) -> ContactDistance:
     """cP of hand points against an object; see `GraspObject.contact_distance`.
 
     Parameters
@@ -143,7 +143,7 @@ def cp_bounds(obj, points):
     return obj.index.probe(check_points(points)).bounds()
 
 
-def group_contact_distance(obj, points, groups, backend="highs", *, ids=None) -> tuple[ContactDistance, np.ndarray]:
+def group_contact_distance(obj, points, groups, backend="native", *, ids=None) -> tuple[ContactDistance, np.ndarray]:
     """The smallest cP in each group of points, and the point attaining it.
 
     A point whose lower bound of cP exceeds the upper bound of another point

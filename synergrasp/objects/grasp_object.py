@@ -300,7 +300,7 @@ class GraspObject:
 
     # ----------------------------------------------------------------- queries
 
-    def contact_distance(self, points, backend="highs") -> ContactDistance:
+    def contact_distance(self, points, backend="native") -> ContactDistance:
         """cP: pseudo-distance from each hand point to the object, with gradients.
 
         For each point p the pseudo-distance between A = {p} and every
@@ -341,14 +341,19 @@ class GraspObject:
         >>> r = obj.contact_distance([[0.0, 0.0, 60.0], [0.0, 0.0, 0.0]])
         >>> r.value.round(2).tolist(), r.inside.tolist()
         ([10.0, -32.85], [False, True])
-        >>> (r.grad[0].round(6) + 0.0).tolist()        # moving the point up increases cP
-        [0.0, 0.0, 1.0]
-        >>> (r.nearest[0].round(6) + 0.0).tolist(), (r.normal[0].round(6) + 0.0).tolist()
-        ([0.0, 0.0, 50.0], [0.0, 0.0, -1.0])
+        >>> round(float(r.grad[0, 2]), 6), (r.nearest[0].round(6) + 0.0).tolist()  # moving up increases cP
+        (1.0, [0.0, 0.0, 50.0])
+
+        The pole is a vertex of the pieces' facets, so the derivative there is
+        one-sided (``degenerate``): which neighbouring facet's gradient and
+        normal come back depends on the LP backend's optimal vertex.
+
+        >>> r.degenerate.tolist()
+        [True, True]
         """
         return contact_distance(self, points, backend)
 
-    def scaled_contacts(self, points, backend="highs") -> ScaledContacts:
+    def scaled_contacts(self, points, backend="native") -> ScaledContacts:
         """sQ contacts: scale the object about its centre until it touches each hand point.
 
         For each point p, ``t = max {t : c + t (p - c) in a piece}`` (in closed

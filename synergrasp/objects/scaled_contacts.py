@@ -89,7 +89,7 @@ class ScaledContacts:
     lp_solves: int
 
 
-def scaled_contacts(obj, points, backend="highs") -> ScaledContacts:
+def scaled_contacts(obj, points, backend="native") -> ScaledContacts:
     """sQ contacts of hand points; see `GraspObject.scaled_contacts`."""
     P = check_points(points)
     solver = lp.get_backend(backend)

@@ -90,7 +90,7 @@ class Replay:
         return float(self.turned[-1])
 
 
-def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=100.0, backend="highs",
+def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=100.0, backend="native",
                  **protocol) -> Replay:
     """Replay an executable reach in MuJoCo with the object free: approach, close, squeeze.
 

@@ -53,7 +53,7 @@ def check_match(result, obj, hand, tolerance):
                 f"{tolerance:g} mm): it was planned for another object ({result.object_name!r}) or another pose of it")
 
 
-def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="highs"):
+def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """The synergies closed a step past ``u``: each contact pushed into the object.
 
     The hand points (fingertips, phalanx and palm points) closer than
@@ -122,7 +122,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="highs"):
     return u[6:] + step, [lab for lab, c in zip(labels, contact) if c]
 
 
-def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, backend="highs", **protocol) -> Validation:
+def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, backend="native", **protocol) -> Validation:
     """Test a grasp in MuJoCo: squeeze, settle, then push the object along six directions.
 
     The protocol (the documentation's "Physics validation" page): the hand is

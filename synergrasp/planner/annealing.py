@@ -93,7 +93,7 @@ def contact_normals(hand, u, kind):
     return np.where(norms > 1e-9, offsets / np.maximum(norms, 1e-12), palm)
 
 
-def contact_energy(hand, obj, u, grasp, alignment=50.0, *, backend="highs"):
+def contact_energy(hand, obj, u, grasp, alignment=50.0, *, backend="native"):
     """GraspIt!'s contact energy of ``u`` (mm): distance to the surface plus normal misalignment, per hand point.
 
     ``mean_i |cP_i| + alignment * (1 - c_i . n_i)``: cP of hand point i
@@ -213,7 +213,7 @@ class _Search:
         return st, chk
 
 
-def autograsp(hand, obj, u, grasp, options, backend="highs"):
+def autograsp(hand, obj, u, grasp, options, backend="native"):
     """Close the hand from ``u`` until the object blocks it, as far as each synergy can.
 
     The last synergy (z2 of the paper's hand) closes every finger and the
@@ -310,7 +310,7 @@ def _contacts(hand, obj, u, grasp, options, backend):
     return int(near.sum()), -float(np.abs(cp[near]).sum())
 
 
-def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, progress=None, physics=None):
+def anneal(hand, obj, grasp, u0, options, *, backend="native", deadline=None, progress=None, physics=None):
     """Search from ``u0`` by simulated annealing until an auto-grasped state is accepted, or the budget runs out.
 
     Parameters
@@ -418,7 +418,7 @@ def anneal(hand, obj, grasp, u0, options, *, backend="highs", deadline=None, pro
     return result, record, held
 
 
-def with_history(result, hand, obj, grasp, options, *, backend="highs"):
+def with_history(result, hand, obj, grasp, options, *, backend="native"):
     """``result`` with the gradient planner's status vector and g_Q at every row of its trajectory.
 
     The search evaluates only its energy at the states it moves to; their

@@ -144,7 +144,7 @@ def sq_request(sq_step, radius, gradient):
     return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
 
 
-def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetration=None):
+def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penetration=None):
     """Whether a grasp is accepted: the criterion, no part of the hand too deep, force-closed on the true surface.
 
     The paper's criterion (``check.done``), then no phalanx capsule and not
@@ -197,7 +197,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="highs", penetr
     return surface.gap <= options.eps_c and surface.q < options.q_accept, pen, surface
 
 
-def run_attempt(hand, obj, grasp, u0, options, *, backend="highs", budget=None, deadline=None, progress=None):
+def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None, deadline=None, progress=None):
     """Iterate from ``u0`` until a grasp, a stall, the attempt's cap, or the plan's budget.
 
     Parameters

@@ -117,7 +117,7 @@ def _options(method, options, values):
     return replace(options, **values) if values else options
 
 
-def plan(obj, grasp="precision", *, method="gradient", options=None, backend="highs", u0=None, approach=None, hand=None,
+def plan(obj, grasp="precision", *, method="gradient", options=None, backend="native", u0=None, approach=None, hand=None,
          progress=None, validate=False, **option_values) -> PlanResult:
     """Plan a reach-to-grasp motion (paper Sec. 3.2) for the synergy hand.
 

@@ -515,7 +515,7 @@ def _roll_frames(normals, rolls):
     return np.stack([np.cross(y, z), y, z], axis=-1).reshape(-1, 3, 3)
 
 
-def wrap_seeds(hand, obj, options, *, backend="highs"):
+def wrap_seeds(hand, obj, options, *, backend="native"):
     """Power starts with the palm on the object and the fingers closed around it (see the module docstring).
 
     The palm point is put `WRAP_STANDOFF` mm off each of `WRAP_SAMPLES`
@@ -645,7 +645,7 @@ def preshape(hand, value):
     return np.clip(np.asarray(value, dtype=float), hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
-def starts(hand, obj, grasp, options, *, backend="highs"):
+def starts(hand, obj, grasp, options, *, backend="native"):
     """The starts of a plan in turn: pinch seeds then direction starts (precision), or wrap seeds then `power_schedule`.
 
     Parameters

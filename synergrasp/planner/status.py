@@ -325,7 +325,7 @@ def _require(hand, obj):
         raise TypeError(f"obj must be a GraspObject, got {type(obj).__name__}")
 
 
-def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smoothing=None) -> Status:
+def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
     All rows come from one cP call: each row is the smallest cP over its skin
@@ -410,7 +410,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="highs", smooth
     )
 
 
-def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="highs", smoothing=None):
+def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", smoothing=None):
     """g_Q of the contacts and its gradient with respect to u: the row that improves a grasp's margin.
 
     Each row in ``contact`` touches at the foot of its hand point on the

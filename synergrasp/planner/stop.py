@@ -38,7 +38,7 @@ class SurfaceCheck:
     q: float
 
 
-def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="highs") -> SurfaceCheck:
+def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") -> SurfaceCheck:
     """The grasp of contacts ``points`` judged on the object's true surface.
 
     The convex pieces the planner works on cover the object's concavities and
@@ -179,7 +179,7 @@ class GraspCheck:
     lp_solves: int
 
 
-def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="highs") -> GraspCheck:
+def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="native") -> GraspCheck:
     """Evaluate the paper's stop criterion at a status.
 
     Precision: N_c >= 3 and g_Q < -0.1, or N_c >= 4 and g_Q < 0, and no palm
