@@ -129,7 +129,7 @@ class Settings:
             calls = {name: 20 if name == REFERENCE else 6 for name in backends}
             cases = {name: (("ellipsoid", "precision"),) for name in backends}
             return cls(True, max_iter or 8, calls, cases)
-        calls = {"highs": 300, "clarabel": 100, "scipy-linprog": 60, "cvxpy": 30, "cvxpy-plain": 30}
+        calls = {"highs": 300, "native": 300, "clarabel": 100, "scipy-linprog": 60, "cvxpy": 30, "cvxpy-plain": 30}
         calls = {name: calls.get(name, 60) for name in backends}
         cases = {name: SLOW_PLAN_CASES if subset and name in SLOW_BACKENDS else CASES for name in backends}
         return cls(False, max_iter or 600, calls, cases)
@@ -150,6 +150,7 @@ def describe(name: str, backend: Backend) -> str:
     """One line on what the backend is."""
     return {
         "highs": "HiGHS via highspy, dual simplex, warm-started",
+        "native": "the library's own dense simplex per independent block (numba), warm-started",
         "clarabel": "Clarabel interior point (own API)",
         "cvxpy": "parametrised cvxpy model per LP shape, Clarabel",
         "scipy-linprog": "scipy.optimize.linprog(method='highs'), reference",
@@ -717,7 +718,7 @@ python -m solvers.compare --docs      # full run, about 12 minutes on 2 cores
 python -m solvers.compare --quick     # reduced run, well under a minute (the test suite runs it)
 ```
 
-Backends: every available synergrasp backend (`"highs"`, `"clarabel"`, `"cvxpy"`) and two
+Backends: every available synergrasp backend (`"highs"`, `"native"`, `"clarabel"`, `"cvxpy"`) and two
 references a user might pick instead, both written as `synergrasp.lp.Backend` subclasses in
 `solvers/references.py` and passed as backend objects: `scipy-linprog`
 (`scipy.optimize.linprog(method="highs")`, one call per LP) and `cvxpy-plain` (a cvxpy model

@@ -10,15 +10,19 @@ components of its rows, linked by the columns that share them; an exact
 decomposition) and solves each with a dense revised simplex:
 
 * phase 1 on artificial columns (rows with a negative right-hand side
-  negated first), starting from the columns the caller names as basic
-  (``basic``) or, without them, from the last optimal basis of an LP of the
-  same structure, when those columns give a feasible basis; then the
-  artificials left basic at zero are pivoted out, or their row is redundant;
+  negated first), from the columns the caller names as basic (``basic``)
+  or, without them, the last optimal basis of an LP of the same structure:
+  those that keep the basis nonsingular enter it, and if their values are
+  not all >= 0 one artificial column, minus the sum of the basic columns of
+  negative value, lifts them all to >= 0 (the single-artificial start);
+  then the artificials left basic at zero are pivoted out, or their row is
+  redundant;
 * phase 2 with Dantzig's pricing, Bland's rule after a run of degenerate
   pivots (no cycling), ties of the ratio test to the lowest column;
 * the final basis refactorised (Gauss-Jordan with partial pivoting), its
-  primal values and duals recomputed and checked; pivots continue if
-  round-off left a violation.
+  primal values and duals recomputed and checked: a reduced cost < 0 left
+  by round-off is priced on, and a basis that round-off left infeasible
+  starts again from its own columns (at most `RESTARTS` times).
 
 The solution is a vertex with its exact duals (``vertex_solutions``). It is
 meant for blocks of up to a few dozen rows (each block's work is dense);
@@ -43,8 +47,7 @@ RESTARTS = 3
 #: Remembered last optimal bases (one per LP structure), for LPs solved without ``basic``.
 BASIS_CACHE_SIZE = 64
 
-# block statuses (kernel codes)
-_OPTIMAL, _INFEASIBLE, _UNBOUNDED, _FAILED = 0, 1, 2, 3
+#: The statuses by the kernels' codes (0-3; the worst block's is the LP's).
 _STATUS = ("optimal", "infeasible", "unbounded", "failed")
 
 
@@ -227,7 +230,7 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             for e in range(indptr[col], indptr[col + 1]):
                 i = local[indices[e]]
                 T[i, j] += sign[i] * data[e]
-        st, pv = _simplex(mk, width, T, rhs, c, cols, hint, scale, tol, degenerate_run, pivots_per_size * (width),
+        st, pv = _simplex(mk, width, T, rhs, c, cols, hint, scale, tol, degenerate_run, pivots_per_size * width,
                           cost, Binv, work, xb, yb, d, colnorm, basis, inbasis)
         pivots += pv
         if st > status:
