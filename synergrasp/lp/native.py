@@ -90,12 +90,13 @@ class NativeBackend(Backend):
         indptr, indices, data = csc_arrays(A)
         indptr, indices = indptr.astype(np.int64), indices.astype(np.int64)
         c, b, data = (np.require(v, dtype=float, requirements=("C", "W")) for v in (c, b, data))  # one signature
-        key = (m, n, hash(indptr.tobytes()), hash(indices.tobytes()))
+        key = None  # the LP's structure, hashed only where a remembered basis is read, stored or dropped
         if not self.warm_start:
             hint = np.zeros(n, dtype=bool)
         elif basic is not None:
             hint = basic
         else:
+            key = _structure(m, n, indptr, indices)
             hint = self._bases.get(key, np.zeros(n, dtype=bool))
         hint = np.require(hint, requirements=("C", "W"))
         # the blocks: rows linked by shared columns, rows and columns ordered block by block
@@ -111,7 +112,7 @@ class NativeBackend(Backend):
         x, y = xy[:n], xy[n:]
         status, pivots = _STATUS[int(out[0])], int(out[1])
         if status != "optimal":
-            self._bases.pop(key, None)
+            self._bases.pop(key or _structure(m, n, indptr, indices), None)
             return status, None, None, pivots, f"{status} (native dense simplex, {pivots} pivots)"
         if self.warm_start and basic is None:
             self._bases.pop(key, None)
@@ -119,6 +120,11 @@ class NativeBackend(Backend):
             while len(self._bases) > BASIS_CACHE_SIZE:
                 self._bases.pop(next(iter(self._bases)))
         return status, x, y, pivots, "Optimal"
+
+
+def _structure(m, n, indptr, indices):
+    """An LP's shape and sparsity pattern, hashed: the key of its remembered basis."""
+    return m, n, hash(indptr.tobytes()), hash(indices.tobytes())
 
 
 @kernel
@@ -379,39 +385,16 @@ def _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots, 
     pivots, degenerate = 0, 0
     while True:
         _duals(m, Binv, cost, basis, yb)
-        enter, best = -1, -tol_c
-        bland = degenerate >= degenerate_run
-        for j in range(n):
-            v = cost[j]
-            for i in range(m):
-                v -= yb[i] * T[i, j]
-            if v < -tol_c * (1.0 + colnorm[j]) and (v < best or (bland and enter < 0)):
-                if inbasis[j]:
-                    continue
-                best, enter = v, j
-                if bland:
-                    break
+        enter = _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, degenerate >= degenerate_run)
         if enter < 0:  # optimal for this basis: refactorise, recompute and check
             _factor(m, T, basis, Binv, work)
             _values(m, Binv, rhs, xb)
             _duals(m, Binv, cost, basis, yb)
-            clean = True
-            for i in range(m):
-                if xb[i] < -tol_b:
-                    clean = False
-            if clean:
-                for j in range(n):
-                    v = cost[j]
-                    for i in range(m):
-                        v -= yb[i] * T[i, j]
-                    if v < -tol_c * (1.0 + colnorm[j]):
-                        clean = False
-                        break
-            if clean:
-                return 0, pivots
             for i in range(m):
                 if xb[i] < -tol_b:
                     return 4, pivots  # round-off left the basis infeasible: start again from it
+            if _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, True) < 0:
+                return 0, pivots
             if pivots >= max_pivots:
                 return 3, pivots
             degenerate = degenerate_run  # a reduced cost < 0 after all: on, by Bland's rule
@@ -436,6 +419,24 @@ def _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots, 
         basis[row] = enter
         _pivot(m, Binv, d, row)
         pivots += 1
+
+
+@helper
+def _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, bland):
+    """The entering column among the first ``n`` nonbasic ones: the most negative reduced cost below the
+    tolerance (Dantzig's rule), or with ``bland`` the first such column; -1 if none."""
+    enter, best = -1, -tol_c
+    for j in range(n):
+        v = cost[j]
+        for i in range(m):
+            v -= yb[i] * T[i, j]
+        if v < -tol_c * (1.0 + colnorm[j]) and (v < best or (bland and enter < 0)):
+            if inbasis[j]:
+                continue
+            best, enter = v, j
+            if bland:
+                break
+    return enter
 
 
 @helper
