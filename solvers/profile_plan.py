@@ -2,14 +2,17 @@
 
 Usage::
 
-    python -m solvers.profile_plan [--out DIR] [--docs] [--baseline-ref 427770f] [--repeats 3] [--rounds 2]
+    python -m solvers.profile_plan [--out DIR] [--docs] [--backend native] [--baseline-ref 427770f]
+                                  [--repeats 3] [--rounds 2]
     python -m solvers.profile_plan --quick     # one case, one repeat, no baseline (the test suite runs it)
 
 Plans the paper's 8 cases (ellipsoid, cup, bell, goblet x precision, power)
-with HiGHS, each package in its own subprocess:
+with the LP backend ``--backend`` (default ``native``, the library's
+default), each package in its own subprocess:
 
 * ``before``: the ``synergrasp`` package as of ``--baseline-ref`` (by default
-  main as it was without the geometry layer's redesign and its compiled loops);
+  main as it was without the geometry layer's redesign and its compiled loops),
+  with ``highs``, its default, if it has no such backend (``native``);
 * ``after``: the package of this checkout.
 
 The two are measured ``--rounds`` times, alternating (load from other
@@ -69,6 +72,7 @@ FUNCTIONS = (
     ("q_distance", ("synergrasp/quality.py",), "q_distance"),
     ("Backend.solve (LP layer)", ("lp/base.py",), "solve"),
     ("HiGHS run (solver itself)", ("~",), "<built-in method highspy._core.run>"),
+    ("native kernel (solver itself)", ("lp/native.py",), "_solve_blocks"),
     ("hand points and Jacobians", ("synergrasp/hand.py",), "points_and_jacobian"),
     ("step (Eq. 16, task priority)", ("planner/step.py",), "limited_step"),
 )
@@ -77,17 +81,19 @@ MEASURE = r'''
 import cProfile, json, pstats, sys, time
 import numpy as np
 import synergrasp as sg
-from synergrasp.lp.highs import HighsBackend
 
 repeats, root, quick = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "1"
 sys.path.insert(0, root)
 from solvers.compare import grasp_sequence, point_sequence
 
 CASES = json.loads(sys.argv[4])
+names = sys.argv[5].split(",")  # the first one this package has, else the last (get_backend says why not)
+backend = next((n for n in names if n in sg.lp.available_backends()), names[-1])
+base = type(sg.lp.get_backend(backend))
 
 
-class Timed(HighsBackend):
-    """HiGHS with an outside CPU timer around every solve, beside the library's own (wall) solve_time."""
+class Timed(base):
+    """The backend with an outside CPU timer around every solve, beside the library's own (wall) solve_time."""
 
     def reset(self):
         self.own = self.outside = 0.0
@@ -102,7 +108,7 @@ class Timed(HighsBackend):
         return sol
 
 
-out = {"synergrasp": sg.__file__, "cases": {}}
+out = {"synergrasp": sg.__file__, "backend": backend, "cases": {}}
 for name, grasp in CASES:
     obj = sg.objects.get(name)
     runs = []
@@ -118,7 +124,7 @@ for name, grasp in CASES:
     out["cases"][name + " " + grasp] = dict(
         cpu_s=cpu, wall_s=wall, iterations=int(r.total_iterations), success=bool(r.success), lp_solves=n,
         lp_time_s=own, lp_cpu_s=outside, attempts=len(r.attempts), trajectory=np.asarray(r.trajectory).tolist())
-be = HighsBackend()
+be = base()
 grasps = grasp_sequence(5, 31 if quick else 301)
 sg.q_distance(*grasps[0], backend=be)
 t = []
@@ -134,7 +140,7 @@ for p in points[1:]:
 out["cp_ms"] = float(np.median(t) * 1e3)
 profile = cProfile.Profile()
 profile.enable()
-sg.plan(obj, "precision", backend=HighsBackend())
+sg.plan(obj, "precision", backend=base())
 profile.disable()
 cum = {}
 for (path, line, func), (cc, nc, tt, ct, callers) in pstats.Stats(profile).stats.items():
@@ -154,11 +160,13 @@ def baseline_tree(ref: str, where: Path) -> Path:
     return where
 
 
-def measure(tree: Path | None, repeats: int, cases, quick: bool) -> dict:
+def measure(tree: Path | None, repeats: int, cases, quick: bool, backends: str) -> dict:
+    """One measurement in a subprocess; ``backends``: comma-separated names, the first the package has is used."""
     env = dict(os.environ)  # the package of this checkout (not an installed copy) unless a tree is given
     env["PYTHONPATH"] = str(tree if tree is not None else ROOT) + os.pathsep + env.get("PYTHONPATH", "")
     proc = subprocess.run([sys.executable, "-c", MEASURE, str(repeats), str(ROOT), "1" if quick else "0",
-                           json.dumps(cases)], cwd=tempfile.gettempdir(), env=env, capture_output=True, text=True)
+                           json.dumps(cases), backends],
+                          cwd=tempfile.gettempdir(), env=env, capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(f"the measurement failed:\n{proc.stderr[-3000:]}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -228,22 +236,26 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
         row("contact_distance, one point (ms)", before and before["cp_ms"], after["cp_ms"], ".3g"),
     ]
     cases = list(after["cases"])
+    ba, bb = after["backend"], before and before["backend"]
     lines = [
         "### Profile: where a plan's time goes",
         "",
-        f"`python -m solvers.profile_plan --docs`: the paper's {len(cases)} cases planned with HiGHS, *before* = the "
-        f"`synergrasp` package as of commit `{ref}`, *after* = now, each in its own process, alternating; "
+        f"`python -m solvers.profile_plan --docs`: the paper's {len(cases)} cases planned, *before* = the "
+        f"`synergrasp` package as of commit `{ref}` with the `{bb}` LP backend"
+        f"{f' (its default; it has no `{ba}`)' if bb != ba else ''}, *after* = now with `{ba}`, "
+        "each in its own process, alternating; "
         "per case the repeat with the least CPU time, then the median over the rounds. The solver's share is "
         "measured two ways: CPU time inside every `Backend.solve` call over the plan's CPU time (an outside "
         "timer), and the sum of the backend's own wall-clock timer (`LPSolution.solve_time`, around its "
         "`_solve`) over the plan's wall time." if before else
-        f"`python -m solvers.profile_plan`: {len(cases)} case(s) planned with HiGHS (no baseline).",
+        f"`python -m solvers.profile_plan`: {len(cases)} case(s) planned with the `{ba}` LP backend (no baseline).",
         "",
         "| measure | before | after | speed-up |",
         "|---|---|---|---|",
     ] + ["| " + " | ".join(r) + " |" for r in rows]
     csv_rows = [dict(measure=r[0], before=r[1], after=r[2], speedup=r[3]) for r in rows]
-    lines += ["", "Per case (HiGHS; iterations over all attempts):", "",
+    used = f"`{bb}` before, `{ba}` after" if before and bb != ba else f"`{ba}`"
+    lines += ["", f"Per case ({used}; iterations over all attempts):", "",
               "| plan | iterations before / after | LP solves before / after | CPU s before / after | ms per iteration "
               "before / after | LP share (CPU) before / after | µs per LP before / after | success, attempts before / after | "
               "max abs du |",
@@ -268,7 +280,9 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
     if before:
         lines += ["", "max abs du: the largest difference of the returned trajectories (u: mm and rad) over their "
                   "common length; round-off in the LP data and in the compiled loops' order of operations, where "
-                  "the iterations and attempts are the same."]
+                  "the iterations and attempts are the same"
+                  + (f" (and the two backends' own solutions: `{bb}` and `{ba}` may return different optimal "
+                     "vertices and duals)." if bb != ba else ".")]
     lines += ["", "Cumulative time of the main functions in one profiled ellipsoid precision plan (cProfile inflates "
               "every time; the shares are what matter):", "",
               "| function | calls (after) | before s | after s | share of the plan (after) |", "|---|---|---|---|---|"]
@@ -285,6 +299,8 @@ def main(argv=None):
     parser.add_argument("--out", type=Path, default=None,
                         help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick)")
     parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
+    parser.add_argument("--backend", default="native",
+                        help="LP backend (default native, the library's; the baseline without it uses highs)")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
     parser.add_argument("--repeats", type=int, default=3, help="timed plans per case and round")
     parser.add_argument("--rounds", type=int, default=2, help="before/after measurement rounds, alternating")
@@ -298,9 +314,10 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         tree = None if args.quick else baseline_tree(args.baseline_ref, Path(tmp))
         for i in range(rounds):  # alternate, so that load from other processes hits both alike
-            pair = [(befores, tree), (afters, None)] if tree is not None else [(afters, None)]
-            for results, where in pair if i % 2 == 0 else pair[::-1]:
-                results.append(measure(where, repeats, cases, args.quick))
+            pair = [(befores, tree, f"{args.backend},highs"), (afters, None, args.backend)]
+            pair = pair if tree is not None else pair[1:]
+            for results, where, backends in pair if i % 2 == 0 else pair[::-1]:
+                results.append(measure(where, repeats, cases, args.quick, backends))
     before, after = (combine(befores) if befores else None), combine(afters)
     text, rows = report(before, after, args.baseline_ref)
     out.mkdir(parents=True, exist_ok=True)
