@@ -202,7 +202,12 @@ def _root(parent, r):
 def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local, F2, F1, I1, inbasis, xy, out):
     """Solve every block of the LP (`_blocks` ordered them): ``xy`` receives x then y, ``out`` (the worst
     status, pivots). Empty columns stay at 0 (the LP is unbounded if one has a negative cost). Scratch: F2
-    (3, rows, width) for the block, its basis inverse and a work matrix; F1 (7, width) and I1 (2, width)."""
+    (3, rows, width) for the block, its basis inverse and a work matrix; F1 (7, width) and I1 (2, width).
+
+    Each block is a two-phase revised simplex on ``T x = rhs, x >= 0`` (T = [A_k | I | a], rhs >= 0; the last
+    rows + 1 columns are artificial, ``a`` written by `_start`), written here rather than in a helper of its
+    own: numba compiles a kernel with all the helpers it calls, and every further level of calls compiles
+    them all once more (most of the kernels' compilation time)."""
     m, n = len(b), len(c)
     row_order, col_order, row_start, col_start = order[:m], order[m:], starts[0], starts[1]
     T, Binv, work = F2[0], F2[1], F2[2]
@@ -211,6 +216,7 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
     x, y = xy[:n], xy[n:]
     tol, degenerate_run, pivots_per_size = TOL, DEGENERATE_RUN, PIVOTS_PER_SIZE
     status, pivots = 0, 0
+    tol_b = tol * (1.0 + scale[0])
     tol_c = tol * (1.0 + scale[1])
     for k in range(col_start[0], col_start[1]):  # columns without entries
         if c[col_order[k]] < -tol_c:
@@ -221,7 +227,7 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
         mk, nk = r1 - r0, k1 - k0
         for i in range(mk):
             local[row_order[r0 + i]] = i
-        # dense block [A_k | I | a] with rows of negative right-hand side negated (a: see _simplex)
+        # dense block [A_k | I | a] with rows of negative right-hand side negated
         width = nk + mk + 1
         for i in range(mk):
             r = row_order[r0 + i]
@@ -236,8 +242,51 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             for e in range(indptr[col], indptr[col + 1]):
                 i = local[indices[e]]
                 T[i, j] += sign[i] * data[e]
-        st, pv = _simplex(mk, width, T, rhs, c, cols, hint, scale, tol, degenerate_run, pivots_per_size * width,
-                          cost, Binv, work, xb, yb, d, colnorm, basis, inbasis)
+        for j in range(width):
+            s = 0.0
+            for i in range(mk):
+                s = max(s, abs(T[i, j]))
+            colnorm[j] = s
+        for j in range(width):
+            inbasis[j] = j < nk and hint[cols[j]]
+        st, pv, max_pivots = 4, 0, pivots_per_size * width
+        for _ in range(RESTARTS):  # a basis that round-off left infeasible is started again from its own columns
+            _start(mk, width, T, rhs, nk, tol, tol_b, colnorm, basis, inbasis, Binv, work, xb, d)
+            # phase 1: minimise the artificials
+            for j in range(width):
+                cost[j] = 1.0 if j >= nk else 0.0
+            st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol, tol, degenerate_run, max_pivots - pv, basis, inbasis,
+                             Binv, work, xb, yb, d, colnorm)
+            pv += p
+            if st == 4:
+                continue
+            if st != 0:
+                st = 3
+                break
+            infeasibility = 0.0
+            for i in range(mk):
+                if basis[i] >= nk:
+                    infeasibility += xb[i]
+            if infeasibility > tol_b * mk:
+                st = 1
+                break
+            pv += _drive_out(mk, nk, T, tol, colnorm, basis, inbasis, Binv, d)
+            _factor(mk, T, basis, Binv, work)
+            _values(mk, Binv, rhs, xb)
+            for i in range(mk):
+                xb[i] = max(xb[i], 0.0) if basis[i] < nk else 0.0
+            # phase 2: the LP's costs; artificials never enter
+            for j in range(nk):
+                cost[j] = c[cols[j]]
+            for j in range(nk, width):
+                cost[j] = 0.0
+            st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol_c, tol, degenerate_run, max_pivots - pv, basis, inbasis,
+                             Binv, work, xb, yb, d, colnorm)
+            pv += p
+            if st != 4:
+                break
+        if st == 4:  # out of restarts
+            st = 3
         pivots += pv
         if st > status:
             status = st
@@ -254,75 +303,30 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
 
 
 @helper
-def _simplex(m, width, T, rhs, c, cols, hint, scale, tol, degenerate_run, max_pivots, cost, Binv, work, xb, yb, d,
-             colnorm, basis, inbasis):
-    """Two-phase revised simplex on ``T x = rhs, x >= 0`` (T = [A | I | a], rhs >= 0; the last m + 1 columns are
-    artificial, ``a`` written by `_start`). Returns (status, pivots); on success ``basis``, ``xb`` (its values)
-    and ``yb`` (the duals) hold the optimum."""
-    n = width - m - 1
-    tol_b = tol * (1.0 + scale[0])
-    tol_c = tol * (1.0 + scale[1])
-    for j in range(width):
-        s = 0.0
-        for i in range(m):
-            s = max(s, abs(T[i, j]))
-        colnorm[j] = s
-    for j in range(width):
-        inbasis[j] = j < n and hint[cols[j]]
+def _drive_out(m, n, T, tol, colnorm, basis, inbasis, Binv, d):
+    """After phase 1: the artificials still basic (at zero) pivoted out on any column of their row, else their
+    row is redundant. Returns the pivots."""
     pivots = 0
-    for _ in range(RESTARTS):  # a basis that round-off left infeasible is started again from its own columns
-        _start(m, width, T, rhs, n, tol, tol_b, colnorm, basis, inbasis, Binv, work, xb, d)
-        # phase 1: minimise the artificials
-        for j in range(width):
-            cost[j] = 1.0 if j >= n else 0.0
-        st, pv = _iterate(m, T, rhs, cost, n, tol_b, tol, tol, degenerate_run, max_pivots - pivots, basis, inbasis, Binv,
-                          work, xb, yb, d, colnorm)
-        pivots += pv
-        if st == 4:
+    for i in range(m):
+        if basis[i] < n:
             continue
-        if st != 0:
-            return 3, pivots
-        infeasibility = 0.0
-        for i in range(m):
-            if basis[i] >= n:
-                infeasibility += xb[i]
-        if infeasibility > tol_b * m:
-            return 1, pivots
-        # artificials still basic (at zero): pivot them out on any column of their row, else the row is redundant
-        for i in range(m):
-            if basis[i] < n:
-                continue
-            best, enter = 0.0, -1
-            for j in range(n):
-                if inbasis[j]:
-                    continue
-                v = 0.0
-                for r in range(m):
-                    v += Binv[i, r] * T[r, j]
-                if abs(v) > max(best, tol * colnorm[j]):
-                    best, enter = abs(v), j
-            if enter >= 0:
-                _column(m, Binv, T, enter, d)
-                inbasis[basis[i]] = False
-                inbasis[enter] = True
-                basis[i] = enter
-                _pivot(m, Binv, d, i)
-                pivots += 1
-        _factor(m, T, basis, Binv, work)
-        _values(m, Binv, rhs, xb)
-        for i in range(m):
-            xb[i] = max(xb[i], 0.0) if basis[i] < n else 0.0
-        # phase 2: the LP's costs; artificials never enter
+        best, enter = 0.0, n  # n: none (a literal -1 would have numba compile _column for it too)
         for j in range(n):
-            cost[j] = c[cols[j]]
-        for j in range(n, width):
-            cost[j] = 0.0
-        st, pv = _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots - pivots, basis, inbasis,
-                          Binv, work, xb, yb, d, colnorm)
-        pivots += pv
-        if st != 4:
-            return st, pivots
-    return 3, pivots
+            if inbasis[j]:
+                continue
+            v = 0.0
+            for r in range(m):
+                v += Binv[i, r] * T[r, j]
+            if abs(v) > max(best, tol * colnorm[j]):
+                best, enter = abs(v), j
+        if enter < n:
+            _column(m, Binv, T, enter, d)
+            inbasis[basis[i]] = False
+            inbasis[enter] = True
+            basis[i] = enter
+            _pivot(m, Binv, d, i)
+            pivots += 1
+    return pivots
 
 
 @helper
@@ -338,11 +342,11 @@ def _start(m, width, T, rhs, n, tol, tol_b, colnorm, basis, inbasis, Binv, work,
         if not inbasis[j]:
             continue
         _column(m, Binv, T, j, d)
-        best, row = tol * colnorm[j], -1
+        best, row = tol * colnorm[j], m  # m: none (a literal -1 would have numba compile _pivot for it too)
         for i in range(m):
             if basis[i] >= n and abs(d[i]) > best:
                 best, row = abs(d[i]), i
-        if row >= 0:
+        if row < m:
             basis[row] = j
             _pivot(m, Binv, d, row)
     if not _factor(m, T, basis, Binv, work):
@@ -382,33 +386,32 @@ def _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots, 
     """Primal simplex from a feasible basis over the first ``n`` columns (the others never enter).
     Returns (status, pivots), status 0 optimal, 2 unbounded, 3 out of pivots, or 4 when the refactorised basis
     turns out infeasible (round-off); at an optimum the basis is refactorised and checked."""
-    pivots, degenerate = 0, 0
+    pivots, degenerate, refactorised = 0, 0, False
     while True:
         _duals(m, Binv, cost, basis, yb)
         enter = _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, degenerate >= degenerate_run)
-        if enter < 0:  # optimal for this basis: refactorise, recompute and check
+        if enter < 0:
+            if refactorised:
+                return 0, pivots
+            # optimal for this basis: refactorise, recompute and check (priced again, by Bland's rule, at the top
+            # of the loop: one pricing call, as a second one with a literal True would be compiled again)
             _factor(m, T, basis, Binv, work)
             _values(m, Binv, rhs, xb)
-            _duals(m, Binv, cost, basis, yb)
             for i in range(m):
                 if xb[i] < -tol_b:
                     return 4, pivots  # round-off left the basis infeasible: start again from it
-            if _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, True) < 0:
-                return 0, pivots
-            if pivots >= max_pivots:
-                return 3, pivots
-            degenerate = degenerate_run  # a reduced cost < 0 after all: on, by Bland's rule
+            refactorised, degenerate = True, degenerate_run
             continue
         if pivots >= max_pivots:
             return 3, pivots
         _column(m, Binv, T, enter, d)
-        row, theta = -1, 0.0
+        row, theta = m, 0.0  # m: none, as in _start
         for i in range(m):
             if d[i] > tol * colnorm[enter]:
                 ratio = max(xb[i], 0.0) / d[i]
-                if row < 0 or ratio < theta - tol_b or (ratio <= theta + tol_b and basis[i] < basis[row]):
+                if row == m or ratio < theta - tol_b or (ratio <= theta + tol_b and basis[i] < basis[row]):
                     row, theta = i, ratio
-        if row < 0:
+        if row == m:
             return 2, pivots
         degenerate = degenerate + 1 if theta <= tol_b else 0
         for i in range(m):
@@ -419,6 +422,7 @@ def _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots, 
         basis[row] = enter
         _pivot(m, Binv, d, row)
         pivots += 1
+        refactorised = False
 
 
 @helper
