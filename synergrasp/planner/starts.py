@@ -10,8 +10,8 @@
 * `wrap_seeds` (power grasps): the palm laid on surface points, rolled about
   their normal, with the synergies on a grid; the poses where most phalanges
   touch and none cuts in (screened on the object's `DistanceGrid`, then
-  checked exactly, a batch at a time) come first, force-closed ones first
-  within each batch.
+  checked exactly) come first: a pose that already makes a grasp at once,
+  the others a batch at a time, by their grasp quality.
 * `direction_starts`: the hand in front of the object along its principal axes
   and the diagonals between them, palm facing its centre (the starts of
   objects without opposed surface points, and the power starts after the
@@ -528,11 +528,12 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     point is within ``options.eps_c`` of the surface (nearer ones count a
     little more). The best pose of each point and roll, in order of score,
     is then checked exactly (python-fcl, `hand_penetration`) and its grasp
-    judged (`check_grasp`), in batches: a batch ends at `WRAP_SEEDS` poses
+    judged (`check_grasp`). A pose that meets the paper's criterion is
+    yielded as soon as it is checked (its attempt is accepted at once);
+    the others are yielded in batches: a batch ends at `WRAP_SEEDS` poses
     that pass the exact check or at four times as many checked, and its
-    seeds are yielded, those meeting the paper's criterion first, then by
-    their Q distance, before the next batch is checked. The batches go on
-    until every screened pose has been checked.
+    seeds are yielded by their Q distance before the next batch is checked.
+    The batches go on until every screened pose has been checked.
 
     Parameters
     ----------
@@ -581,7 +582,10 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
             q = check.q if np.isfinite(check.q) else np.inf
             detail = {"point": points[f // WRAP_ROLLS].round(3).tolist(), "roll": int(f % WRAP_ROLLS),
                       "touching": int(touching[f]), "g_Q": round(float(check.q), 6), "batch": batch}
-            kept.append(((not check.done, q, -score[f]), Start(u, "wrap", detail)))
+            if check.done:  # a grasp already: tried before the rest of its batch is checked
+                yield Start(u, "wrap", detail)
+            else:
+                kept.append(((q, -score[f]), Start(u, "wrap", detail)))
         if len(kept) >= WRAP_SEEDS or checked >= 4 * WRAP_SEEDS:  # a batch: its seeds in order, then the next
             yield from _in_order(kept)
             kept, checked, batch = [], 0, batch + 1
