@@ -35,6 +35,21 @@ def test_small_objects_quick(tmp_path, capsys):
     assert "precision: 1/1 grasped" in capsys.readouterr().out
 
 
+def test_power_reach_quick(tmp_path, capsys):
+    """With the palm on a 30 mm ball at most 2 phalanges reach it (no power grasp); on the cup, enough for one."""
+    import csv
+
+    from benchmarks import power_reach
+
+    rows = power_reach.main(["--quick", "--out", str(tmp_path)])
+    with open(tmp_path / "power_reach.csv", newline="") as fh:
+        written = list(csv.DictReader(fh))
+    assert [r["name"] for r in rows] == [r["name"] for r in written] == ["30 mm ball", "cup"]
+    ball, cup = (r["most_phalanges"] for r in rows)
+    assert 0 <= ball <= 2 and cup >= 4  # the paper's power criterion needs the palm and 3 phalanges
+    assert "at most 2 phalanges" in capsys.readouterr().out
+
+
 def test_torus_has_the_faces_asked_for():
     mesh = bench_large_mesh.torus(330_000)
     assert 320_000 <= len(mesh.faces) <= 340_000 and mesh.is_watertight
