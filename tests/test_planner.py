@@ -804,6 +804,20 @@ def test_a_failed_power_plan_says_when_the_fingers_did_not_close_around_the_obje
     assert not short.success and "did not close" not in short.reason
 
 
+def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the_object():
+    """With the palm on a 30 mm ball at most two phalanges come near it (``benchmarks/power_reach.py``): the wrap
+    seeds the plan tried say so; the ellipsoid's do not (its first wrap seed is a grasp)."""
+    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=15.0), name="30 mm ball", cache=False)
+    r = plan(ball, "power", restarts=4, executable_reach=False)
+    touching = [a["touching"] for a in r.attempts if a["kind"] == "wrap"]
+    assert not r.success and len(touching) == 4 and max(touching) <= 2
+    assert "came within 5 mm of its surface in the wrap poses tried" in r.reason
+    assert "may not be able to wrap it" in r.reason
+    short = plan(so.ellipsoid(), "power", max_iter=3)
+    assert short.attempts[0]["kind"] == "wrap" and short.attempts[0]["touching"] >= 3
+    assert "wrap poses tried" not in short.reason
+
+
 def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():
     """A card 85 mm long and 1 mm thick is in plausible units: the message says it is too thin, not "metres?"."""
     card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)

@@ -324,8 +324,13 @@ def _failure(attempts, grasp, pinch, eps_c):
     side, it says so: the object's opposed surfaces are a wall too thin for
     the pads to touch both. When most power attempts ended with every phalanx
     more than ``eps_c`` from the object, it says that and how far they
-    stopped: the fingers did not close around it. No clock time in it
-    (that is `PlanResult.time_s`): the same plan gives the same words.
+    stopped: the fingers did not close around it. When no wrap seed it
+    tried had more than two phalanges near the surface with the palm on it
+    (`wrap_seeds`' ``touching``), it says so: the paper's power criterion
+    needs the palm and three phalanges (with g_Q < -0.1) or five, so the
+    hand may not be able to wrap the object (``benchmarks/power_reach.py``
+    searches such poses densely). No clock time in it (that is
+    `PlanResult.time_s`): the same plan gives the same words.
     """
     counts = {}
     for a in attempts:
@@ -345,4 +350,10 @@ def _failure(attempts, grasp, pinch, eps_c):
         if 2 * apart.sum() > len(attempts):
             reason += (f"; in {apart.sum()} of them no phalanx ended within {eps_c:g} mm of the object (the nearest "
                        f"{np.median(nearest[apart]):.0f} mm off, median): the fingers did not close around it")
+        touching = [a["touching"] for a in attempts if a["kind"] == "wrap"]
+        if touching and max(touching) < 3:
+            most = {0: "no phalanx", 1: "one phalanx"}.get(max(touching), f"{max(touching)} phalanges")
+            reason += (f"; with the palm on it, at most {most} came within {eps_c:g} mm of its surface in the wrap "
+                       "poses tried, where a power grasp needs the palm and 3 phalanges (g_Q < -0.1) or 5: the hand "
+                       "may not be able to wrap it (a precision grasp may hold it)")
     return reason
