@@ -13,7 +13,8 @@ synergies on a ``--grid`` x ``--grid`` grid. A pose counts when no phalanx axis 
 than the finger radius less ``max_penetration`` and no palm skin point is deeper than
 ``max_penetration`` (on the object's `DistanceGrid`, as the wrap seeds are screened). For each
 object it prints the most phalanges whose power point lies within ``eps_c`` of the surface in a
-pose that counts: under 3, no power grasp of the paper's kind exists for this hand.
+pose that counts: under 3, none of the paper's kind was found for this hand (-1: no pose keeps
+out of the object).
 
 Objects: those of ``benchmarks/objectset.py`` whose names start with one of ``--only`` (default
 the three small-object families). Rows go to ``DIR/power_reach.csv`` (default
@@ -37,8 +38,7 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import select  # noqa: E402
-from synergrasp.planner import PlannerOptions  # noqa: E402
-from synergrasp.planner.starts import surface_samples  # noqa: E402
+from synergrasp.planner import PlannerOptions, roll_frames, surface_samples  # noqa: E402
 
 #: Distances of the palm skin point off the surface (mm).
 STANDOFFS = (0.0, 2.0, 4.0)
@@ -48,6 +48,12 @@ ALONG = np.linspace(0.0, 1.0, 6)
 
 def hand_table(hand, steps):
     """At each synergy value of a steps x steps grid, the power points, the palm skin and the capsule axes' points.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    steps : int
+        Values per synergy, evenly spaced between its limits.
 
     Returns
     -------
@@ -70,20 +76,20 @@ def hand_table(hand, steps):
     return np.array(power), palm, np.array(axes)
 
 
-def frames(normals, rolls):
-    """Palm orientations facing along ``-normal``, ``rolls`` of them about it: (m * rolls, 3, 3), columns x, y, z."""
-    z = -normals
-    a = np.cross(z, np.where(np.abs(z[:, :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
-    a /= np.linalg.norm(a, axis=1, keepdims=True)
-    b = np.cross(z, a)
-    angle = np.linspace(0.0, 2.0 * np.pi, rolls, endpoint=False)[None, :, None]
-    y = np.cos(angle) * a[:, None] + np.sin(angle) * b[:, None]
-    z = np.broadcast_to(z[:, None], y.shape)
-    return np.stack([np.cross(y, z), y, z], axis=-1).reshape(-1, 3, 3)
-
-
 def most_phalanges(hand, obj, table, options, samples, rolls, seed=0):
     """The most phalanges within ``eps_c`` of the surface in a pose with the palm on it that cuts in nowhere.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    table : tuple
+        `hand_table`'s arrays.
+    options : PlannerOptions
+        Its ``eps_c`` and ``max_penetration``.
+    samples, rolls : int
+        Surface points and palm rolls about each normal.
+    seed : int
 
     Returns
     -------
@@ -92,13 +98,13 @@ def most_phalanges(hand, obj, table, options, samples, rolls, seed=0):
     """
     power, palm, axes = table
     points, normals, _, _ = surface_samples(obj, samples, seed)
-    R = frames(normals, rolls)
+    R = roll_frames(normals, rolls)
     anchor = np.repeat(points, rolls, axis=0)
-    inward = np.repeat(normals, rolls, axis=0)
+    outward = np.repeat(normals, rolls, axis=0)
     best = -1
     for at in palm:
         for standoff in STANDOFFS:
-            t = anchor + standoff * inward - R @ at  # (poses, 3)
+            t = anchor + standoff * outward - R @ at  # (poses, 3)
 
             def world(local):  # (g, n, 3) in the palm frame -> (poses, g, n) distances
                 w = np.einsum("pij,gnj->pgni", R, local) + t[:, None, None, :]
@@ -129,13 +135,16 @@ def main(argv=None):
                                                             cache=False)),
                    ("cup", "-", sg.objects.get("cup"))]
     else:
-        objects = [(e.name, e.split, e.make()) for e in select("all") if e.name.startswith(tuple(args.only))]
+        objects = [(e.name, e.split, e.make()) for e in select("all", only=args.only)]
+        if not objects:
+            parser.error(f"no object of benchmarks/objectset.py matches --only {' '.join(args.only)}")
     table = hand_table(hand, args.grid)
     rows = []
     for name, split, obj in objects:
         n = most_phalanges(hand, obj, table, options, args.samples, args.rolls)
         rows.append(dict(name=name, split=split, size_mm=round(float(obj.size), 1), most_phalanges=n))
-        print(f"{name:32s} {split:5s} {obj.size:6.1f} mm  at most {n} phalanges with the palm on it", flush=True)
+        said = f"at most {n} phalanges with the palm on it" if n >= 0 else "no pose with the palm on it keeps out of it"
+        print(f"{name:32s} {split:5s} {obj.size:6.1f} mm  {said}", flush=True)
     args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / "power_reach.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))

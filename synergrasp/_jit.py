@@ -21,8 +21,8 @@ Rules for kernels, for speed and for a sound cache:
   to code several times slower.
 
 A plan's time limit is read on `clock`, which stands still while numba
-compiles: the first plan after an install (about 10 s of compilation) gets
-the same search time as any later one.
+compiles: the first plan after an install (about 10 s of its 27 s are
+numba's compilation) gets the same search time as any later one.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """The planner: status rows and Jacobians, stop criteria, starts, attempts, plans verified independently."""
 
 import itertools
+import sys
 import warnings
 from dataclasses import replace
 
@@ -420,13 +421,29 @@ def test_power_starts_alternate_the_pre_shapes_and_keep_every_phalanx_clear(hand
         assert big.penetration(geo.capsules, geo.radius).distances.min() >= opts.start_clearance - 1e-6
 
 
+def test_a_wrap_pose_that_is_a_grasp_is_yielded_before_the_rest_of_its_batch_is_checked(hand, monkeypatch):
+    module = sys.modules["synergrasp.planner.starts"]
+    original, checks = module.check_grasp, []
+
+    def check(*args, **kwargs):  # the third pose checked is declared a grasp
+        result = replace(original(*args, **kwargs), done=len(checks) == 2)
+        checks.append(result.done)
+        return result
+
+    monkeypatch.setattr(module, "check_grasp", check)
+    seen = [(s.detail["grasp"], len(checks)) for s in itertools.islice(wrap_seeds(hand, so.cup(), PlannerOptions()), 13)]
+    assert seen[0] == (True, 3)  # yielded straight after its own check, before the batch's other poses
+    assert [g for g, _ in seen].count(True) == 1 and all(n > 3 for _, n in seen[1:])
+
+
 def test_wrap_seeds_lay_the_palm_on_the_surface_with_no_phalanx_in_the_object(hand):
     cup = so.cup()
     opts = PlannerOptions()
     seeds = list(itertools.islice(wrap_seeds(hand, cup, opts), 24))
     assert len(seeds) == 24 and {s.kind for s in seeds} == {"wrap"}
     batches = [s.detail["batch"] for s in seeds]
-    assert batches == sorted(batches) and batches[0] == 0 and batches.count(0) <= 12 and batches[-1] >= 1
+    assert batches == sorted(batches) and batches[0] == 0 and batches[-1] >= 1
+    assert sum(1 for s in seeds if s.detail["batch"] == 0 and not s.detail["grasp"]) <= 12
     mesh = cup.mesh
     for s in seeds:
         palm = hand.points(s.u, "power")[-1]
@@ -806,7 +823,7 @@ def test_a_failed_power_plan_says_when_the_fingers_did_not_close_around_the_obje
 
 def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the_object():
     """With the palm on a 30 mm ball at most two phalanges come near it (``benchmarks/power_reach.py``): the wrap
-    seeds the plan tried say so; the ellipsoid's do not (its first wrap seed is a grasp)."""
+    seeds the plan tried say so; the ellipsoid's first wrap seed has three, and a plan stopped after it does not."""
     ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=15.0), name="30 mm ball", cache=False)
     r = plan(ball, "power", restarts=4, executable_reach=False)
     touching = [a["touching"] for a in r.attempts if a["kind"] == "wrap"]
@@ -814,7 +831,7 @@ def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the
     assert "came within 5 mm of its surface in the wrap poses tried" in r.reason
     assert "may not be able to wrap it" in r.reason
     short = plan(so.ellipsoid(), "power", max_iter=3)
-    assert short.attempts[0]["kind"] == "wrap" and short.attempts[0]["touching"] >= 3
+    assert not short.success and short.attempts[0]["kind"] == "wrap" and short.attempts[0]["touching"] >= 3
     assert "wrap poses tried" not in short.reason
 
 

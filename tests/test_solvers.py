@@ -113,9 +113,10 @@ def test_profile_plan_quick_writes_its_tables(tmp_path):
     from solvers import profile_plan
 
     before, after = profile_plan.main(["--quick", "--out", str(tmp_path)])
-    assert before is None and list(after["cases"]) == ["ellipsoid precision"]
+    assert before is None and list(after["cases"]) == ["ellipsoid precision"] and after["backend"] == "native"
     case = after["cases"]["ellipsoid precision"]
     assert case["iterations"] > 0 and case["lp_solves"] > 0
     assert 0 < case["lp_cpu_s"] < case["cpu_s"] and 0 < case["lp_time_s"] < case["wall_s"]
     text = (tmp_path / "profile.md").read_text()
     assert "inside Backend.solve" in text and (tmp_path / "profile.csv").stat().st_size > 0
+    assert "planned with the `native` LP backend" in text

@@ -204,10 +204,10 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
     status, pivots). Empty columns stay at 0 (the LP is unbounded if one has a negative cost). Scratch: F2
     (3, rows, width) for the block, its basis inverse and a work matrix; F1 (7, width) and I1 (2, width).
 
-    Each block is a two-phase revised simplex on ``T x = rhs, x >= 0`` (T = [A_k | I | a], rhs >= 0; the last
-    rows + 1 columns are artificial, ``a`` written by `_start`), written here rather than in a helper of its
-    own: numba compiles a kernel with all the helpers it calls, and every further level of calls compiles
-    them all once more (most of the kernels' compilation time)."""
+    Each block is a two-phase revised simplex on ``T x = rhs, x >= 0`` (T = [A_k | I | a], rhs >= 0; for a
+    block of mk rows the last mk + 1 columns, I and ``a``, are artificial, ``a`` written by `_start`), written
+    here rather than in a helper of its own: numba compiles a kernel with all the helpers it calls, and every
+    further level of calls compiles them all once more (most of the kernels' compilation time)."""
     m, n = len(b), len(c)
     row_order, col_order, row_start, col_start = order[:m], order[m:], starts[0], starts[1]
     T, Binv, work = F2[0], F2[1], F2[2]

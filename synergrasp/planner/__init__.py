@@ -9,11 +9,12 @@ from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
 from .starts import (Start, direction_starts, pinch_fingertips, pinch_seeds, power_schedule, principal_directions,
-                     recess, smallest_pinch, start_configuration, starts, wrap_seeds)
+                     recess, roll_frames, smallest_pinch, start_configuration, starts, surface_samples, wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
-from .stop import GraspCheck, check_grasp
+from .stop import CRITERION, GraspCheck, check_grasp
 
 __all__ = [
+    "CRITERION",
     "GRASPS",
     "METHODS",
     "OPENINGS",
@@ -51,11 +52,13 @@ __all__ = [
     "recess",
     "smallest_pinch",
     "retreat_directions",
+    "roll_frames",
     "run_attempt",
     "smoothed_normals",
     "sq_request",
     "start_configuration",
     "starts",
+    "surface_samples",
     "wrap_seeds",
     "status_rows",
     "widest_opening",

@@ -41,6 +41,7 @@ from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import executable_reach
 from .result import PlanResult
 from .starts import Start, preshape, smallest_pinch, start_configuration, starts
+from .stop import CRITERION
 
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
@@ -325,9 +326,10 @@ def _failure(attempts, grasp, pinch, eps_c):
     the pads to touch both. When most power attempts ended with every phalanx
     more than ``eps_c`` from the object, it says that and how far they
     stopped: the fingers did not close around it. When no wrap seed it
-    tried had more than two phalanges near the surface with the palm on it
-    (`wrap_seeds`' ``touching``), it says so: the paper's power criterion
-    needs the palm and three phalanges (with g_Q < -0.1) or five, so the
+    tried had as many phalanges near the surface with the palm on it as
+    the paper's power criterion needs (`wrap_seeds`' ``touching``;
+    `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
+    says so: the
     hand may not be able to wrap the object (``benchmarks/power_reach.py``
     searches such poses densely). No clock time in it (that is
     `PlanResult.time_s`): the same plan gives the same words.
@@ -351,9 +353,10 @@ def _failure(attempts, grasp, pinch, eps_c):
             reason += (f"; in {apart.sum()} of them no phalanx ended within {eps_c:g} mm of the object (the nearest "
                        f"{np.median(nearest[apart]):.0f} mm off, median): the fingers did not close around it")
         touching = [a["touching"] for a in attempts if a["kind"] == "wrap"]
-        if touching and max(touching) < 3:
-            most = {0: "no phalanx", 1: "one phalanx"}.get(max(touching), f"{max(touching)} phalanges")
-            reason += (f"; with the palm on it, at most {most} came within {eps_c:g} mm of its surface in the wrap "
-                       "poses tried, where a power grasp needs the palm and 3 phalanges (g_Q < -0.1) or 5: the hand "
-                       "may not be able to wrap it (a precision grasp may hold it)")
+        few, many = CRITERION["power"]  # contacts with the palm counted
+        if touching and max(touching) < few - 1:
+            most = {0: "no phalanx", 1: "at most one phalanx"}.get(max(touching), f"at most {max(touching)} phalanges")
+            reason += (f"; with the palm on it, {most} came within {eps_c:g} mm of its surface in the wrap poses "
+                       f"tried, where a power grasp needs the palm and {few - 1} phalanges (g_Q < -0.1) or "
+                       f"{many - 1}: the hand may not be able to wrap it (a precision grasp may hold it)")
     return reason

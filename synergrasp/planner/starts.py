@@ -10,8 +10,8 @@
 * `wrap_seeds` (power grasps): the palm laid on surface points, rolled about
   their normal, with the synergies on a grid; the poses where most phalanges
   touch and none cuts in (screened on the object's `DistanceGrid`, then
-  checked exactly) come first: a pose that already makes a grasp at once,
-  the others a batch at a time, by their grasp quality.
+  checked exactly) come first: a pose that already makes a grasp as soon as
+  it is checked, the others a batch at a time, by their grasp quality.
 * `direction_starts`: the hand in front of the object along its principal axes
   and the diagonals between them, palm facing its centre (the starts of
   objects without opposed surface points, and the power starts after the
@@ -495,7 +495,7 @@ def _wrap_table(hand, steps=WRAP_GRID, fractions=6):
 _WRAP_TABLES = {}
 
 
-def _roll_frames(normals, rolls):
+def roll_frames(normals, rolls):
     """Palm orientations facing along ``-normal``, rolled about it: (m * rolls, 3, 3), columns x, y, z.
 
     Parameters
@@ -504,6 +504,12 @@ def _roll_frames(normals, rolls):
         Unit outward normals.
     rolls : int
         Rolls per normal, evenly spaced over a turn.
+
+    Returns
+    -------
+    (m * rolls, 3, 3) float
+        Rotation matrices, the rolls of each normal in turn; their z column
+        is ``-normal``.
     """
     z = -normals
     a = np.cross(z, np.where(np.abs(z[:, :1]) < 0.9, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
@@ -529,10 +535,11 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     little more). The best pose of each point and roll, in order of score,
     is then checked exactly (python-fcl, `hand_penetration`) and its grasp
     judged (`check_grasp`). A pose that meets the paper's criterion is
-    yielded as soon as it is checked (its attempt is accepted at once);
-    the others are yielded in batches: a batch ends at `WRAP_SEEDS` poses
-    that pass the exact check or at four times as many checked, and its
-    seeds are yielded by their Q distance before the next batch is checked.
+    yielded as soon as it is checked (its attempt starts before the rest
+    of its batch is checked); the others are yielded in batches: a batch
+    ends at `WRAP_SEEDS` poses that pass the exact check and are not yet
+    grasps, or at four times as many checked, and its seeds are yielded by
+    their Q distance before the next batch is checked.
     The batches go on until every screened pose has been checked.
 
     Parameters
@@ -547,14 +554,15 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     ------
     Start
         Of kind ``"wrap"``; ``detail`` has the surface point, the roll, the
-        phalanges in contact, the grasp's g_Q and the batch (0, 1, ...).
+        phalanges in contact, the grasp's g_Q, whether the pose already
+        meets the criterion (``grasp``) and the batch (0, 1, ...).
     """
     z, local, n_fingers, n_palm = _per_hand(_WRAP_TABLES, hand, _wrap_table)
     palm_point = local[0, n_fingers]
     points, normals, _, _ = surface_samples(obj, WRAP_SAMPLES, options.seed)
     if not len(points):
         return
-    R = _roll_frames(normals, WRAP_ROLLS)  # (m * rolls, 3, 3)
+    R = roll_frames(normals, WRAP_ROLLS)  # (m * rolls, 3, 3)
     t = np.repeat(points + WRAP_STANDOFF * normals, WRAP_ROLLS, axis=0) - R @ palm_point
     world = local.reshape(-1, 3) @ R.transpose(0, 2, 1)  # (poses, g * points, 3)
     world += t[:, None, :]
@@ -581,7 +589,7 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
                                 backend=backend)
             q = check.q if np.isfinite(check.q) else np.inf
             detail = {"point": points[f // WRAP_ROLLS].round(3).tolist(), "roll": int(f % WRAP_ROLLS),
-                      "touching": int(touching[f]), "g_Q": round(float(check.q), 6), "batch": batch}
+                      "touching": int(touching[f]), "g_Q": round(float(check.q), 6), "grasp": bool(check.done), "batch": batch}
             if check.done:  # a grasp already: tried before the rest of its batch is checked
                 yield Start(u, "wrap", detail)
             else:

@@ -150,6 +150,11 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 
 
+#: The paper's stop criterion per grasp type: (N_c with g_Q < -0.1, N_c with g_Q < 0); N_c counts
+#: the fingertips of a precision grasp, the phalanges and the palm of a power grasp.
+CRITERION = {"precision": (3, 4), "power": (4, 6)}
+
+
 @dataclass(frozen=True)
 class GraspCheck:
     """The real grasp at one iteration.
@@ -185,7 +190,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     Precision: N_c >= 3 and g_Q < -0.1, or N_c >= 4 and g_Q < 0, and no palm
     contact or overlap (N_c counts the fingertips). Power: |g_P| < eps_c first (a palm
     contact), then N_c >= 4 and g_Q < -0.1, or N_c >= 6 and g_Q < 0 (N_c
-    counts the phalanges and the palm).
+    counts the phalanges and the palm). The counts are `CRITERION`'s.
 
     Parameters
     ----------
@@ -230,8 +235,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
                          center=obj.center, torque_scale=obj.torque_scale, backend=backend)
         q, solves = res.value, res.lp_solves
     palm = bool(abs(cp[-1]) < eps_c)
-    if kind == "power":
-        done = palm and ((n_c >= 4 and q < -0.1) or (n_c >= 6 and q < 0))
-    else:
-        done = cp[-1] >= eps_c and ((n_c >= 3 and q < -0.1) or (n_c >= 4 and q < 0))  # the palm clear
+    few, many = CRITERION["power" if kind == "power" else "precision"]
+    closed = (n_c >= few and q < -0.1) or (n_c >= many and q < 0)
+    done = palm and closed if kind == "power" else cp[-1] >= eps_c and closed  # precision: the palm clear
     return GraspCheck(contact, n_c, float(q), palm, bool(done), solves)
