@@ -514,6 +514,30 @@ def test_penetration_through_and_beside_the_goblet(goblet):
     assert sphere.collision
 
 
+def test_a_penetrating_shape_is_measured_against_the_deepest_of_all_pieces():
+    """Random capsules and a box through a 3 x 3 x 2 stack of 20 mm cubes (18 pieces): each penetrating shape's
+    distance and piece are the deepest over every piece measured alone (one-piece objects); ``clear=False`` gives the
+    same for the penetrating shapes and +inf for the others."""
+    cube = np.array(np.meshgrid([-10.0, 10.0], [-10.0, 10.0], [-10.0, 10.0])).reshape(3, -1).T
+    pieces = [cube + [22.0 * i, 22.0 * j, 22.0 * k] for i in range(3) for j in range(3) for k in range(2)]
+    stack = so.GraspObject(pieces, name="stack")
+    rng = np.random.default_rng(3)
+    a = rng.uniform(-20.0, 65.0, (60, 3))
+    segments = np.stack([a, a + rng.normal(0.0, 25.0, (60, 3))], axis=1)
+    box = ([22.0, 22.0, 11.0], np.eye(3), [30.0, 8.0, 4.0])
+    both = stack.penetration(segments, 3.0, box=box)
+    only = stack.penetration(segments, 3.0, box=box, clear=False)
+    alone = np.array([so.GraspObject([p]).penetration(segments, 3.0, box=box).distances for p in pieces])
+    deep = both.distances < 0
+    assert 10 < deep.sum() < 55 and deep[-1]  # some of each, the box among the cubes
+    np.testing.assert_allclose(both.distances[deep], alone.min(axis=0)[deep], atol=1e-9)
+    assert both.piece == int(np.argmin(alone[:, both.index]))
+    np.testing.assert_array_equal(only.distances[deep], both.distances[deep])
+    assert np.isinf(only.distances[~deep]).all() and (only.distances[~deep] > 0).all()
+    assert (only.depth, only.index, only.piece) == (both.depth, both.index, both.piece)
+    np.testing.assert_array_equal(only.witnesses, both.witnesses)
+
+
 def test_penetration_rejects_bad_input(cube):
     with pytest.raises(ValueError, match=r"\(k, 2, 3\)"):
         cube.penetration([[0, 0, 0], [1, 1, 1]], 1.0)

@@ -125,6 +125,8 @@ class PieceIndex:
         ``min over the facet's vertices t of -q_k . t``.
     support : (J, 4) float
         Support function ``max_v q_k . v`` of each piece along the simplex vertices.
+    boxes : (J, 2, 3) float
+        Each piece's axis-aligned bounding box: its lower, then its upper corner.
     memory : synergrasp.lp.blocks.BasisMemory
         The last optimal bases of the cP LP blocks of this object (warm starts).
 
@@ -153,6 +155,7 @@ class PieceIndex:
         self.facet_mq = np.ascontiguousarray(
             np.vstack([(-(p.vertices @ SIMPLEX.T))[p.facets].min(axis=1) for p in self.pieces]).T)
         self.support = np.ascontiguousarray([(p.vertices @ SIMPLEX.T).max(axis=0) for p in self.pieces])
+        self.boxes = np.array([[p.vertices.min(axis=0), p.vertices.max(axis=0)] for p in self.pieces])
         vq, first = np.unique(self.vertices @ SIMPLEX.T, axis=0, return_index=True)
         clusters = median_split(self.vertices[first], VERTEX_CLUSTER)
         members = vq[np.stack([np.resize(c, VERTEX_CLUSTER) for c in clusters])]  # (C, VERTEX_CLUSTER, 4)
@@ -160,7 +163,7 @@ class PieceIndex:
         self._cluster_support = np.ascontiguousarray(members.max(axis=1))  # (C, 4)
         self.memory = BasisMemory()
         for a in (self.planes, self.plane_start, self.facet_counts, self.vertices, self.facet_vertices, self.facet_q, self.facet_nq,
-                  self.facet_reach, self.facet_mq, self.support):
+                  self.facet_reach, self.facet_mq, self.support, self.boxes):
             a.setflags(write=False)
 
     def forget(self) -> None:

@@ -16,6 +16,9 @@ import numpy as np
 from .._checks import positive_scalar
 from .._vectors import cross
 
+#: Slack (mm) of the bounding-box test that picks the pieces a penetrating shape is measured against.
+BOX_PAD = 1e-6
+
 
 @dataclass(frozen=True)
 class Penetration:
@@ -88,7 +91,7 @@ def _box(box):
     return fcl.CollisionObject(fcl.Box(*(2.0 * half)), fcl.Transform(axes, centre))
 
 
-def penetration(obj, segments, radius, box=None) -> Penetration:
+def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
     """Deepest capsule (and box) penetration; see `GraspObject.penetration`."""
     try:
         seg = np.asarray(segments, dtype=float)
@@ -121,23 +124,35 @@ def penetration(obj, segments, radius, box=None) -> Penetration:
         else:
             geom, rot = fcl.Capsule(float(r[i]), float(lengths[i])), rotations[i]
         shapes.append(fcl.CollisionObject(geom, fcl.Transform(rot, centres[i])))
+    lower = np.minimum(seg[:, 0], seg[:, 1]) - r[:, None]  # the shapes' axis-aligned bounding boxes
+    upper = np.maximum(seg[:, 0], seg[:, 1]) + r[:, None]
     if box is not None:
         shapes.append(_box(box))
+        reach = np.abs(shapes[-1].getRotation()) @ np.asarray(box[2], dtype=float)
+        lower = np.vstack([lower, shapes[-1].getTranslation() - reach])
+        upper = np.vstack([upper, shapes[-1].getTranslation() + reach])
     request = fcl.DistanceRequest(enable_signed_distance=True)
     distances = np.empty(len(shapes))
     deepest_piece = np.full(len(shapes), -1)
     witnesses = np.full((len(shapes), 2, 3), np.nan)
-    manager = obj.index.fcl_manager
+    manager, boxes = obj.index.fcl_manager, obj.index.boxes
     for i, shape in enumerate(shapes):
-        data = fcl.DistanceData(request=request)
-        manager.distance(shape, data, fcl.defaultDistanceCallback)
-        distances[i] = data.result.min_distance
-        if distances[i] < 0:
-            results = [fcl.DistanceResult() for _ in obj.convex]
-            per = [fcl.distance(shape, piece.fcl, request, res) for piece, res in zip(obj.convex, results)]
+        if clear:
+            data = fcl.DistanceData(request=request)
+            manager.distance(shape, data, fcl.defaultDistanceCallback)
+            distances[i] = data.result.min_distance
+        else:  # only the shapes that touch a piece are measured
+            data = fcl.CollisionData()
+            manager.collide(shape, data, fcl.defaultCollisionCallback)
+            distances[i] = -1.0 if data.result.is_collision else np.inf
+        if distances[i] < 0:  # measured against each piece whose bounding box its own meets (the others are apart)
+            near = np.flatnonzero(((lower[i] <= boxes[:, 1] + BOX_PAD) & (upper[i] >= boxes[:, 0] - BOX_PAD)).all(axis=1))
+            near = near if len(near) else np.arange(len(boxes))
+            results = [fcl.DistanceResult() for _ in near]
+            per = [fcl.distance(shape, obj.convex[j].fcl, request, res) for j, res in zip(near, results)]
             distances[i] = min(per)
-            deepest_piece[i] = int(np.argmin(per))
-            witnesses[i] = results[deepest_piece[i]].nearest_points
+            deepest_piece[i] = int(near[np.argmin(per)])
+            witnesses[i] = results[int(np.argmin(per))].nearest_points
     depths = np.maximum(-distances, 0.0)
     index = int(np.argmax(depths)) if (depths > 0).any() else -1
     return Penetration(

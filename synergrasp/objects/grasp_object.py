@@ -405,7 +405,7 @@ class GraspObject:
         """
         return scaled_contacts(self, points, backend)
 
-    def penetration(self, segments, radius, box=None) -> Penetration:
+    def penetration(self, segments, radius, box=None, *, clear=True) -> Penetration:
         """Deepest penetration of capsules (hand links), and of a box (the palm), into the object, by python-fcl.
 
         Parameters
@@ -417,6 +417,11 @@ class GraspObject:
         box : tuple, optional
             ``(centre (3,), axes (3, 3), half_extents (3,))`` of a box (mm; its
             axes a rotation's columns), measured after the capsules.
+        clear : bool
+            Measure the distance of the shapes that do not touch the object
+            too (default). False: those read +inf, and only the shapes that
+            touch a piece (fcl's collision test) are measured, about three
+            times cheaper near an object of many pieces.
 
         Returns
         -------
@@ -445,5 +450,5 @@ class GraspObject:
         >>> pen.index, round(pen.depth, 6)      # the box (entry 1) is 2 mm inside the top face
         (1, 2.0)
         """
-        return penetration(self, segments, radius, box)
+        return penetration(self, segments, radius, box, clear=clear)
 

@@ -197,10 +197,13 @@ def hand_penetration(hand, obj, u):
     -------
     Penetration
         `synergrasp.objects.GraspObject.penetration` of the k capsules of
-        ``hand.segments(u)``, then the palm box (entry k).
+        ``hand.segments(u)``, then the palm box (entry k); only the shapes
+        that touch the object are measured (``clear=False``: the others'
+        ``distances`` read +inf).
     """
     geo = hand.segments(u)
-    return obj.penetration(geo.capsules, geo.radius, box=(geo.palm_center, geo.palm_axes, geo.palm_half_extents))
+    return obj.penetration(geo.capsules, geo.radius, box=(geo.palm_center, geo.palm_axes, geo.palm_half_extents),
+                           clear=False)
 
 
 def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
