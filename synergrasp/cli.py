@@ -109,8 +109,32 @@ def attempt_table(result) -> str:
     return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[-1] for row in rows)
 
 
-def _load_object(args):
-    """The object of ``--object``, scaled by ``--scale`` or ``--units`` (files only)."""
+def add_unit_options(parser):
+    """Add ``--scale`` and ``--units`` (one or the other) to a subcommand's parser; `object_from_args` reads them.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+    """
+    units = parser.add_mutually_exclusive_group()
+    units.add_argument("--scale", type=_positive(float), default=None, metavar="FACTOR",
+                       help="multiply the file's coordinates by FACTOR to get millimetres (1000 for metres)")
+    units.add_argument("--units", choices=sorted(UNITS), default=None,
+                       help="the file's length unit (m: --scale 1000, cm: --scale 10; default mm)")
+
+
+def object_from_args(args):
+    """The object of ``--object``, scaled by ``--scale`` or ``--units`` (files only).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        With ``object``, ``scale`` and ``units`` (`add_unit_options`).
+
+    Returns
+    -------
+    GraspObject
+    """
     from . import objects
 
     scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else None
@@ -135,7 +159,7 @@ def _plan(args) -> int:
 
     out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
     get_backend(args.backend)
-    obj = _load_object(args)
+    obj = object_from_args(args)
     hand = SynergyHand.default()
     bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
                bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
@@ -216,11 +240,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
     p.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type (default precision)")
     p.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
-    units = p.add_mutually_exclusive_group()
-    units.add_argument("--scale", type=_positive(float), default=None, metavar="FACTOR",
-                       help="multiply the file's coordinates by FACTOR to get millimetres (1000 for metres)")
-    units.add_argument("--units", choices=sorted(UNITS), default=None,
-                       help="the file's length unit (m: --scale 1000, cm: --scale 10; default mm)")
+    add_unit_options(p)
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
     p.add_argument("--max-iter", type=_positive(int), default=1500,

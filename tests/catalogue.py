@@ -401,6 +401,7 @@ def _annealing(name, value, says):
 PLANNER_OPTIONS: list[Case] = [
     _option("eps_c", -1, "PlannerOptions.eps_c must be in"),
     _option("mu", float("nan"), "PlannerOptions.mu must be a number"),
+    _option("mu", 0.0, "PlannerOptions.mu must be in (0, 10.0]"),
     _option("edges", 2, "PlannerOptions.edges must be in"),
     _option("edges", 8.5, "PlannerOptions.edges must be an integer"),
     _option("contact_target", 7.0, "PlannerOptions.contact_target must be in"),
@@ -414,6 +415,7 @@ PLANNER_OPTIONS: list[Case] = [
     _option("radius", 5.0, "PlannerOptions.radius must be in"),
     _option("radius_min", 0.0, "PlannerOptions.radius_min must be in"),
     _option("radius_max", 0.001, "PlannerOptions.radius_max must be in"),
+    _option("radius_min", 1.0, "PlannerOptions.radius_max must be in [PlannerOptions.radius_min = 1.0, 10.0]"),
     _option("stall_window", -3, "PlannerOptions.stall_window must be in"),
     _option("stall_window", (20, 12, 4), "PlannerOptions.stall_window must be an integer or a (precision, power) pair"),
     _option("crawl_window", 2.5, "PlannerOptions.crawl_window must be an integer"),

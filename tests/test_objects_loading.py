@@ -406,3 +406,22 @@ def test_an_open_box_is_grasped_like_the_closed_one(tmp_path):
     assert plans[1].total_iterations <= 2 * plans[0].total_iterations + 60  # the file's pieces are the closed box's
     # the cloud's pieces are its own clusters' hulls, a slightly different box: within a quarter of the budget
     assert plans[2].total_iterations <= PlannerOptions().max_iter // 4
+
+
+def test_a_path_under_the_home_folder_is_expanded(tmp_path, monkeypatch):
+    monkeypatch.setenv("HOME", str(tmp_path))
+    trimesh.creation.box((40.0, 50.0, 60.0)).export(tmp_path / "box.stl")
+    for obj in (so.load("~/box.stl", cache=False), so.get("~/box.stl", cache=False)):
+        assert np.ptp(obj.index.vertices, axis=0) == pytest.approx([40.0, 50.0, 60.0])
+
+
+def test_a_scene_s_point_cloud_left_out_is_named(tmp_path):
+    box = trimesh.creation.box((40.0, 50.0, 60.0))
+    cloud = trimesh.PointCloud(np.random.default_rng(0).uniform(100.0, 120.0, (50, 3)))
+    scene = trimesh.Scene([box, cloud])
+    with pytest.warns(UserWarning, match=r"1 of the scene's geometries have no faces \(PointCloud\) and are left out"):
+        obj = so.from_mesh(scene, cache=False)
+    assert np.ptp(obj.index.vertices, axis=0) == pytest.approx([40.0, 50.0, 60.0])  # the box alone
+    scene.export(tmp_path / "scene.glb")
+    with pytest.warns(UserWarning, match="left out"):
+        so.load(tmp_path / "scene.glb", cache=False)

@@ -294,3 +294,8 @@ def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
     assert "NOT HELD (no contact)" in capsys.readouterr().out
     assert main(["validate", str(path), "--object", "ellipsoid", "--out", str(out), "--no-still"]) == 2
     assert "planned for another object" in capsys.readouterr().err
+    metres = tmp_path / "box_m.stl"  # the same box in a file in metres: validated with --units m, as it was planned
+    trimesh.Trimesh(box.pieces[0] / 1000.0, box.convex[0].facets).export(metres)
+    assert main(["validate", str(path), "--object", str(metres), "--out", str(out), "--no-still"]) == 2
+    assert "another scale" in capsys.readouterr().err
+    assert main(["validate", str(path), "--object", str(metres), "--units", "m", "--out", str(out), "--no-still"]) == 0

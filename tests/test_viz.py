@@ -2,6 +2,7 @@
 
 import matplotlib.image as mpimg
 import pytest
+import trimesh
 
 import synergrasp as sg
 from synergrasp import viz
@@ -38,3 +39,24 @@ def test_poses_figure_explains_its_colours(tmp_path, short_plan, monkeypatch):
     colours = [handle.get_color() for handle in legend.legend_handles[:5]]
     assert colours == ["tab:red", "tab:orange", "tab:green", "tab:purple", "tab:brown"]
     assert ("contacts" in names) == bool(len(result.contact_points))
+
+
+def test_a_mesh_of_many_faces_is_drawn_as_its_convex_pieces(monkeypatch):
+    """matplotlib draws every face in every frame of the reach's GIF: beyond DRAW_FACES, the pieces are drawn."""
+    import matplotlib.pyplot as plt
+
+    obj = sg.objects.from_mesh(trimesh.creation.icosphere(subdivisions=4, radius=40.0), cache=False)  # 5120 faces
+    pieces = sum(len(p.facets) for p in obj.convex)
+    drawn, original = [], viz.Poly3DCollection
+
+    def collection(verts, **kwargs):
+        drawn.append(len(verts))
+        return original(verts, **kwargs)
+
+    monkeypatch.setattr(viz, "Poly3DCollection", collection)
+    for limit in (len(obj.mesh.faces), len(obj.mesh.faces) - 1):
+        monkeypatch.setattr(viz, "DRAW_FACES", limit)
+        fig = plt.figure()
+        viz._draw_object(fig.add_subplot(projection="3d"), obj)
+        plt.close(fig)
+    assert drawn == [len(obj.mesh.faces), pieces] and pieces < len(obj.mesh.faces)

@@ -260,7 +260,7 @@ def _from_mesh(
     max_parts, max_vertices = _options(max_parts, max_vertices)
     what = name or _source or "mesh"
     if isinstance(mesh, trimesh.Scene):
-        mesh = mesh.to_mesh()
+        mesh = _scene_mesh(mesh, what)
     if not isinstance(mesh, trimesh.Trimesh):
         raise TypeError(f"mesh must be a trimesh.Trimesh or Scene, got {type(mesh).__name__}")
     if len(mesh.faces) == 0:
@@ -681,7 +681,16 @@ def _read_array_file(path: Path, ext: str):
     raise ValueError(f"an .npz object file needs an array 'points' (or 'vertices' and 'faces'), found keys {keys}")
 
 
-def _mesh_or_points(data, parts):
+def _scene_mesh(scene, what):
+    """A scene's meshes as one mesh; a warning names the geometry without faces that is left out."""
+    left = [type(g).__name__ for g in scene.geometry.values() if not (isinstance(g, trimesh.Trimesh) and len(g.faces))]
+    if left:
+        _warn(f"{what}: {len(left)} of the scene's geometries have no faces ({', '.join(sorted(set(left)))}) and are "
+              "left out; only its meshes make the object")
+    return scene.to_mesh()
+
+
+def _mesh_or_points(data, parts, what):
     """("mesh", Trimesh) or ("points", array) from what trimesh read (unprocessed): meshes processed as
     trimesh.load would (duplicate vertices merged), a scene's meshes concatenated."""
     for part in parts:
@@ -689,7 +698,7 @@ def _mesh_or_points(data, parts):
             part.process()
     if isinstance(data, trimesh.Scene):
         meshes = [g for g in parts if isinstance(g, trimesh.Trimesh) and len(g.faces)]
-        data = data.to_mesh() if meshes else np.vstack([g.vertices for g in parts])
+        data = _scene_mesh(data, what) if meshes else np.vstack([g.vertices for g in parts])
     if isinstance(data, trimesh.PointCloud) or (isinstance(data, trimesh.Trimesh) and len(data.faces) == 0):
         data = np.asarray(data.vertices)
     if not isinstance(data, (np.ndarray, trimesh.Trimesh)):
@@ -767,7 +776,7 @@ def load(
     A file in metres needs ``scale=1000``; without it the object is 1000 times too
     small and a ``UserWarning`` says so.
     """
-    path = Path(path)
+    path = Path(path).expanduser()
     if not path.is_file():
         raise FileNotFoundError(f"object file not found: '{path}'")
     ext = path.suffix.lower()
@@ -799,7 +808,7 @@ def load(
         for part in parts:  # the error from_mesh gives, before anything is dropped
             as_points(np.asarray(getattr(part, "vertices", np.zeros((0, 3)))), f"{name} vertices", dim=3)
         try:
-            kind, data = _mesh_or_points(data, parts)
+            kind, data = _mesh_or_points(data, parts, name)
         except Exception as exc:  # noqa: BLE001 - third-party processing raises anything
             raise ValueError(f"{reading}: {type(exc).__name__}: {exc}") from exc
     if kind == "points":
@@ -851,7 +860,7 @@ def get(name_or_path, **kwargs) -> GraspObject:
                         f"got {type(name_or_path).__name__}")
     if isinstance(name_or_path, str) and name_or_path.lower() in BUILTINS:
         return BUILTINS[name_or_path.lower()](**kwargs)
-    path = Path(name_or_path)
+    path = Path(name_or_path).expanduser()
     if path.is_file():
         return load(path, **kwargs)
     if path.is_dir():

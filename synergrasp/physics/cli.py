@@ -6,6 +6,7 @@ import os
 import sys
 from pathlib import Path
 
+from ..cli import add_unit_options, object_from_args
 from .protocol import PRESETS
 
 __all__ = ["add_validate_parser"]
@@ -35,6 +36,7 @@ def add_validate_parser(subparsers):
     p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
     p.add_argument("--object", required=True,
                    help="the object it was planned for: a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file")
+    add_unit_options(p)
     p.add_argument("--preset", choices=sorted(PRESETS), default="synergrasp", help="protocol settings (default synergrasp)")
     p.add_argument("--mu", type=float, default=None, help="friction coefficient (default: the preset's)")
     p.add_argument("--retreat", type=float, default=0.0, metavar="MM",
@@ -59,7 +61,7 @@ def _validate(args) -> int:
 
     out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
     result = PlanResult.load(args.result)
-    obj = objects.get(args.object)
+    obj = object_from_args(args)
     hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)

@@ -50,7 +50,8 @@ def check_match(result, obj, hand, tolerance):
         if gap.max() > tolerance:
             raise ValueError(
                 f"the result's contact points lie up to {gap.max():.1f} mm from the surface of {obj.name!r} (more than "
-                f"{tolerance:g} mm): it was planned for another object ({result.object_name!r}) or another pose of it")
+                f"{tolerance:g} mm): it was planned for another object ({result.object_name!r}), another pose of it or another "
+                f"scale (an object file in metres or centimetres is loaded with scale=1000 or 10, as it was for the plan)")
 
 
 def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):

@@ -11,12 +11,18 @@ import numpy as np
 GRASPS = ("precision", "power")
 
 
-def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions"):
-    """``value`` as a float (or int) within ``[low, high]`` (``(low, high]`` with ``open_low``), else a ValueError naming it."""
+def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions",
+            low_from=None, high_from=None):
+    """``value`` as a float (or int) within ``[low, high]`` (``(low, high]`` with ``open_low``), else a ValueError naming it.
+
+    ``low_from`` / ``high_from``: the names of the options the bounds are (the message names them).
+    """
     if value is None and allow_none:
         return None
     kind = "an integer" if integer else "a number"
-    span = f"{'(' if open_low else '['}{'-inf' if low is None else low}, {'inf' if high is None else high}]"
+    lo = "-inf" if low is None else f"{owner}.{low_from} = {low}" if low_from else low
+    hi = "inf" if high is None else f"{owner}.{high_from} = {high}" if high_from else high
+    span = f"{'(' if open_low else '['}{lo}, {hi}]"
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
     if isinstance(value, (bool, np.bool_)) or not ok_type or not math.isfinite(float(value)):
         none = " or None" if allow_none else ""
@@ -220,20 +226,21 @@ class PlannerOptions(_Fields):
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "eps_c", _number(self.eps_c, "eps_c", 0, 50.0, open_low=True))
-        set_(self, "mu", _number(self.mu, "mu", 0, 10.0))
+        set_(self, "mu", _number(self.mu, "mu", 0, 10.0, open_low=True))
         set_(self, "edges", _number(self.edges, "edges", 3, 64, integer=True))
-        set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c))
+        set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, high_from="eps_c"))
         band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})", 2)
         if band is None or not 0 <= band[0] < band[1] <= self.eps_c:
             raise ValueError(f"PlannerOptions.contact_band must be (low, high) mm with 0 <= low < high <= eps_c "
                              f"({self.eps_c:g}), got {self.contact_band!r}")
         set_(self, "contact_band", band)
-        set_(self, "clearance", _number(self.clearance, "clearance", 0, self.eps_c))
+        set_(self, "clearance", _number(self.clearance, "clearance", 0, self.eps_c, high_from="eps_c"))
         set_(self, "sq_step", _number(self.sq_step, "sq_step", 0, 1.0, open_low=True))
         set_(self, "smoothing", _number(self.smoothing, "smoothing", 0, 1.0))
         set_(self, "radius_min", _number(self.radius_min, "radius_min", 0, 1.0, open_low=True))
-        set_(self, "radius_max", _number(self.radius_max, "radius_max", self.radius_min, 10.0))
-        set_(self, "radius", _number(self.radius, "radius", self.radius_min, self.radius_max))
+        set_(self, "radius_max", _number(self.radius_max, "radius_max", self.radius_min, 10.0, low_from="radius_min"))
+        set_(self, "radius", _number(self.radius, "radius", self.radius_min, self.radius_max, low_from="radius_min",
+                                            high_from="radius_max"))
         windows = self.stall_window if isinstance(self.stall_window, (tuple, list)) else (self.stall_window,) * 2
         if len(windows) != 2:
             raise ValueError(f"PlannerOptions.stall_window must be an integer or a (precision, power) pair of integers, "
@@ -372,6 +379,6 @@ class AnnealingOptions(_Fields):
             number(name, 0, 1000.0)
         number("start_distance", 0, 10000.0, open_low=True)
         number("autograsp_energy", 0, 1e6, open_low=True, allow_none=True)
-        number("mu", 0, 10.0)
+        number("mu", 0, 10.0, open_low=True)
         number("q_accept", -10.0, 0.0)
         set_(self, "executable_reach", _flag(self.executable_reach, "executable_reach", own))
