@@ -112,6 +112,27 @@ def test_scale_is_applied(tmp_path):
 # --------------------------------------------------------------------------- decomposition and cache
 
 
+def t_handle():
+    """A 450 mm handle: a bar and a cross bar, both 30 mm thick."""
+    bar, cross = trimesh.creation.box((450.0, 30.0, 30.0)), trimesh.creation.box((30.0, 150.0, 30.0))
+    return trimesh.boolean.union([bar, cross.apply_translation([210.0, 0.0, 0.0])])
+
+
+def test_a_large_object_is_remeshed_on_voxels_no_wider_than_voxel_pitch(monkeypatch):
+    """On CoACD's 20 voxels the handle's bars are 1.3 voxels thick and its pieces stick out of them by about 7 mm, more
+    than the contact threshold: a grasp of the pieces is not one of the handle. Voxels of at most VOXEL_PITCH keep them
+    within 4 mm, and a precision plan's contacts lie on the true surface."""
+    mesh = t_handle()
+    off = {}
+    for pitch in (1e9, loading.VOXEL_PITCH):  # 1e9: the 20 voxels of COACD_PARAMS
+        monkeypatch.setattr(loading, "VOXEL_PITCH", pitch)
+        obj = so.from_mesh(mesh, cache=False)
+        off[pitch] = trimesh.proximity.closest_point(mesh, obj.index.vertices)[1].max()
+    assert off[1e9] > 5.0 and off[loading.VOXEL_PITCH] < 4.0
+    result = sg.plan(obj, "precision")
+    assert result.success and trimesh.proximity.closest_point(mesh, result.contact_points)[1].max() < 5.0
+
+
 def test_non_convex_mesh_is_decomposed_and_cached(tmp_path, cache, monkeypatch):
     path = tmp_path / "hourglass.obj"
     mesh = hourglass_mesh()

@@ -4,9 +4,10 @@
   watertight mesh whose volume is more than ``CONVEX_RATIO`` (0.97) of its
   hull's is taken as its hull; otherwise it is decomposed into at most
   ``max_parts`` convex parts with CoACD (approximate convex decomposition,
-  the ``coacd`` package; ``COACD_PARAMS``: remeshed on a 20-voxel grid, then
-  concavity threshold 0.07 with a light tree search, about 4-10 s for a 10k-face
-  mesh on 2 cores). A mesh that is not watertight has no inside to
+  the ``coacd`` package; ``COACD_PARAMS``: remeshed on a grid of at least 20
+  voxels along the longest side and of voxels at most ``VOXEL_PITCH`` (12 mm)
+  wide (`coacd_resolution`), then concavity threshold 0.07 with a light tree
+  search, about 4-10 s for a 10k-face mesh on 2 cores). A mesh that is not watertight has no inside to
   decompose. A watertight mesh wound inward is turned outward first
   (`orient_outward`, with a warning). An open one is closed first where that is sound (`close_mesh`:
   seams welded, planar holes capped; ``info["repair"]`` says what changed)
@@ -99,10 +100,17 @@ PART_GAP = 10.0
 SIZE_RANGE = (10.0, 500.0)
 #: CoACD parameters (``coacd.run_coacd``) besides ``max_convex_hull`` (``max_parts``) and
 #: ``max_ch_vertex`` (``max_vertices``). Lighter than CoACD's defaults: the mesh is always
-#: remeshed into a manifold on a 20-voxel grid first (so the cost does not grow with the
+#: remeshed into a manifold on a voxel grid first (20 voxels along the longest side here, more
+#: for objects larger than 240 mm: `coacd_resolution`) (so the cost does not grow with the
 #: face count and self-intersecting or open meshes work), concavity threshold 0.07, fewer
 #: MCTS nodes and iterations. A 10k-face torus decomposes in about 4 s and a 10k-face mug
 #: with a handle in about 10 s on 2 cores.
+#: Widest remeshing voxel (mm) of the decomposition: the pieces stick out of the true surface by
+#: up to about a third of it, under the planner's 5 mm contact threshold. Objects up to 240 mm
+#: get the 20 voxels of ``COACD_PARAMS``.
+VOXEL_PITCH = 12.0
+#: Most voxels along the longest side (objects over 960 mm; the cost grows with it).
+MAX_RESOLUTION = 80
 COACD_PARAMS = dict(
     threshold=0.07,
     preprocess_mode="on",
@@ -221,7 +229,32 @@ def _reduce(points, max_vertices, name):
 # --------------------------------------------------------------------------- meshes
 
 
-def _decompose(mesh: trimesh.Trimesh, max_parts: int, max_vertices: int) -> list[np.ndarray]:
+def coacd_resolution(size: float) -> int:
+    """Voxels along the longest side of the decomposition's remeshing grid for an object ``size`` mm across.
+
+    At least ``COACD_PARAMS["preprocess_resolution"]`` (20), and enough that a voxel is at most
+    `VOXEL_PITCH` mm wide, up to `MAX_RESOLUTION`: a 450 mm handle with 30 mm bars is remeshed on 38
+    (on 20 its 30 mm bars were 1.3 voxels thick, and the pieces stuck out of them by 7 mm).
+
+    Parameters
+    ----------
+    size : float
+        The largest side of the object's bounding box (mm), > 0.
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> coacd_resolution(120.0), coacd_resolution(450.0), coacd_resolution(2000.0)
+    (20, 38, 80)
+    """
+    size = positive_scalar(size, "size")
+    return int(np.clip(np.ceil(size / VOXEL_PITCH), COACD_PARAMS["preprocess_resolution"], MAX_RESOLUTION))
+
+
+def _decompose(mesh: trimesh.Trimesh, max_parts: int, max_vertices: int, params: dict) -> list[np.ndarray]:
     import coacd
 
     coacd.set_log_level("error")
@@ -229,7 +262,7 @@ def _decompose(mesh: trimesh.Trimesh, max_parts: int, max_vertices: int) -> list
         coacd.Mesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)),
         max_convex_hull=max_parts,
         max_ch_vertex=max_vertices,
-        **COACD_PARAMS,
+        **params,
     )
     pieces = []
     for vertices, _ in parts:
@@ -283,6 +316,10 @@ def _from_mesh(
     if refusal is None:
         ratio = float(abs(mesh.volume) / hull_volume) if hull_volume > 0 else 0.0
 
+    decomposition = dict(COACD_PARAMS)
+    if refusal is None and not ratio > CONVEX_RATIO:  # decomposed by CoACD: its grid for the object's size
+        decomposition["preprocess_resolution"] = coacd_resolution(float(np.ptp(vertices, axis=0).max()) * scale)
+
     def compute():
         if ratio is not None and ratio > CONVEX_RATIO:
             return [_reduce(vertices, max_vertices, what)], {"method": "hull"}
@@ -293,7 +330,7 @@ def _from_mesh(
                                           require_inside=f"{what} is not watertight and cannot be capped ({refusal})")
             return pieces, {**meta, "method": f"voxel closing: {meta['method']}"}
         try:
-            return _decompose(mesh, max_parts, max_vertices), {"method": "coacd"}
+            return _decompose(mesh, max_parts, max_vertices, decomposition), {"method": "coacd"}
         except Exception as exc:  # noqa: BLE001 - the hull is a usable fallback
             _warn(f"convex decomposition of {what} failed ({exc}); using its convex hull")
             return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)", "transient": True}
@@ -304,7 +341,7 @@ def _from_mesh(
         "kind": "mesh" if watertight else "open mesh",
         "max_parts": max_parts,
         "max_vertices": max_vertices,
-        "coacd": COACD_PARAMS,
+        "coacd": decomposition,
         "concavity": CLOUD_CONCAVITY,
         "samples": OPEN_MESH_SAMPLES,
     }
