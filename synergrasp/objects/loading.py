@@ -7,8 +7,8 @@
   the ``coacd`` package; ``COACD_PARAMS``: remeshed on a grid of at least 20
   voxels along the longest side and of voxels at most ``VOXEL_PITCH`` (12 mm)
   wide (`coacd_resolution`), then concavity threshold 0.07 with a light tree
-  search, about 4-10 s for a 10k-face mesh on 2 cores). A mesh that is not watertight has no inside to
-  decompose. A watertight mesh wound inward is turned outward first
+  search, about 4-10 s for a 10k-face mesh on 2 cores). A mesh that is not
+  watertight has no inside to decompose. A watertight mesh wound inward is turned outward first
   (`orient_outward`, with a warning). An open one is closed first where that is sound (`close_mesh`:
   seams welded, planar holes capped; ``info["repair"]`` says what changed)
   and then treated like a watertight one. One that cannot be closed so (its
@@ -98,19 +98,19 @@ STRAY_SHARE = 0.01
 PART_GAP = 10.0
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
-#: CoACD parameters (``coacd.run_coacd``) besides ``max_convex_hull`` (``max_parts``) and
-#: ``max_ch_vertex`` (``max_vertices``). Lighter than CoACD's defaults: the mesh is always
-#: remeshed into a manifold on a voxel grid first (20 voxels along the longest side here, more
-#: for objects larger than 240 mm: `coacd_resolution`) (so the cost does not grow with the
-#: face count and self-intersecting or open meshes work), concavity threshold 0.07, fewer
-#: MCTS nodes and iterations. A 10k-face torus decomposes in about 4 s and a 10k-face mug
-#: with a handle in about 10 s on 2 cores.
 #: Widest remeshing voxel (mm) of the decomposition: the pieces stick out of the true surface by
 #: up to about a third of it, under the planner's 5 mm contact threshold. Objects up to 240 mm
 #: get the 20 voxels of ``COACD_PARAMS``.
 VOXEL_PITCH = 12.0
 #: Most voxels along the longest side (objects over 960 mm; the cost grows with it).
 MAX_RESOLUTION = 80
+#: CoACD parameters (``coacd.run_coacd``) besides ``max_convex_hull`` (``max_parts``) and
+#: ``max_ch_vertex`` (``max_vertices``). Lighter than CoACD's defaults: the mesh is always
+#: remeshed into a manifold on a voxel grid first (20 voxels along the longest side here, more
+#: for objects larger than 240 mm: `coacd_resolution`), so the cost does not grow with the
+#: face count and self-intersecting or open meshes work; concavity threshold 0.07, fewer
+#: MCTS nodes and iterations. A 10k-face torus decomposes in about 4 s and a 10k-face mug
+#: with a handle in about 10 s on 2 cores.
 COACD_PARAMS = dict(
     threshold=0.07,
     preprocess_mode="on",
