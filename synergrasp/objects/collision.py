@@ -18,6 +18,10 @@ from .._vectors import cross
 
 #: Slack (mm) of the bounding-box test that picks the pieces a penetrating shape is measured against.
 BOX_PAD = 1e-6
+#: Slack (mm) of the bounding-box test that picks the pieces a shape is tested for contact with (``clear=False``):
+#: wide enough to keep every piece fcl's own collision test could find touching it.
+TOUCH_PAD = 1.0
+_EYE = np.eye(3)
 
 
 @dataclass(frozen=True)
@@ -74,7 +78,7 @@ def _frames(z):
 
 
 def _box(box):
-    """An fcl box from ``(centre (3,), axes (3, 3), half_extents (3,))``, checked."""
+    """``(centre (3,), axes (3, 3), half_extents (3,))`` of a box as float arrays, checked."""
     try:
         centre, axes, half = (np.asarray(a, dtype=float) for a in box)
     except (TypeError, ValueError) as exc:
@@ -86,9 +90,19 @@ def _box(box):
         raise ValueError("box contains NaN or inf")
     if (half <= 0).any():
         raise ValueError(f"box half_extents must be > 0, got {half.tolist()}")
-    if not np.allclose(axes.T @ axes, np.eye(3), atol=1e-9) or np.linalg.det(axes) < 0:
+    if not (np.abs(axes.T @ axes - _EYE) <= 1e-9 + 1e-5 * _EYE).all() or np.linalg.det(axes) < 0:
         raise ValueError("box axes must be a rotation matrix (orthonormal columns, determinant +1)")
-    return fcl.CollisionObject(fcl.Box(*(2.0 * half)), fcl.Transform(axes, centre))
+    return centre, axes, half
+
+
+def _touches(shape, pieces):
+    """fcl's collision test of one shape against pieces in turn, as its broad phase's callback runs it."""
+    request, result = fcl.CollisionRequest(), fcl.CollisionResult()
+    for piece in pieces:
+        fcl.collide(piece, shape, request, result)
+        if result.is_collision:
+            return True
+    return False
 
 
 def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
@@ -112,44 +126,46 @@ def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
         raise ValueError(f"radius must be a number or shape ({k},), got shape {r.shape}")
     elif not (np.isfinite(r).all() and (r > 0).all()):
         raise ValueError("radius must be finite and > 0 for every capsule")
-    shapes = []
     axes = seg[:, 1] - seg[:, 0]
     lengths = np.sqrt(np.einsum("ij,ij->i", axes, axes))
     point = lengths <= 1e-12
-    rotations = _frames(axes / np.where(point, 1.0, lengths)[:, None] + point[:, None] * [0.0, 0.0, 1.0])
-    centres = 0.5 * (seg[:, 0] + seg[:, 1])
-    for i in range(k):
-        if point[i]:
-            geom, rot = fcl.Sphere(float(r[i])), np.eye(3)
-        else:
-            geom, rot = fcl.Capsule(float(r[i]), float(lengths[i])), rotations[i]
-        shapes.append(fcl.CollisionObject(geom, fcl.Transform(rot, centres[i])))
     lower = np.minimum(seg[:, 0], seg[:, 1]) - r[:, None]  # the shapes' axis-aligned bounding boxes
     upper = np.maximum(seg[:, 0], seg[:, 1]) + r[:, None]
     if box is not None:
-        shapes.append(_box(box))
-        reach = np.abs(shapes[-1].getRotation()) @ np.asarray(box[2], dtype=float)
-        lower = np.vstack([lower, shapes[-1].getTranslation() - reach])
-        upper = np.vstack([upper, shapes[-1].getTranslation() + reach])
+        box = _box(box)
+        reach = np.abs(box[1]) @ box[2]
+        lower, upper = np.vstack([lower, box[0] - reach]), np.vstack([upper, box[0] + reach])
+    n_shapes = len(lower)
+    boxes = obj.index.boxes
+    meets, touch = (((lower[:, None] <= boxes[None, :, 1] + pad) & (upper[:, None] >= boxes[None, :, 0] - pad)).all(axis=2)
+                    for pad in (BOX_PAD, TOUCH_PAD))
+    rotations = _frames(axes / np.where(point, 1.0, lengths)[:, None] + point[:, None] * [0.0, 0.0, 1.0])
+    centres = 0.5 * (seg[:, 0] + seg[:, 1])
+
+    def shape(i):  # the fcl object of shape i
+        if i == k:
+            return fcl.CollisionObject(fcl.Box(*(2.0 * box[2])), fcl.Transform(box[1], box[0]))
+        if point[i]:
+            return fcl.CollisionObject(fcl.Sphere(float(r[i])), fcl.Transform(np.eye(3), centres[i]))
+        return fcl.CollisionObject(fcl.Capsule(float(r[i]), float(lengths[i])), fcl.Transform(rotations[i], centres[i]))
+
     request = fcl.DistanceRequest(enable_signed_distance=True)
-    distances = np.empty(len(shapes))
-    deepest_piece = np.full(len(shapes), -1)
-    witnesses = np.full((len(shapes), 2, 3), np.nan)
-    manager, boxes = obj.index.fcl_manager, obj.index.boxes
-    for i, shape in enumerate(shapes):
+    distances = np.full(n_shapes, np.inf)
+    deepest_piece = np.full(n_shapes, -1)
+    witnesses = np.full((n_shapes, 2, 3), np.nan)
+    for i in range(n_shapes) if clear else np.flatnonzero(touch.any(axis=1)):  # a shape near no piece touches none
+        fcl_shape = shape(i)
         if clear:
             data = fcl.DistanceData(request=request)
-            manager.distance(shape, data, fcl.defaultDistanceCallback)
+            obj.index.fcl_manager.distance(fcl_shape, data, fcl.defaultDistanceCallback)
             distances[i] = data.result.min_distance
-        else:  # only the shapes that touch a piece are measured
-            data = fcl.CollisionData()
-            manager.collide(shape, data, fcl.defaultCollisionCallback)
-            distances[i] = -1.0 if data.result.is_collision else np.inf
+        elif _touches(fcl_shape, [obj.convex[j].fcl for j in np.flatnonzero(touch[i])]):
+            distances[i] = -1.0  # only the shapes that touch a piece are measured: fcl's collision test of those near it
         if distances[i] < 0:  # measured against each piece whose bounding box its own meets (the others are apart)
-            near = np.flatnonzero(((lower[i] <= boxes[:, 1] + BOX_PAD) & (upper[i] >= boxes[:, 0] - BOX_PAD)).all(axis=1))
+            near = np.flatnonzero(meets[i])
             near = near if len(near) else np.arange(len(boxes))
             results = [fcl.DistanceResult() for _ in near]
-            per = [fcl.distance(shape, obj.convex[j].fcl, request, res) for j, res in zip(near, results)]
+            per = [fcl.distance(fcl_shape, obj.convex[j].fcl, request, res) for j, res in zip(near, results)]
             distances[i] = min(per)
             deepest_piece[i] = int(near[np.argmin(per)])
             witnesses[i] = results[int(np.argmin(per))].nearest_points

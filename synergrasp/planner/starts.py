@@ -442,17 +442,15 @@ def _straddle(hand, obj, apertures, thumb_at, fingers_at, opening):
     hand_axis = (partner - thumb) / np.linalg.norm(partner - thumb)
     align = Rotation.align_vectors([axis], [hand_axis])[0]
     middle = 0.5 * (thumb_at + fingers_at)
-    best = None
-    for roll in np.linspace(0.0, 2.0 * np.pi, ROLLS, endpoint=False):
-        R = (Rotation.from_rotvec(roll * axis) * align).as_matrix()
-        u = np.r_[middle - R @ (0.5 * (thumb + partner)), Rotation.from_matrix(R).as_euler("XYZ"), z]
-        skin, palm, _, _ = hand.skin_and_jacobian(u)
-        inside = int(obj.contains(np.vstack([skin.reshape(-1, 3), palm])).sum())
-        outward = float(R[:, 2] @ (middle - obj.center))  # palm normal along centre -> pair: palm on the far side
-        key = (inside, outward)
-        if best is None or key < best[0]:
-            best = (key, u)
-    return best[1]
+    rolls = np.linspace(0.0, 2.0 * np.pi, ROLLS, endpoint=False)
+    R = (Rotation.from_rotvec(rolls[:, None] * axis) * align).as_matrix()  # (ROLLS, 3, 3)
+    us = [np.r_[middle - r @ (0.5 * (thumb + partner)), euler, z]
+          for r, euler in zip(R, Rotation.from_matrix(R).as_euler("XYZ"))]
+    skins = [hand.skin_and_jacobian(u)[:2] for u in us]
+    inside = obj.contains(np.vstack([np.vstack([skin.reshape(-1, 3), palm]) for skin, palm in skins]))
+    inside = inside.reshape(ROLLS, -1).sum(axis=1)
+    outward = [float(r[:, 2] @ (middle - obj.center)) for r in R]  # palm normal along centre -> pair: palm on the far side
+    return us[min(range(ROLLS), key=lambda i: (int(inside[i]), outward[i]))]
 
 
 def _clear(hand, obj, u, back, clearance):
@@ -564,9 +562,11 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
         return
     R = roll_frames(normals, WRAP_ROLLS)  # (m * rolls, 3, 3)
     t = np.repeat(points + WRAP_STANDOFF * normals, WRAP_ROLLS, axis=0) - R @ palm_point
-    world = local.reshape(-1, 3) @ R.transpose(0, 2, 1)  # (poses, g * points, 3)
-    world += t[:, None, :]
-    d = obj.distance_grid(world).reshape(len(R), *local.shape[:2])  # (poses, g, points)
+    # every screening point in every pose by one matrix product (a batched one is several times slower)
+    frames = np.ascontiguousarray(R.transpose(2, 0, 1)).reshape(3, -1)  # frames[k, 3 * pose + j] = R[pose, j, k]
+    world = (local.reshape(-1, 3) @ frames).reshape(-1, len(R), 3)  # (g * points, poses, 3)
+    world += t
+    d = obj.distance_grid(world).T.reshape(len(R), *local.shape[:2])  # (poses, g, points)
     fingers = d[..., :n_fingers]
     clear = ((d[..., n_fingers:n_fingers + n_palm].min(axis=2) >= -options.max_penetration)
              & (d[..., n_fingers + n_palm:].min(axis=2) >= hand.finger_radius - options.max_penetration)
