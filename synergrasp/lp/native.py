@@ -89,7 +89,7 @@ class NativeBackend(Backend):
         m, n = A.shape
         indptr, indices, data = csc_arrays(A)
         indptr, indices = indptr.astype(np.int64), indices.astype(np.int64)
-        c, b, data = (np.require(v, dtype=float, requirements=("C", "W")) for v in (c, b, data))  # one signature
+        c, b, data = _writable(c, float), _writable(b, float), _writable(data, float)  # one signature
         key = None  # the LP's structure, hashed only where a remembered basis is read, stored or dropped
         if not self.warm_start:
             hint = np.zeros(n, dtype=bool)
@@ -98,7 +98,7 @@ class NativeBackend(Backend):
         else:
             key = _structure(m, n, indptr, indices)
             hint = self._bases.get(key, np.zeros(n, dtype=bool))
-        hint = np.require(hint, requirements=("C", "W"))
+        hint = _writable(hint, bool)
         # the blocks: rows linked by shared columns, rows and columns ordered block by block
         order, starts = np.empty(m + n, dtype=np.int64), np.zeros((2, m + 3), dtype=np.int64)
         sizes = np.zeros(3, dtype=np.int64)  # blocks, most rows, most columns
@@ -120,6 +120,13 @@ class NativeBackend(Backend):
             while len(self._bases) > BASIS_CACHE_SIZE:
                 self._bases.pop(next(iter(self._bases)))
         return status, x, y, pivots, "Optimal"
+
+
+def _writable(v, dtype):
+    """``v`` as a C-contiguous, writable array of ``dtype`` (the kernels' one signature), copied only if it is not."""
+    if isinstance(v, np.ndarray) and v.dtype == dtype and v.flags.c_contiguous and v.flags.writeable:
+        return v
+    return np.array(v, dtype=dtype, order="C")
 
 
 def _structure(m, n, indptr, indices):

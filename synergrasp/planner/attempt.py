@@ -312,15 +312,15 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         sq_target = max(-1.0, quality - sq_step)
         if power and refining is None and opts.power_sq_hold is not None and quality < opts.power_sq_hold:
             sq_target = quality  # predicted good enough: keep it, the contact rows get the step
-        first = np.r_[g < np.where(contact_rows, 0.0, opts.clearance), True]  # sQ and rows in or too near the object
+        first = np.append(g < np.where(contact_rows, 0.0, opts.clearance), True)  # sQ and rows in or too near the object
         reaching = power and g[palm] >= opts.eps_c
         if power and not reaching:  # wrap: the palm has touched, it stays on the surface
             first[palm] = True
         if reaching:  # reach: the palm leads with the hand held open, the fingers only kept out of the object
             active[:palm] = g[:palm] < 0.0
-        active = np.r_[active, True]
-        goal = np.r_[target, sq_target]
-        g_rows, J_rows = np.r_[st.g[:-1], quality], np.vstack([st.J[:-1], quality_jac])
+        active = np.append(active, True)
+        goal = np.append(target, sq_target)
+        g_rows, J_rows = np.append(st.g[:-1], quality), np.vstack([st.J[:-1], quality_jac])
         e = active * row_scale * (goal - g_rows)
         J = (active * row_scale)[:, None] * J_rows * scale_u
         if reaching and not opts.power_free_reach:
@@ -335,7 +335,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         solves += st_new.lp_solves + chk_new.lp_solves
         # adaptive step length: compare the achieved with the predicted change of the residual
         before = np.sum(e**2)
-        after = np.sum((active * row_scale * (goal - np.r_[st_new.g[:-1], quality_row(st_new, chk_new)[0]])) ** 2)
+        after = np.sum((active * row_scale * (goal - np.append(st_new.g[:-1], quality_row(st_new, chk_new)[0]))) ** 2)
         predicted = np.sum((e - J @ ((u_new - u) / scale_u)) ** 2)
         ratio = (before - after) / max(before - predicted, 1e-15)
         if ratio > 0.75:
