@@ -1,9 +1,12 @@
 """Capsules (the hand's phalanges) and a box (its palm) against an object: penetration depths by python-fcl.
 
 The depth of a shape is fcl's signed distance (GJK/EPA) to the object's
-pieces: the translation that frees it from one convex piece. The pieces sit
-in fcl's own broad phase (a dynamic AABB tree, `PieceIndex.fcl_manager`),
-and only a shape that reaches the object is measured against each piece.
+pieces: the translation that frees it from one convex piece. A shape's
+distance to the object comes from fcl's own broad phase (a dynamic AABB
+tree, `PieceIndex.fcl_manager`); whether it touches the object, from fcl's
+collision test against the pieces whose bounding boxes come within
+`TOUCH_PAD` of its own; only a shape that reaches the object is measured
+against each piece.
 """
 
 from __future__ import annotations
