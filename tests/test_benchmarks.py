@@ -175,3 +175,19 @@ def test_generalise_reports_the_median_of_several_runs(tmp_path, capsys):
     assert table == {"o0": ("yes", 2.0), "o1": ("2/3", 2.0), "o2": ("2/3", 2.0), "o3": ("no", 2.0)}
     with pytest.raises(SystemExit):
         generalise.main(["--runs", "0", "--out", str(tmp_path)])
+
+
+def test_parts_quick(tmp_path, capsys):
+    """Every part is timed over what it names, the rows go under --out, and a second run computes the same seeds,
+    trajectories and contact tests (each attempt starts from a plan's cold state)."""
+    import csv
+
+    from benchmarks import bench_parts
+
+    rows = bench_parts.main(["--quick", "--out", str(tmp_path)])
+    assert [r[0] for r in rows] == ["pinch", "wrap", "precision", "power", "contact"]
+    assert all(count > 0 and ms > 0 for _, count, ms, _ in rows)
+    with open(tmp_path / "parts.csv", newline="") as fh:
+        assert [w["fingerprint"] for w in csv.DictReader(fh)] == [r[3] for r in rows]
+    assert [r[3] for r in bench_parts.main(["--quick", "--out", str(tmp_path)])] == [r[3] for r in rows]
+    assert "ms per iteration" in capsys.readouterr().out
