@@ -98,6 +98,11 @@ def _box(box):
     return centre, axes, half
 
 
+def _overlapping(lower, upper, boxes, pad):
+    """(k, J) bool: whether each of k boxes ``[lower, upper]`` (k, 3) comes within ``pad`` of each of J ``boxes`` (J, 2, 3)."""
+    return ((lower[:, None] <= boxes[None, :, 1] + pad) & (upper[:, None] >= boxes[None, :, 0] - pad)).all(axis=2)
+
+
 def _touches(shape, pieces):
     """fcl's collision test of one shape against pieces in turn, as its broad phase's callback runs it."""
     request, result = fcl.CollisionRequest(), fcl.CollisionResult()
@@ -140,8 +145,7 @@ def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
         lower, upper = np.vstack([lower, box[0] - reach]), np.vstack([upper, box[0] + reach])
     n_shapes = len(lower)
     boxes = obj.index.boxes
-    meets, touch = (((lower[:, None] <= boxes[None, :, 1] + pad) & (upper[:, None] >= boxes[None, :, 0] - pad)).all(axis=2)
-                    for pad in (BOX_PAD, TOUCH_PAD))
+    meets = _overlapping(lower, upper, boxes, BOX_PAD)
     rotations = _frames(axes / np.where(point, 1.0, lengths)[:, None] + point[:, None] * [0.0, 0.0, 1.0])
     centres = 0.5 * (seg[:, 0] + seg[:, 1])
 
@@ -156,6 +160,7 @@ def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
     distances = np.full(n_shapes, np.inf)
     deepest_piece = np.full(n_shapes, -1)
     witnesses = np.full((n_shapes, 2, 3), np.nan)
+    touch = None if clear else _overlapping(lower, upper, boxes, TOUCH_PAD)
     for i in range(n_shapes) if clear else np.flatnonzero(touch.any(axis=1)):  # a shape near no piece touches none
         fcl_shape = shape(i)
         if clear:

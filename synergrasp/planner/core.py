@@ -200,7 +200,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         wide = preshape(hand, opts.power_wide_preshape)
         preshape(hand, opts.power_preshape)  # both checked before planning
     obj = _check_object(obj, hand)
-    _forget_warm_starts(solver, obj)
+    forget_warm_starts(solver, obj)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else clock() + opts.time_limit  # compilation not counted
     if not isinstance(validate, (bool, dict)):
@@ -254,9 +254,18 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
 
-def _forget_warm_starts(solver, obj):
-    """Start a plan cold: the backend's kept models and bases, the object's cP bases and the pseudo-distance's
-    regimes are dropped, so that a plan's result depends on its inputs only, not on what was solved before it."""
+def forget_warm_starts(solver, obj):
+    """Start cold, as every plan does: what earlier solves keep for later ones is dropped.
+
+    The backend's kept models and bases, the object's cP bases and the
+    pseudo-distance's regimes: a plan (or an attempt run after this call)
+    then depends on its inputs only, not on what was solved before it.
+
+    Parameters
+    ----------
+    solver : synergrasp.lp.Backend
+    obj : GraspObject
+    """
     solver.forget()
     obj.index.forget()
     reset_regime_memory()
