@@ -11,6 +11,8 @@ part by part (run it once as is and once with ``PYTHONPATH=<other checkout>``, a
 fingerprints: the same seeds and trajectories). On every ``--stride``-th object of the
 generalisation benchmark's train split (`objectset.py`):
 
+* ``grid``: the object's distance grid (`synergrasp.objects.DistanceGrid`, what a power plan builds
+  first), per object;
 * ``pinch``: the first three pinch seeds (`synergrasp.planner.pinch_seeds`), per object;
 * ``wrap``: the first wrap seed (`wrap_seeds`; the object's distance grid is built before, untimed);
 * ``contact``: ``GraspObject.penetration(..., clear=False)`` of the phalanx capsules and the palm
@@ -41,6 +43,7 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import select  # noqa: E402
+from synergrasp.objects import DistanceGrid  # noqa: E402
 from synergrasp.planner import (PlannerOptions, forget_warm_starts, pinch_seeds, run_attempt, starts,  # noqa: E402
                                 wrap_seeds)
 
@@ -66,9 +69,10 @@ def _least(run, repeats):
 def measure(objects, hand, options, repeats):
     """The parts' rows: part, count (objects, calls or iterations), ms per count, fingerprint."""
     solver = sg.lp.get_backend("native")
+    seconds, grids = _least(lambda: [DistanceGrid(obj.index, obj.bounds).values for obj in objects], repeats)
+    rows = [("grid", len(objects), 1e3 * seconds / len(objects), _fingerprint(grids))]
     for obj in objects:
-        obj.distance_grid(np.zeros((1, 3)))  # built once per object in a plan too; not what is timed here
-    rows = []
+        obj.distance_grid(np.zeros((1, 3)))  # built once per object in a plan too; not what the seeds' times hold
 
     def seeds(kind, count):
         make = pinch_seeds if kind == "pinch" else wrap_seeds
@@ -120,10 +124,10 @@ def main(argv=None):
     objects = [e.make() for e in entries]
     hand, options = sg.SynergyHand.default(), PlannerOptions()
     for make in (pinch_seeds, wrap_seeds):  # compiled kernels loaded before anything is timed
-        next(make(hand, objects[0], options), None)
+        next(make(hand, objects[0], options), None)  # (the first object's distance grid with them)
     rows = measure(objects, hand, options, repeats)
     print(f"{len(objects)} objects (every {args.stride}th of train), smallest of {repeats} pass(es), wall-clock time")
-    units = {"pinch": "ms per object (3 seeds)", "wrap": "ms per object (1 seed)",
+    units = {"grid": "ms per object", "pinch": "ms per object (3 seeds)", "wrap": "ms per object (1 seed)",
              "contact": "ms per call", "precision": "ms per iteration", "power": "ms per iteration"}
     for part, count, ms, fingerprint in rows:
         print(f"{part:10s} {ms:8.3f} {units[part]:26s} over {count:5d}  fingerprint {fingerprint}")

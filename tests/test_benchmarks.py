@@ -185,7 +185,7 @@ def test_parts_quick(tmp_path, capsys):
     from benchmarks import bench_parts
 
     rows = bench_parts.main(["--quick", "--out", str(tmp_path)])
-    assert [r[0] for r in rows] == ["pinch", "wrap", "precision", "power", "contact"]
+    assert [r[0] for r in rows] == ["grid", "pinch", "wrap", "precision", "power", "contact"]
     assert all(count > 0 and ms > 0 for _, count, ms, _ in rows)
     with open(tmp_path / "parts.csv", newline="") as fh:
         assert [w["fingerprint"] for w in csv.DictReader(fh)] == [r[3] for r in rows]

@@ -9,6 +9,7 @@ import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.objects import facets
 from synergrasp.objects.contact_distance import cp_bounds, group_contact_distance
+from synergrasp.objects.distance_grid import DistanceGrid
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -574,6 +575,22 @@ def test_distance_grid_is_the_signed_distance_of_a_box_inside_and_a_lower_bound_
     np.testing.assert_allclose(grid(on_axis), [5.0, 4.0, 7.0], atol=1e-9)
     assert grid(np.array([[0.0, 0.0, 500.0]]))[0] == grid.pad  # beyond the grid
     assert grid(np.zeros((2, 4, 3))).shape == (2, 4)
+
+
+@pytest.mark.parametrize("name", ["goblet", "ellipsoid", "cup"])
+def test_distance_grid_nodes_hold_min_plane_bound_bit_for_bit(name):
+    # the grid prunes facets and pieces block by block: every node must still read the unpruned value
+    obj = so.get(name)
+    grid = obj.distance_grid
+    axes = [grid.origin[i] + grid.spacing * np.arange(n) for i, n in enumerate(grid.values.shape)]
+    nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    assert any(n % 8 for n in grid.values.shape)  # partial blocks at the far sides
+    assert (grid.values < 0).any() and (grid.values > 0).any()
+    assert np.array_equal(grid.values, obj.index.min_plane_bound(nodes).reshape(grid.values.shape))
+    finer = DistanceGrid(obj.index, obj.bounds, pad=3.0, cells=23, min_spacing=0.5)
+    axes = [finer.origin[i] + finer.spacing * np.arange(n) for i, n in enumerate(finer.values.shape)]
+    nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    assert np.array_equal(finer.values, obj.index.min_plane_bound(nodes).reshape(finer.values.shape))
 
 
 def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():
