@@ -581,16 +581,18 @@ def test_distance_grid_is_the_signed_distance_of_a_box_inside_and_a_lower_bound_
 def test_distance_grid_nodes_hold_min_plane_bound_bit_for_bit(name):
     # the grid prunes facets and pieces block by block: every node must still read the unpruned value
     obj = so.get(name)
+
+    def unpruned(grid):
+        axes = [grid.origin[i] + grid.spacing * np.arange(n) for i, n in enumerate(grid.values.shape)]
+        nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+        return obj.index.min_plane_bound(nodes).reshape(grid.values.shape)
+
     grid = obj.distance_grid
-    axes = [grid.origin[i] + grid.spacing * np.arange(n) for i, n in enumerate(grid.values.shape)]
-    nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     assert any(n % 8 for n in grid.values.shape)  # partial blocks at the far sides
     assert (grid.values < 0).any() and (grid.values > 0).any()
-    assert np.array_equal(grid.values, obj.index.min_plane_bound(nodes).reshape(grid.values.shape))
+    assert np.array_equal(grid.values, unpruned(grid))
     finer = DistanceGrid(obj.index, obj.bounds, pad=3.0, cells=23, min_spacing=0.5)
-    axes = [finer.origin[i] + finer.spacing * np.arange(n) for i, n in enumerate(finer.values.shape)]
-    nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    assert np.array_equal(finer.values, obj.index.min_plane_bound(nodes).reshape(finer.values.shape))
+    assert np.array_equal(finer.values, unpruned(finer))
 
 
 def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():

@@ -209,7 +209,8 @@ class PieceIndex:
         Equal to ``plane_bounds(points).min(axis=1)``, computed without the
         full table: a piece's facets are left as soon as their maximum exceeds
         the smallest bound found so far, and each point starts from the piece
-        that was nearest to the point before it (nearby points first: a grid).
+        that was nearest to the point before it (which pays when nearby points
+        come in turn).
 
         Parameters
         ----------

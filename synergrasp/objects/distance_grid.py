@@ -132,13 +132,16 @@ def _trilinear(values, origin, spacing, pad, points, out):
 
 
 @helper
-def _candidates(cx, cy, cz, reach, planes, pieces, n_pieces, facets, facet_value, piece_value, out_pieces, out_facets):
-    """Candidates of a box of nodes within ``reach`` of ``(cx, cy, cz)`` among ``pieces``/``facets``; their count.
+def _candidates(ax, ay, az, i0, i1, j0, j1, k0, k1, slope, planes, pieces, n_pieces, facets, facet_value, piece_value,
+                out_pieces, out_facets):
+    """Candidates of the box of nodes ``i0..i1, j0..j1, k0..k1`` among ``pieces``/``facets``; their count.
 
     ``pieces[2 p], pieces[2 p + 1]``: piece p's candidate facets are
     ``facets[pieces[2 p]:pieces[2 p + 1]]`` (its plane rows). The box's are
     written the same way to ``out_pieces``/``out_facets``.
     """
+    cx, cy, cz = 0.5 * (ax[i0] + ax[i1]), 0.5 * (ay[j0] + ay[j1]), 0.5 * (az[k0] + az[k1])
+    reach = slope * 0.5 * np.sqrt((ax[i1] - ax[i0]) ** 2 + (ay[j1] - ay[j0]) ** 2 + (az[k1] - az[k0]) ** 2)
     low = np.inf
     for p in range(n_pieces):
         value = -np.inf
@@ -176,18 +179,14 @@ def _fill(ax, ay, az, planes, every, rows, slope, blocks, facet_value, piece_val
         for j0 in range(0, len(ay), big):
             for k0 in range(0, len(az), big):
                 i1, j1, k1 = min(i0 + big, len(ax)) - 1, min(j0 + big, len(ay)) - 1, min(k0 + big, len(az)) - 1
-                reach = slope * 0.5 * np.sqrt((ax[i1] - ax[i0]) ** 2 + (ay[j1] - ay[j0]) ** 2 + (az[k1] - az[k0]) ** 2)
-                n1 = _candidates(0.5 * (ax[i0] + ax[i1]), 0.5 * (ay[j0] + ay[j1]), 0.5 * (az[k0] + az[k1]), reach,
-                                 planes, every, J, rows, facet_value, piece_value, pieces1, facets1)
+                n1 = _candidates(ax, ay, az, i0, i1, j0, j1, k0, k1, slope, planes, every, J, rows, facet_value,
+                                 piece_value, pieces1, facets1)
                 for i2 in range(i0, i1 + 1, small):
                     for j2 in range(j0, j1 + 1, small):
                         for k2 in range(k0, k1 + 1, small):
                             i3, j3, k3 = min(i2 + small - 1, i1), min(j2 + small - 1, j1), min(k2 + small - 1, k1)
-                            reach = slope * 0.5 * np.sqrt((ax[i3] - ax[i2]) ** 2 + (ay[j3] - ay[j2]) ** 2
-                                                          + (az[k3] - az[k2]) ** 2)
-                            n2 = _candidates(0.5 * (ax[i2] + ax[i3]), 0.5 * (ay[j2] + ay[j3]), 0.5 * (az[k2] + az[k3]),
-                                             reach, planes, pieces1, n1, facets1, facet_value, piece_value, pieces2,
-                                             facets2)
+                            n2 = _candidates(ax, ay, az, i2, i3, j2, j3, k2, k3, slope, planes, pieces1, n1, facets1,
+                                             facet_value, piece_value, pieces2, facets2)
                             for i in range(i2, i3 + 1):
                                 for j in range(j2, j3 + 1):
                                     for k in range(k2, k3 + 1):
