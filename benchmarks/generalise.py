@@ -81,14 +81,18 @@ def run(entry_name, grasp, options):
     """Plan and verify one object: a JSON-able row."""
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all") if e.name == entry_name]
-    obj = entry.make()
+    return plan_row(entry.make(), grasp, options, name=entry.name, source=entry.source, split=entry.split)
+
+
+def plan_row(obj, grasp, options, **labels):
+    """Plan a grasp of ``obj`` and verify it: a JSON-able row, starting with ``labels`` (name, source, split)."""
     start = time.perf_counter()
     try:
         result = sg.plan(obj, grasp, **options)
     except ValueError as exc:  # the planner refuses the object (too large, too thin...)
-        return dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=False,
-                    verified=False, time=time.perf_counter() - start, reason=str(exc), refused=True, attempts=[])
-    row = dict(name=entry.name, source=entry.source, split=entry.split, grasp=grasp, success=result.success,
+        return dict(**labels, grasp=grasp, success=False, verified=False, time=time.perf_counter() - start,
+                    reason=str(exc), refused=True, attempts=[])
+    row = dict(**labels, grasp=grasp, success=result.success,
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
                contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,

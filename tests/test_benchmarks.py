@@ -73,6 +73,8 @@ def test_first_plan_quick(tmp_path, capsys):
 
 from types import SimpleNamespace  # noqa: E402
 
+import zipfile  # noqa: E402
+
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import trimesh  # noqa: E402
@@ -123,6 +125,29 @@ def test_generalise_quick(tmp_path, capsys):
     assert all(r["verified"] for r in rows)
     out = capsys.readouterr().out
     assert "precision: 2/2 verified" in out and "median Q on the true surface" in out
+
+
+def test_holdout_draws_unused_shapes_and_plans_them(tmp_path, capsys):
+    """holdout.py: a fixed draw outside the benchmark; the wheel's meshes planned and verified at the given size."""
+    from benchmarks import holdout
+
+    rest = holdout.unused_numbers()
+    held = {p.stem for p in objectset.URDFS.glob("*.stl")}
+    assert len(rest) == 1000 - len(held) - 6 and not held & set(rest) and "000" not in rest
+    assert holdout.draw(5) == holdout.draw(5) and set(holdout.draw(5)) <= set(rest)
+    with pytest.raises(ValueError, match="--count"):
+        holdout.draw(0)
+    (k,) = holdout.draw(1)
+    wheel = tmp_path / "pybullet-0-py3-none-any.whl"  # a stand-in wheel: one box in the wheel's layout
+    box = trimesh.creation.box((2.0, 1.5, 1.0))
+    with zipfile.ZipFile(wheel, "w") as z:
+        z.writestr(f"pybullet_data/random_urdfs/{k}/{k}.obj", trimesh.exchange.obj.export_obj(box))
+    (row,) = holdout.main(["--count", "1", "--size", "90", "--grasp", "precision", "--wheel", str(wheel),
+                           "--out", str(tmp_path / "out")])
+    assert row["name"] == f"holdout/{k}@90" and row["verified"]
+    mesh = trimesh.load(tmp_path / "out" / "meshes" / f"{k}.stl")
+    np.testing.assert_allclose(mesh.bounds, box.bounds)
+    assert "precision: 1/1 verified" in capsys.readouterr().out
 
 
 def test_single_attempts_writes_every_attempt(tmp_path, capsys):
