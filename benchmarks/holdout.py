@@ -65,8 +65,9 @@ def fetch_wheel(folder: Path) -> Path:
     """The pybullet wheel in ``folder``, downloaded there with pip when it is not."""
     found = sorted(folder.glob("pybullet-*.whl"))
     if not found:
-        subprocess.run([sys.executable, "-m", "pip", "download", WHEEL, "--no-deps", "--quiet", "-d", str(folder)],
-                       check=True)
+        command = [sys.executable, "-m", "pip", "download", WHEEL, "--no-deps", "--quiet", "-d", str(folder)]
+        if subprocess.run(command).returncode != 0:
+            raise SystemExit(f"could not download {WHEEL} (no network?): download it elsewhere and pass it with --wheel")
         found = sorted(folder.glob("pybullet-*.whl"))
     if not found:
         raise SystemExit(f"pip download {WHEEL} left no wheel in {folder}; pass one with --wheel")
@@ -81,7 +82,10 @@ def extract(wheel: Path, numbers, folder: Path) -> list[Path]:
         for k in numbers:
             path = folder / f"{k}.stl"
             if not path.is_file():
-                data = z.read(f"pybullet_data/random_urdfs/{k}/{k}.obj")
+                member = f"pybullet_data/random_urdfs/{k}/{k}.obj"
+                if member not in z.namelist():
+                    raise SystemExit(f"{wheel} has no {member}: pass the {WHEEL} wheel with --wheel")
+                data = z.read(member)
                 mesh = trimesh.load(io.BytesIO(data), file_type="obj", force="mesh")
                 mesh.apply_translation(-mesh.bounds.mean(axis=0))
                 mesh.export(path)
@@ -109,9 +113,13 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.size <= 0:
         parser.error(f"--size must be positive, got {args.size}")
+    try:
+        numbers = draw(args.count)
+    except ValueError as exc:
+        parser.error(str(exc))
     args.out.mkdir(parents=True, exist_ok=True)
     wheel = args.wheel if args.wheel is not None else fetch_wheel(args.out)
-    paths = extract(wheel, draw(args.count), args.out / "meshes")
+    paths = extract(wheel, numbers, args.out / "meshes")
     tasks = [(path, grasp) for grasp in args.grasp for path in paths]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:

@@ -148,6 +148,8 @@ def test_holdout_draws_unused_shapes_and_plans_them(tmp_path, capsys):
     mesh = trimesh.load(tmp_path / "out" / "meshes" / f"{k}.stl")
     np.testing.assert_allclose(mesh.bounds, box.bounds)
     assert "precision: 1/1 verified" in capsys.readouterr().out
+    with pytest.raises(SystemExit, match="has no pybullet_data/random_urdfs"):  # a wheel without the drawn mesh
+        holdout.main(["--count", "2", "--wheel", str(wheel), "--out", str(tmp_path / "other")])
 
 
 def test_single_attempts_writes_every_attempt(tmp_path, capsys):
