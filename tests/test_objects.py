@@ -595,6 +595,33 @@ def test_distance_grid_nodes_hold_min_plane_bound_bit_for_bit(name):
     assert np.array_equal(finer.values, unpruned(finer))
 
 
+def test_distance_grid_posed_reads_the_placed_points_and_cuts_a_set_at_its_first_point_below_its_floor():
+    from scipy.spatial.transform import Rotation
+
+    grid = so.cup().distance_grid
+    rng = np.random.default_rng(5)
+    local = rng.uniform(-60.0, 60.0, size=(4, 30, 3))  # 4 sets of 30 points
+    R = Rotation.random(50, random_state=5).as_matrix()
+    t = rng.uniform(-20.0, 20.0, size=(50, 3))
+    placed = np.einsum("pjk,sik->psij", R, local) + t[:, None, None, :]  # (poses, sets, points, 3)
+    values = grid.posed(local, R, t)
+    assert values.shape == (50, 4, 30)
+    np.testing.assert_allclose(values, grid(placed), rtol=0, atol=1e-9)  # the placement's round-off only
+    floors = rng.uniform(-10.0, 10.0, size=30)
+    cut = grid.posed(local, R, t, floors)
+    below = values < floors
+    first = np.where(below.any(axis=2), below.argmax(axis=2), 30)  # each set's first point below its floor
+    read = np.arange(30) <= first[..., None]
+    assert below.any() and (~below).all(axis=2).any()  # sets cut and sets read whole
+    assert np.array_equal(cut[read], values[read]) and np.all(cut[~read] == -np.inf)
+    with pytest.raises(ValueError, match=r"points must have shape \(g, m, 3\)"):
+        grid.posed(local[0], R, t)
+    with pytest.raises(ValueError, match="rotations and translations"):
+        grid.posed(local, R, t[:3])
+    with pytest.raises(ValueError, match="floors must have shape"):
+        grid.posed(local, R, t, floors[:5])
+
+
 def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():
     from scipy.ndimage import map_coordinates
 

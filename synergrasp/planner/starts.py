@@ -525,7 +525,9 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     The palm point is put `WRAP_STANDOFF` mm off each of `WRAP_SAMPLES`
     surface points (`surface_samples`), the palm facing the surface, in
     `WRAP_ROLLS` rolls about the normal, with every synergy value of a
-    `WRAP_GRID` grid. Each pose is screened on the object's `DistanceGrid`:
+    `WRAP_GRID` grid. Each pose is screened on the object's `DistanceGrid`
+    (`DistanceGrid.posed`, which reads a pose no further than its first
+    point too deep):
     it is kept when no phalanx axis is nearer the surface than the finger
     radius less ``options.max_penetration`` and no palm skin point deeper
     than ``options.max_penetration``, and scored by the phalanges whose power
@@ -562,15 +564,18 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
         return
     R = roll_frames(normals, WRAP_ROLLS)  # (m * rolls, 3, 3)
     t = np.repeat(points + WRAP_STANDOFF * normals, WRAP_ROLLS, axis=0) - R @ palm_point
-    # every screening point in every pose by one matrix product (a batched one is several times slower)
-    frames = np.ascontiguousarray(R.transpose(2, 0, 1)).reshape(3, -1)  # frames[k, 3 * pose + j] = R[pose, j, k]
-    world = (local.reshape(-1, 3) @ frames).reshape(-1, len(R), 3)  # (g * points, poses, 3)
-    world += t
-    d = obj.distance_grid(world).T.reshape(len(R), *local.shape[:2])  # (poses, g, points)
-    fingers = d[..., :n_fingers]
-    clear = ((d[..., n_fingers:n_fingers + n_palm].min(axis=2) >= -options.max_penetration)
-             & (d[..., n_fingers + n_palm:].min(axis=2) >= hand.finger_radius - options.max_penetration)
-             & (np.abs(R[:, 0, 2]) < GIMBAL)[:, None])  # the XYZ Euler angles of the palm are not near their lock
+    # the phalanx axes (which reject most poses) and the palm's skin points first, each with the depth that
+    # rejects a pose: a pose and synergy value is read no further than its first point too deep
+    n_axes = local.shape[1] - n_fingers - n_palm
+    order = np.r_[n_fingers + n_palm:local.shape[1], n_fingers:n_fingers + n_palm, :n_fingers]
+    floors = np.r_[np.full(n_axes, hand.finger_radius - options.max_penetration),
+                   np.full(n_palm, -options.max_penetration), np.full(n_fingers, -np.inf)]
+    d = obj.distance_grid.posed(local[:, order], R, t, floors)  # (poses, g, points)
+    fingers = d[..., n_axes + n_palm:]
+    # the last point with a floor is above it only when no point before it was below its own (see posed), and
+    # the XYZ Euler angles of the palm must not be near their lock
+    last = n_axes + n_palm - 1
+    clear = (d[..., last] >= floors[last]) & (np.abs(R[:, 0, 2]) < GIMBAL)[:, None]
     touching = (fingers < options.eps_c).sum(axis=2)
     score = np.where(clear, touching + 0.1 * np.exp(-np.clip(fingers, 0.0, None) / 10.0).sum(axis=2), -np.inf)
     best = score.argmax(axis=1)  # the best synergies of each pose
