@@ -118,6 +118,21 @@ def test_redundant_rows_keep_an_optimal_certificate():
     assert sol.objective == pytest.approx(sg.lp.get_backend("highs").solve(c, A, b).objective, rel=1e-10)
 
 
+def test_a_block_infeasible_only_by_its_datas_round_off_is_optimal_as_highs_says():
+    """One block of the penetration LP of a point 1e-9 off a segment's end: entries of 1e-9 beside entries
+    near 1 leave every basis about 2e-9 below 0, which round-off restarts cannot mend. That is within what
+    phase 1 accepts as feasible: the block is optimal (HiGHS agrees), its values clipped to 0."""
+    A = np.array([[np.sqrt(2 / 3), 1e-9, 1.0, 0.0], [np.sqrt(2) / 3, 1e-9, 0.0, 0.0], [1 / 3, 1e-9, 0.0, 0.0],
+                  [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 1.0]])
+    c, b = np.array([-1.0, 0.0, 0.0, 0.0]), np.array([0.0, 0.0, 0.0, 1.0, 1.0])
+    ref = sg.lp.get_backend("highs").solve(c, A, b)
+    for native in (NativeBackend(), NativeBackend(warm_start=False)):
+        sol = native.solve(c, A, b)
+        assert sol.optimal and ref.optimal
+        assert sol.objective == pytest.approx(ref.objective, abs=1e-8)
+        assert sol.x.min() >= 0.0 and np.abs(A @ sol.x - b).max() < 1e-8
+
+
 def test_any_hint_reaches_the_optimum_and_the_optimal_one_takes_no_pivot():
     """Hints that give infeasible, singular or partial bases (the warm start then adds one artificial column
     that lifts every negative basic value) all end at the LP's optimum."""

@@ -137,6 +137,26 @@ def test_nearly_coplanar_touching_sets(backend):
         assert sg.pseudo_distance(A + shift, np.zeros((1, 3)) + shift, backend=backend).value == pytest.approx(0.0, abs=1e-6)
 
 
+def test_a_point_a_nanometre_off_a_segments_end(backend):
+    # found by the property test below: the penetration LP's blocks mix entries of 1e-9 and 1, and the
+    # native simplex once reported one of them failed instead of feasible within its tolerance
+    A, B = np.full((1, 3), -1e-9), np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    assert sg.pseudo_distance(A, B, backend=backend).value == pytest.approx(0.0, abs=1e-7)
+
+
+def test_nearly_degenerate_sets_are_solved_as_highs_solves_them():
+    """Points on a lattice of 1 with offsets of 1e-9 and 1e-12 (coincident, nearly collinear and nearly
+    touching sets): the native backend's LPs fail on none of them (it once failed on about 2 %) and agree
+    with HiGHS."""
+    rng = np.random.default_rng(0)
+    values = np.array([0.0, 1e-9, -1e-9, 1e-12, 1.0, -1.0, 0.5, 2.0, -3.0])
+    for _ in range(800):
+        A, B = (rng.choice(values, size=(int(rng.integers(1, 6)), 3)) for _ in range(2))
+        shift = rng.choice(values, 3)
+        ours = sg.pseudo_distance(A + shift, B + shift)
+        assert ours.value == pytest.approx(sg.pseudo_distance(A + shift, B + shift, backend="highs").value, abs=1e-7)
+
+
 points = arrays(np.float64, st.tuples(st.integers(1, 5), st.just(3)), elements=st.floats(-5, 5))
 
 

@@ -22,7 +22,14 @@ decomposition) and solves each with a dense revised simplex:
 * the final basis refactorised (Gauss-Jordan with partial pivoting), its
   primal values and duals recomputed and checked: a reduced cost < 0 left
   by round-off is priced on, and a basis that round-off left infeasible
-  starts again from its own columns (at most `RESTARTS` times).
+  starts again from its own columns (at most `RESTARTS` times). If it is
+  still infeasible then, but by no more than phase 1 accepts as feasible
+  (the data's own round-off, e.g. entries of 1e-9 beside entries of 1), it
+  is taken with its values clipped to 0;
+* a block that fails all the same (a pivot on an entry barely above the
+  pivot tolerance can leave a basis too ill-conditioned to refactorise
+  feasibly) is solved once more from its start, pivoting only on entries
+  above `RESCUE_PIVOT_TOL`; if that fails too, the LP is reported failed.
 
 The solution is a vertex with its exact duals (``vertex_solutions``). It is
 meant for blocks of up to a few dozen rows (each block's work is dense);
@@ -44,6 +51,8 @@ DEGENERATE_RUN = 8
 PIVOTS_PER_SIZE = 50
 #: Fresh starts of a block whose basis round-off left infeasible, before it is reported failed.
 RESTARTS = 3
+#: Pivot tolerance (relative to the column's largest entry) of the second try of a block that failed with `TOL`.
+RESCUE_PIVOT_TOL = 1e-7
 #: Remembered last optimal bases (one per LP structure), for LPs solved without ``basic``.
 BASIS_CACHE_SIZE = 64
 
@@ -254,46 +263,54 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             for i in range(mk):
                 s = max(s, abs(T[i, j]))
             colnorm[j] = s
-        for j in range(width):
-            inbasis[j] = j < nk and hint[cols[j]]
         st, pv, max_pivots = 4, 0, pivots_per_size * width
-        for _ in range(RESTARTS):  # a basis that round-off left infeasible is started again from its own columns
-            _start(mk, width, T, rhs, nk, tol, tol_b, colnorm, basis, inbasis, Binv, work, xb, d)
-            # phase 1: minimise the artificials
+        for pivot_tol in (tol, RESCUE_PIVOT_TOL):  # a block that failed is solved again with the stricter pivot test
             for j in range(width):
-                cost[j] = 1.0 if j >= nk else 0.0
-            st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol, tol, degenerate_run, max_pivots - pv, basis, inbasis,
-                             Binv, work, xb, yb, d, colnorm)
-            pv += p
-            if st == 4:
-                continue
-            if st != 0:
+                inbasis[j] = j < nk and hint[cols[j]]
+            st = 4
+            for restart in range(RESTARTS):  # a basis that round-off left infeasible is started again from its columns
+                last = restart == RESTARTS - 1  # ... and on the last restart taken if it is feasible within tol_b * mk
+                _start(mk, width, T, rhs, nk, pivot_tol, tol_b, colnorm, basis, inbasis, Binv, work, xb, d)
+                # phase 1: minimise the artificials
+                for j in range(width):
+                    cost[j] = 1.0 if j >= nk else 0.0
+                st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol, pivot_tol, degenerate_run, max_pivots - pv, basis,
+                                 inbasis, Binv, work, xb, yb, d, colnorm)
+                pv += p
+                if st == 4 and not (last and _clipped(mk, xb, tol_b * mk)):
+                    continue
+                if st not in (0, 4):
+                    st = 3
+                    break
+                infeasibility = 0.0
+                for i in range(mk):
+                    if basis[i] >= nk:
+                        infeasibility += xb[i]
+                if infeasibility > tol_b * mk:
+                    st = 1
+                    break
+                pv += _drive_out(mk, nk, T, pivot_tol, colnorm, basis, inbasis, Binv, d)
+                _factor(mk, T, basis, Binv, work)
+                _values(mk, Binv, rhs, xb)
+                for i in range(mk):
+                    xb[i] = max(xb[i], 0.0) if basis[i] < nk else 0.0
+                # phase 2: the LP's costs; artificials never enter
+                for j in range(nk):
+                    cost[j] = c[cols[j]]
+                for j in range(nk, width):
+                    cost[j] = 0.0
+                st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol_c, pivot_tol, degenerate_run, max_pivots - pv, basis,
+                                 inbasis, Binv, work, xb, yb, d, colnorm)
+                pv += p
+                if st == 4 and last and _clipped(mk, xb, tol_b * mk):
+                    _duals(mk, Binv, cost, basis, yb)
+                    st = 0
+                if st != 4:
+                    break
+            if st == 4:  # out of restarts
                 st = 3
+            if st != 3:
                 break
-            infeasibility = 0.0
-            for i in range(mk):
-                if basis[i] >= nk:
-                    infeasibility += xb[i]
-            if infeasibility > tol_b * mk:
-                st = 1
-                break
-            pv += _drive_out(mk, nk, T, tol, colnorm, basis, inbasis, Binv, d)
-            _factor(mk, T, basis, Binv, work)
-            _values(mk, Binv, rhs, xb)
-            for i in range(mk):
-                xb[i] = max(xb[i], 0.0) if basis[i] < nk else 0.0
-            # phase 2: the LP's costs; artificials never enter
-            for j in range(nk):
-                cost[j] = c[cols[j]]
-            for j in range(nk, width):
-                cost[j] = 0.0
-            st, p = _iterate(mk, T, rhs, cost, nk, tol_b, tol_c, tol, degenerate_run, max_pivots - pv, basis, inbasis,
-                             Binv, work, xb, yb, d, colnorm)
-            pv += p
-            if st != 4:
-                break
-        if st == 4:  # out of restarts
-            st = 3
         pivots += pv
         if st > status:
             status = st
@@ -307,6 +324,18 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             y[row_order[r0 + i]] = sign[i] * yb[i]
     out[0] = status
     out[1] = pivots
+
+
+@helper
+def _clipped(m, xb, limit):
+    """True, with ``xb`` clipped to >= 0, when no value is below ``-limit`` (a basis feasible within the
+    tolerance phase 1 accepts); False, ``xb`` unchanged, otherwise."""
+    for i in range(m):
+        if xb[i] < -limit:
+            return False
+    for i in range(m):
+        xb[i] = max(xb[i], 0.0)
+    return True
 
 
 @helper
