@@ -207,21 +207,28 @@ def _plan_all(args, options):
     """Plan and verify every (object, grasp) task of the run; the rows, also written to --out."""
     entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only)
     tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
-    args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
         futures = [(k, pool.submit(run, name, grasp, options)) for k, name, grasp in tasks]
         for k, future in futures:
-            row = {**future.result(), "run": k}
-            rows.append(row)
-            print(f"{'run ' + str(k) + ' ' if args.runs > 1 else ''}{row['name']:32s} {row['grasp']:9s} "
-                  f"{'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  {row['reason'][:90]}", flush=True)
-    for grasp in args.grasp:
-        with open(args.out / f"{args.split}_{grasp}.jsonl", "w") as f:
-            for row in rows:
-                if row["grasp"] == grasp:
-                    f.write(json.dumps(row) + "\n")
+            rows.append({**future.result(), "run": k})
+            print_row(rows[-1], f"run {k} " if args.runs > 1 else "")
+    write_rows(rows, args.out, args.split)
     return rows
+
+
+def print_row(row, prefix=""):
+    """One line of a planned row: name, grasp, verified, time, reason."""
+    print(f"{prefix}{row['name']:32s} {row['grasp']:9s} {'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  "
+          f"{row['reason'][:90]}", flush=True)
+
+
+def write_rows(rows, out, split):
+    """The rows as ``out/<split>_<grasp>.jsonl``, one file per grasp type (what ``--rows`` reads)."""
+    out.mkdir(parents=True, exist_ok=True)
+    for grasp in sorted({r["grasp"] for r in rows}):
+        with open(out / f"{split}_{grasp}.jsonl", "w") as f:
+            f.writelines(json.dumps(r) + "\n" for r in rows if r["grasp"] == grasp)
 
 
 def _read_rows(out, split, grasps):

@@ -1,4 +1,4 @@
-"""Objects no benchmark holds: random_urdfs shapes outside the generalisation benchmark, at a size it does not use.
+"""Objects no benchmark holds: random_urdfs shapes outside the generalisation benchmark, at sizes it does not use.
 
 Usage::
 
@@ -10,11 +10,11 @@ pybullet_data's ``random_urdfs`` at 80 and 120 mm, and the household set six mor
 ``--count`` of the others (``numpy.random.default_rng(SEED).choice`` over the numbers neither uses),
 scales each to a largest extent of ``--size`` mm, plans each grasp type with the default options
 and verifies the plan on the true mesh as ``generalise.py`` does, then prints ``generalise.py``'s
-summary. Nothing of the planner is chosen on these objects: they check the test split's figures on
-shapes no session has looked at.
+summary. No planner setting is chosen on these objects: they check the test split's figures on
+other shapes, and (``--size``) at other sizes.
 
 The meshes come from the ``pybullet`` 3.2.7 wheel on PyPI (zlib licence, Bullet Physics), fetched
-with ``pip download pybullet==3.2.7 --no-deps`` into ``DIR`` unless ``--wheel`` names it, and are
+with ``pip download pybullet==3.2.7`` into ``DIR`` unless ``--wheel`` names it, and are
 written as STL (centred on their bounding box) under ``DIR/meshes``. Rows go to
 ``DIR/holdout_<grasp>.jsonl`` (default ``bench-out/holdout``).
 """
@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import argparse
 import io
-import json
+import math
 import subprocess
 import sys
 import warnings
@@ -38,13 +38,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import plan_row, summarise  # noqa: E402
+from generalise import plan_row, print_row, summarise, write_rows  # noqa: E402
 from objectset import MESHES, URDFS  # noqa: E402
 
 #: Seed of the draw (the benchmark's own draw used 2026).
 SEED = 1129
 #: The wheel the meshes come from.
-WHEEL = "pybullet==3.2.7"
+VERSION = "3.2.7"
 
 
 def unused_numbers() -> list[str]:
@@ -62,16 +62,18 @@ def draw(count: int) -> list[str]:
 
 
 def fetch_wheel(folder: Path) -> Path:
-    """The pybullet wheel in ``folder``, downloaded there with pip when it is not."""
-    found = sorted(folder.glob("pybullet-*.whl"))
-    if not found:
-        command = [sys.executable, "-m", "pip", "download", WHEEL, "--no-deps", "--quiet", "-d", str(folder)]
+    """The pybullet wheel in ``folder``, downloaded there with pip (no cache, no build) when it is not."""
+    pattern = f"pybullet-{VERSION}-*.whl"
+    if not any(folder.glob(pattern)):
+        command = [sys.executable, "-m", "pip", "download", f"pybullet=={VERSION}", "--no-deps", "--no-cache-dir",
+                   "--only-binary=:all:", "--quiet", "-d", str(folder)]
         if subprocess.run(command).returncode != 0:
-            raise SystemExit(f"could not download {WHEEL} (no network?): download it elsewhere and pass it with --wheel")
-        found = sorted(folder.glob("pybullet-*.whl"))
+            raise SystemExit(f"could not download pybullet {VERSION} (no network?): download its wheel elsewhere and "
+                             "pass it with --wheel")
+    found = sorted(folder.glob(pattern))
     if not found:
-        raise SystemExit(f"pip download {WHEEL} left no wheel in {folder}; pass one with --wheel")
-    return found[-1]
+        raise SystemExit(f"pip download left no pybullet {VERSION} wheel in {folder}; pass one with --wheel")
+    return found[0]
 
 
 def extract(wheel: Path, numbers, folder: Path) -> list[Path]:
@@ -84,7 +86,7 @@ def extract(wheel: Path, numbers, folder: Path) -> list[Path]:
             if not path.is_file():
                 member = f"pybullet_data/random_urdfs/{k}/{k}.obj"
                 if member not in z.namelist():
-                    raise SystemExit(f"{wheel} has no {member}: pass the {WHEEL} wheel with --wheel")
+                    raise SystemExit(f"{wheel} has no {member}: pass the pybullet {VERSION} wheel with --wheel")
                 data = z.read(member)
                 mesh = trimesh.load(io.BytesIO(data), file_type="obj", force="mesh")
                 mesh.apply_translation(-mesh.bounds.mean(axis=0))
@@ -111,8 +113,8 @@ def main(argv=None):
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "holdout", help="folder of the rows")
     args = parser.parse_args(argv)
-    if args.size <= 0:
-        parser.error(f"--size must be positive, got {args.size}")
+    if not (math.isfinite(args.size) and args.size > 0):
+        parser.error(f"--size must be a positive number of mm, got {args.size}")
     try:
         numbers = draw(args.count)
     except ValueError as exc:
@@ -125,11 +127,8 @@ def main(argv=None):
     with ProcessPoolExecutor(args.jobs) as pool:
         for row in pool.map(run, [str(p) for p, _ in tasks], [args.size] * len(tasks), [g for _, g in tasks]):
             rows.append(row)
-            print(f"{row['name']:24s} {row['grasp']:9s} {'ok' if row['verified'] else 'NO':3s} {row['time']:6.2f} s  "
-                  f"{row['reason'][:90]}", flush=True)
-    for grasp in args.grasp:
-        with open(args.out / f"holdout_{grasp}.jsonl", "w") as f:
-            f.writelines(json.dumps(r) + "\n" for r in rows if r["grasp"] == grasp)
+            print_row(row)
+    write_rows(rows, args.out, "holdout")
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
     print("\n".join(summary))
     return rows

@@ -105,14 +105,10 @@ def most_phalanges(hand, obj, table, options, samples, rolls, seed=0):
     for at in palm:
         for standoff in STANDOFFS:
             t = anchor + standoff * outward - R @ at  # (poses, 3)
-
-            def world(local):  # (g, n, 3) in the palm frame -> (poses, g, n) distances
-                w = np.einsum("pij,gnj->pgni", R, local) + t[:, None, None, :]
-                return obj.distance_grid(w.reshape(-1, 3)).reshape(w.shape[:3])
-
-            clear = ((world(palm[None]).min(axis=2) >= -options.max_penetration)
-                     & (world(axes).min(axis=2) >= hand.finger_radius - options.max_penetration))
-            touching = (world(power) < options.eps_c).sum(axis=2)
+            grid = obj.distance_grid
+            clear = ((grid.posed(palm[None], R, t).min(axis=2) >= -options.max_penetration)
+                     & (grid.posed(axes, R, t).min(axis=2) >= hand.finger_radius - options.max_penetration))
+            touching = (grid.posed(power, R, t) < options.eps_c).sum(axis=2)
             if clear.any():
                 best = max(best, int(touching[clear].max()))
     return best

@@ -279,7 +279,7 @@ API = [
     Case("GraspObject.contact_distance", "a NaN hand point", lambda tmp: so.ellipsoid().contact_distance([[np.nan, 0.0, 0.0]]), ValueError, "points contains NaN or inf"),
     Case("GraspObject.contact_distance", "2-D hand points", lambda tmp: so.ellipsoid().contact_distance([[0.0, 0.0]]), ValueError, "hand points must be an (n, 3) array in mm"),
     Case("GraspObject.distance_grid", "2-D hand points", lambda tmp: so.ellipsoid().distance_grid(np.zeros((6, 2))), ValueError, "points must have shape (..., 3)"),
-    Case("GraspObject.distance_grid", "posed: floors of the wrong length", lambda tmp: so.ellipsoid().distance_grid.posed(np.zeros((1, 4, 3)), np.eye(3)[None], np.zeros((1, 3)), floors=[0.0]), ValueError, "floors must have shape (4,)"),
+    Case("DistanceGrid.posed", "floors of the wrong length", lambda tmp: so.ellipsoid().distance_grid.posed(np.zeros((1, 4, 3)), np.eye(3)[None], np.zeros((1, 3)), floors=[0.0]), ValueError, "floors must have shape (4,)"),
     Case("GraspObject.scaled_contacts", "a point at the centre", lambda tmp: so.ellipsoid().scaled_contacts([[0.0, 0.0, 0.0]]), ValueError, "coincide with the object's centre"),
     Case("GraspObject.penetration", "a negative capsule radius", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), -1.0), ValueError, "radius must be a finite number > 0"),
     Case("GraspObject.penetration", "a radius that is a word", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), "thick"), TypeError, "radius must be a number"),

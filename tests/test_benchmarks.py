@@ -152,6 +152,20 @@ def test_holdout_draws_unused_shapes_and_plans_them(tmp_path, capsys):
         holdout.main(["--count", "2", "--wheel", str(wheel), "--out", str(tmp_path / "other")])
 
 
+def test_holdout_says_what_to_do_when_the_wheel_cannot_be_downloaded(tmp_path, monkeypatch):
+    from benchmarks import holdout
+
+    calls = []
+    monkeypatch.setattr(holdout.subprocess, "run", lambda command: calls.append(command) or SimpleNamespace(returncode=1))
+    with pytest.raises(SystemExit, match="could not download pybullet 3.2.7 .*--wheel"):
+        holdout.main(["--count", "1", "--out", str(tmp_path)])
+    (command,) = calls
+    assert "pybullet==3.2.7" in command and "--no-cache-dir" in command and command[-1] == str(tmp_path)
+    with pytest.raises(SystemExit):  # argparse's error for a size that is not a positive number
+        holdout.main(["--size", "nan", "--out", str(tmp_path)])
+    assert len(calls) == 1  # refused before anything is fetched
+
+
 def test_single_attempts_writes_every_attempt(tmp_path, capsys):
     from benchmarks import single_attempts
 

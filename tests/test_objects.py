@@ -614,6 +614,8 @@ def test_distance_grid_posed_reads_the_placed_points_and_cuts_a_set_at_its_first
     read = np.arange(30) <= first[..., None]
     assert below.any() and (~below).all(axis=2).any()  # sets cut and sets read whole
     assert np.array_equal(cut[read], values[read]) and np.all(cut[~read] == -np.inf)
+    # so the last point is at or above its floor exactly when every point of its set is (what a screen tests)
+    assert np.array_equal(cut[..., -1] >= floors[-1], (values >= floors).all(axis=2))
     with pytest.raises(ValueError, match=r"points must have shape \(g, m, 3\)"):
         grid.posed(local[0], R, t)
     with pytest.raises(ValueError, match="rotations and translations"):

@@ -33,6 +33,8 @@ from .._jit import helper, kernel
 BLOCKS = (8, 2)
 #: Added to the pruning margins: the facet values at a block's centre are rounded.
 _ROUND_OFF = 1e-6
+#: The pose `DistanceGrid.__call__` reads its points in.
+_IDENTITY, _ORIGIN = np.eye(3)[None], np.zeros((1, 3))
 
 
 class DistanceGrid:
@@ -108,36 +110,40 @@ class DistanceGrid:
         points = np.asarray(points, dtype=float)
         if points.shape[-1:] != (3,):
             raise ValueError(f"points must have shape (..., 3) (mm), got shape {points.shape}")
-        flat = points.reshape(-1, 3)
-        out = np.empty(len(flat))
-        _trilinear(self.values, self.origin, self.spacing, self.pad, flat, out)
+        flat = np.ascontiguousarray(points.reshape(1, -1, 3))
+        out = np.empty((1, 1, flat.shape[1]))  # one set in the identity pose: x * 1 + y * 0 + z * 0 + 0 is x
+        _posed(self.values, self.origin, self.spacing, self.pad, flat, _IDENTITY, _ORIGIN,
+               np.full(flat.shape[1], -np.inf), out)
         return out.reshape(points.shape[:-1])
 
     def posed(self, points, rotations, translations, floors=None) -> np.ndarray:
         """The bound at sets of points placed in many poses, with an optional cut for screens.
 
-        ``out[p, s, i]`` is the bound (as `__call__` gives it) at
-        ``rotations[p] @ points[s, i] + translations[p]``, without building
-        the placed points. With ``floors``, the points of each set are read
-        in order in each pose until one reads below its floor; the set's
-        later points then read -inf, not evaluated: a screen that rejects a
-        pose at its first point too deep puts its most selective points
-        first.
+        ``out[p, s, i]`` is the bound (as `__call__` gives it, up to the
+        placement's round-off) at ``rotations[p] @ points[s, i] +
+        translations[p]``, without building the placed points. With
+        ``floors``, the points of each set are read in order in each pose
+        until one reads below its floor (or its value or floor is NaN); the
+        set's later points then read -inf, not evaluated. So the last point
+        read of a set is at or above its floor exactly when every point
+        before it was: a screen that rejects a pose at its first point too
+        deep puts its most selective points first and tests the last.
 
         Parameters
         ----------
         points : (g, m, 3) array_like
             g sets of m points, in the poses' frame (mm).
         rotations : (n, 3, 3) array_like
+            Each pose's rotation (columns: its frame's axes in the world).
         translations : (n, 3) array_like
-            mm.
+            Each pose's origin (mm).
         floors : (m,) array_like, optional
             mm; default: no cut.
 
         Returns
         -------
         (n, g, m) float
-            mm.
+            mm; ``pad`` off the grid (and for NaN points), -inf after a cut.
 
         Raises
         ------
@@ -170,7 +176,7 @@ class DistanceGrid:
         if rotations.shape != (n, 3, 3) or translations.shape != (n, 3):
             raise ValueError(f"rotations and translations must have shapes (n, 3, 3) and (n, 3), got "
                              f"{rotations.shape} and {translations.shape}")
-        floors = np.full(points.shape[1], -np.inf) if floors is None else np.asarray(floors, dtype=float)
+        floors = np.full(points.shape[1], -np.inf) if floors is None else np.ascontiguousarray(floors, dtype=float)
         if floors.shape != points.shape[1:2]:
             raise ValueError(f"floors must have shape ({points.shape[1]},), one per point of a set, got {floors.shape}")
         out = np.empty((n, *points.shape[:2]))
@@ -179,49 +185,34 @@ class DistanceGrid:
 
 
 @kernel
-def _trilinear(values, origin, spacing, pad, points, out):
-    """``out[k]``: ``values`` interpolated linearly at ``points[k]``, ``pad`` off the grid."""
-    for k in range(points.shape[0]):
-        out[k] = _interpolate(values, origin, spacing, pad, points[k, 0], points[k, 1], points[k, 2])
-
-
-@kernel
 def _posed(values, origin, spacing, pad, points, rotations, translations, floors, out):
-    """``out[p, s, i]``: the grid at ``rotations[p] @ points[s, i] + translations[p]``; a set's points after
-    the first one below its floor (``floors[i]``) read -inf, not evaluated."""
+    """``out[p, s, i]``: ``values`` interpolated linearly at ``rotations[p] @ points[s, i] + translations[p]``
+    (mm), ``pad`` off the grid; a set's points after the first one not above its floor read -inf, not evaluated."""
+    nx, ny, nz = values.shape
     for p in range(rotations.shape[0]):
         R, t = rotations[p], translations[p]
         for s in range(points.shape[0]):
             cut = False
-            for i in range(points.shape[1]):
+            for k in range(points.shape[1]):
                 if cut:
-                    out[p, s, i] = -np.inf
+                    out[p, s, k] = -np.inf
                     continue
-                lx, ly, lz = points[s, i, 0], points[s, i, 1], points[s, i, 2]
-                x = lx * R[0, 0] + ly * R[0, 1] + lz * R[0, 2] + t[0]
-                y = lx * R[1, 0] + ly * R[1, 1] + lz * R[1, 2] + t[1]
-                z = lx * R[2, 0] + ly * R[2, 1] + lz * R[2, 2] + t[2]
-                value = _interpolate(values, origin, spacing, pad, x, y, z)
-                out[p, s, i] = value
-                cut = value < floors[i]
-
-
-@helper
-def _interpolate(values, origin, spacing, pad, px, py, pz):
-    """``values`` interpolated linearly at the point (node units from ``origin``), ``pad`` off the grid."""
-    nx, ny, nz = values.shape
-    x = (px - origin[0]) / spacing
-    y = (py - origin[1]) / spacing
-    z = (pz - origin[2]) / spacing
-    if not (0.0 <= x <= nx - 1 and 0.0 <= y <= ny - 1 and 0.0 <= z <= nz - 1):  # NaN too
-        return pad
-    i, j, m = min(int(x), nx - 2), min(int(y), ny - 2), min(int(z), nz - 2)
-    fx, fy, fz = x - i, y - j, z - m
-    c00 = values[i, j, m] * (1.0 - fx) + values[i + 1, j, m] * fx
-    c10 = values[i, j + 1, m] * (1.0 - fx) + values[i + 1, j + 1, m] * fx
-    c01 = values[i, j, m + 1] * (1.0 - fx) + values[i + 1, j, m + 1] * fx
-    c11 = values[i, j + 1, m + 1] * (1.0 - fx) + values[i + 1, j + 1, m + 1] * fx
-    return (c00 * (1.0 - fy) + c10 * fy) * (1.0 - fz) + (c01 * (1.0 - fy) + c11 * fy) * fz
+                lx, ly, lz = points[s, k, 0], points[s, k, 1], points[s, k, 2]
+                x = (lx * R[0, 0] + ly * R[0, 1] + lz * R[0, 2] + t[0] - origin[0]) / spacing  # node units
+                y = (lx * R[1, 0] + ly * R[1, 1] + lz * R[1, 2] + t[1] - origin[1]) / spacing
+                z = (lx * R[2, 0] + ly * R[2, 1] + lz * R[2, 2] + t[2] - origin[2]) / spacing
+                if not (0.0 <= x <= nx - 1 and 0.0 <= y <= ny - 1 and 0.0 <= z <= nz - 1):  # NaN too
+                    value = pad
+                else:
+                    i, j, m = min(int(x), nx - 2), min(int(y), ny - 2), min(int(z), nz - 2)
+                    fx, fy, fz = x - i, y - j, z - m
+                    c00 = values[i, j, m] * (1.0 - fx) + values[i + 1, j, m] * fx
+                    c10 = values[i, j + 1, m] * (1.0 - fx) + values[i + 1, j + 1, m] * fx
+                    c01 = values[i, j, m + 1] * (1.0 - fx) + values[i + 1, j, m + 1] * fx
+                    c11 = values[i, j + 1, m + 1] * (1.0 - fx) + values[i + 1, j + 1, m + 1] * fx
+                    value = (c00 * (1.0 - fy) + c10 * fy) * (1.0 - fz) + (c01 * (1.0 - fy) + c11 * fy) * fz
+                out[p, s, k] = value
+                cut = not value >= floors[k]  # a NaN value or floor cuts too
 
 
 @helper

@@ -567,10 +567,10 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     # the phalanx axes (which reject most poses) and the palm's skin points first, each with the depth that
     # rejects a pose: a pose and synergy value is read no further than its first point too deep
     n_axes = local.shape[1] - n_fingers - n_palm
-    order = np.r_[n_fingers + n_palm:local.shape[1], n_fingers:n_fingers + n_palm, :n_fingers]
+    reading = np.r_[n_fingers + n_palm:local.shape[1], n_fingers:n_fingers + n_palm, :n_fingers]
     floors = np.r_[np.full(n_axes, hand.finger_radius - options.max_penetration),
                    np.full(n_palm, -options.max_penetration), np.full(n_fingers, -np.inf)]
-    d = obj.distance_grid.posed(local[:, order], R, t, floors)  # (poses, g, points)
+    d = obj.distance_grid.posed(local[:, reading], R, t, floors)  # (poses, g, points)
     fingers = d[..., n_axes + n_palm:]
     # the last point with a floor is above it only when no point before it was below its own (see posed), and
     # the XYZ Euler angles of the palm must not be near their lock
