@@ -81,11 +81,12 @@ def extract(wheel: Path, numbers, folder: Path) -> list[Path]:
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
     with zipfile.ZipFile(wheel) as z:
+        members = set(z.namelist())
         for k in numbers:
             path = folder / f"{k}.stl"
             if not path.is_file():
                 member = f"pybullet_data/random_urdfs/{k}/{k}.obj"
-                if member not in z.namelist():
+                if member not in members:
                     raise SystemExit(f"{wheel} has no {member}: pass the pybullet {VERSION} wheel with --wheel")
                 data = z.read(member)
                 mesh = trimesh.load(io.BytesIO(data), file_type="obj", force="mesh")

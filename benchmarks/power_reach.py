@@ -101,11 +101,10 @@ def most_phalanges(hand, obj, table, options, samples, rolls, seed=0):
     R = roll_frames(normals, rolls)
     anchor = np.repeat(points, rolls, axis=0)
     outward = np.repeat(normals, rolls, axis=0)
-    best = -1
+    best, grid = -1, obj.distance_grid
     for at in palm:
         for standoff in STANDOFFS:
             t = anchor + standoff * outward - R @ at  # (poses, 3)
-            grid = obj.distance_grid
             clear = ((grid.posed(palm[None], R, t).min(axis=2) >= -options.max_penetration)
                      & (grid.posed(axes, R, t).min(axis=2) >= hand.finger_radius - options.max_penetration))
             touching = (grid.posed(power, R, t) < options.eps_c).sum(axis=2)
