@@ -135,15 +135,25 @@ def object_from_args(args):
     -------
     GraspObject
     """
+    import time
+
     from . import objects
 
     scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else None
-    if scale is None:
-        return objects.get(args.object)
-    if isinstance(args.object, str) and args.object.lower() in objects.BUILTINS:
+    builtin = args.object.lower() in objects.BUILTINS
+    if scale is not None and builtin:
         option = "--scale" if args.scale is not None else "--units"
         raise ValueError(f"{option} applies to object files; the built-in {args.object!r} is in millimetres already")
-    return objects.get(args.object, scale=scale)
+    talk = not builtin and not getattr(args, "quiet", False)
+    if talk:  # a mesh seen for the first time is decomposed, which can take a minute
+        print(f"loading {args.object} (a mesh new to the cache is cut into convex pieces first)", file=sys.stderr,
+              flush=True)
+    start = time.perf_counter()
+    obj = objects.get(args.object) if scale is None else objects.get(args.object, scale=scale)
+    if talk:
+        print(f"{obj.name}: {obj.n_pieces} convex piece(s) ({obj.info.get('method', '?')}, cache "
+              f"{obj.info.get('cache', '?')}), {time.perf_counter() - start:.1f} s", file=sys.stderr)
+    return obj
 
 
 def _plan(args) -> int:

@@ -88,6 +88,19 @@ def test_scale_and_units(tmp_path, capsys, units):
     assert "applies to object files" in capsys.readouterr().err
 
 
+def test_loading_a_file_says_what_it_is_doing(tmp_path, capsys):
+    """A file's decomposition can take a minute: the command says so before, and what it made after."""
+    path = write_capsule_cloud(tmp_path / "capsule.npy")
+    argv = ["plan", "--object", str(path), "--max-iter", "2", "--out", str(tmp_path / "out"), "--no-animation"]
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert f"loading {path} (a mesh new to the cache is cut into convex pieces first)" in err
+    assert "capsule.npy: 1 convex piece(s) (hull, cache " in err
+    assert main([*argv, "--quiet"]) == 1 and "loading" not in capsys.readouterr().err
+    assert main(["plan", "--object", "cup", "--max-iter", "2", "--out", str(tmp_path / "out"), "--no-animation"]) == 1
+    assert "loading" not in capsys.readouterr().err  # a built-in object is ready at once
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--scale", "0"], "expected a number > 0"),
     (["--scale", "nan"], "expected a number > 0"),

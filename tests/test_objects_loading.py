@@ -8,7 +8,7 @@ import trimesh
 
 import synergrasp as sg
 import synergrasp.objects as so
-from synergrasp.objects import loading
+from synergrasp.objects import decompose, loading
 from synergrasp.planner import PlannerOptions
 
 
@@ -167,6 +167,61 @@ def test_non_convex_mesh_is_decomposed_and_cached(tmp_path, cache, monkeypatch):
     monkeypatch.undo()  # the fallback was not cached: with CoACD back, it decomposes again
     monkeypatch.setenv("SYNERGRASP_CACHE", str(cache))
     assert so.load(path).info["method"] == "coacd"
+
+
+def two_boxes(gap):
+    """Two 40 mm cubes ``gap`` mm apart, in one mesh: CoACD's remeshing loops on gaps of about one voxel."""
+    a, b = trimesh.creation.box((40.0, 40.0, 40.0)), trimesh.creation.box((40.0, 40.0, 40.0))
+    return trimesh.util.concatenate([a, b.apply_translation([0.0, 0.0, 40.0 + gap])])
+
+
+def test_coacd_in_its_child_process_gives_coacds_own_parts():
+    """The same mesh and parameters give the parts of coacd.run_coacd called here, bit for bit."""
+    import coacd
+
+    mesh = hourglass_mesh()
+    params = {**loading.COACD_PARAMS, "max_convex_hull": 8, "max_ch_vertex": 64}
+    coacd.set_log_level("error")
+    here = coacd.run_coacd(coacd.Mesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)),
+                           **params)
+    child = decompose.run_coacd(mesh.vertices, mesh.faces, params, time_limit=120.0)
+    assert len(child) == len(here) >= 2
+    for ours, theirs in zip(child, here):
+        np.testing.assert_array_equal(ours, np.asarray(theirs[0], dtype=float))
+
+
+def test_a_decomposition_past_its_time_limit_is_stopped_and_the_mesh_clustered(monkeypatch):
+    """CoACD never finishes two cubes 10 mm apart: the child is killed at the time limit, and the object is made of
+    clusters of the solid the surface encloses, with a warning that names the limit; it covers both cubes."""
+    with pytest.raises(decompose.DecompositionTimeout, match="within 1 s"):
+        decompose.run_coacd(two_boxes(10.0).vertices, two_boxes(10.0).faces, dict(loading.COACD_PARAMS), time_limit=1.0)
+    monkeypatch.setattr(loading, "DECOMPOSITION_TIME_LIMIT", 1.0)
+    with pytest.warns(UserWarning, match="did not finish within 1 s.*DECOMPOSITION_TIME_LIMIT"):
+        obj = so.from_mesh(two_boxes(10.0), cache=False)
+    assert "CoACD timed out" in obj.info["method"]
+    assert obj.contains([[0.0, 0.0, 0.0], [0.0, 0.0, 50.0]]).all() and obj.extents == pytest.approx([40, 40, 90], abs=1)
+
+
+def test_a_failing_decomposition_process_says_why():
+    with pytest.raises(RuntimeError, match="CoACD failed: .*no_such_setting"):
+        decompose.run_coacd(box_mesh().vertices, box_mesh().faces, {"no_such_setting": 1}, time_limit=60.0)
+
+
+def test_vertices_no_face_uses_are_not_part_of_the_object():
+    """A stray vertex 5 m away, in a mesh made without trimesh's processing, neither inflates the object nor its grid."""
+    ball = trimesh.creation.icosphere(3, 40.0)
+    clean = so.from_mesh(ball, cache=False)
+    stray = so.from_mesh(trimesh.Trimesh(np.r_[ball.vertices, [[5000.0, 0.0, 0.0]]], ball.faces, process=False), cache=False)
+    assert stray.extents == pytest.approx(clean.extents) and stray.volume == pytest.approx(clean.volume)
+
+
+def test_duplicate_faces_are_dropped_without_talk_of_holes():
+    ball = trimesh.creation.icosphere(2, 40.0)
+    doubled = trimesh.Trimesh(ball.vertices, np.r_[ball.faces, ball.faces[:5]], process=False)
+    with pytest.warns(UserWarning, match="needed repair: 5 duplicate or degenerate faces dropped") as caught:
+        obj = so.from_mesh(doubled, cache=False)
+    assert not any("hole" in str(w.message) for w in caught)
+    assert obj.volume == pytest.approx(so.from_mesh(ball, cache=False).volume)
 
 
 def test_cache_can_be_disabled(cache):

@@ -35,6 +35,14 @@ def test_plan_takes_a_name_or_a_path(tmp_path):
         sg.plan("teapot")
 
 
+def test_a_plan_from_a_numpy_approach_saves_and_loads(tmp_path):
+    """The approach is recorded as plain numbers, whatever the array's dtype."""
+    for approach in (np.array([1, 0, 0]), np.array([0.0, 1.0, 0.0], dtype=np.float32)):
+        result = sg.plan("ellipsoid", "precision", approach=approach, max_iter=3)
+        loaded = sg.PlanResult.load(result.save(tmp_path / "plan.json"))
+        assert loaded.attempts[0]["direction"] == approach.astype(float).tolist()
+
+
 def test_every_attempt_keeps_its_status_trace(failed_plan, saved):
     assert not failed_plan.success and len(failed_plan.attempts) == 3
     for attempt in failed_plan.attempts:

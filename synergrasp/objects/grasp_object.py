@@ -23,6 +23,8 @@ from .scaled_contacts import ScaledContacts, scaled_contacts
 SURFACE_FACES = 20000
 #: How far (mm) that simplified surface may lie from the mesh.
 SURFACE_TOLERANCE = 0.1
+#: A given torque scale must lie within this factor of the object's bounding radius (a value in other units is refused).
+TORQUE_SCALE_RANGE = 100.0
 
 
 class GraspObject:
@@ -40,8 +42,9 @@ class GraspObject:
         from the surface point nearest the centroid towards the centroid of
         the piece it lies on. The sQ rays need c inside the object.
     torque_scale : float, optional
-        Characteristic length L dividing torques in the wrenches. Default:
-        the radius of the bounding sphere about c, ``max |v - c|`` over all
+        Characteristic length L (mm) dividing torques in the wrenches,
+        within a factor of `TORQUE_SCALE_RANGE` (100) of the default: the
+        radius of the bounding sphere about c, ``max |v - c|`` over all
         vertices (the semi-axis c = 50 mm for the paper's ellipsoid).
     name : str
         Display name.
@@ -68,7 +71,8 @@ class GraspObject:
     Raises
     ------
     ValueError
-        If there are no pieces, or a piece is non-finite or has no volume.
+        If there are no pieces, or a piece is non-finite or has no volume; a
+        ``center`` outside the object, or a ``torque_scale`` far from its size.
 
     Examples
     --------
@@ -114,10 +118,18 @@ class GraspObject:
                     "the sQ rays start there, so it must be inside; omit it to use the default (the volume centroid, "
                     "moved inside if needed)"
                 )
+        radius = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
         if torque_scale is None:
-            self.torque_scale = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
+            self.torque_scale = radius
         else:
             self.torque_scale = positive_scalar(torque_scale, "torque_scale")
+            if not radius / TORQUE_SCALE_RANGE <= self.torque_scale <= radius * TORQUE_SCALE_RANGE:
+                raise ValueError(
+                    f"torque_scale {self.torque_scale:g} is far from the size of {self.name}: it is a length in the "
+                    f"object's units (mm), and the default, the radius of its bounding sphere about the centre, is "
+                    f"{radius:.3g} mm (a value in metres, such as 0.04, is 40 mm). Give one within a factor of "
+                    f"{TORQUE_SCALE_RANGE:g} of it, or omit it"
+                )
         self.center.setflags(write=False)
 
     # ----------------------------------------------------------------- geometry

@@ -7,7 +7,11 @@
   the ``coacd`` package; ``COACD_PARAMS``: remeshed on a grid of at least 20
   voxels along the longest side and of voxels at most ``VOXEL_PITCH`` (12 mm)
   wide (`coacd_resolution`), then concavity threshold 0.07 with a light tree
-  search, about 4-10 s for a 10k-face mesh on 2 cores). A mesh that is not
+  search, about 4-10 s for a 10k-face mesh on 2 cores), run in a child
+  process (`run_coacd`): a mesh it does not finish within
+  ``DECOMPOSITION_TIME_LIMIT`` seconds (CoACD loops on some shapes, such as
+  two bodies a few mm apart) is decomposed from its surface samples like a
+  point cloud (below), with a warning. A mesh that is not
   watertight has no inside to decompose. A watertight mesh wound inward is turned outward first
   (`orient_outward`, with a warning). An open one is closed first where that is sound (`close_mesh`:
   seams welded, planar holes capped; ``info["repair"]`` says what changed)
@@ -56,6 +60,7 @@ import trimesh
 
 from .._checks import as_points, integer, positive_scalar
 from .convex import ConvexPiece, checked_hull
+from .decompose import DecompositionTimeout, run_coacd
 from .grasp_object import GraspObject
 from .repair import (
     MAX_CAP_FRACTION,
@@ -123,6 +128,10 @@ COACD_PARAMS = dict(
     decimate=True,
     seed=0,
 )
+#: Most seconds CoACD may take on one mesh (`run_coacd`; the slowest benchmark object, a mug with a
+#: handle, takes about a minute on 2 cores). A mesh it does not finish is clustered like a point
+#: cloud instead, with a warning.
+DECOMPOSITION_TIME_LIMIT = 300.0
 _CACHE_VERSION = 1
 
 
@@ -255,19 +264,12 @@ def coacd_resolution(size: float) -> int:
 
 
 def _decompose(mesh: trimesh.Trimesh, max_parts: int, max_vertices: int, params: dict) -> list[np.ndarray]:
-    import coacd
-
-    coacd.set_log_level("error")
-    parts = coacd.run_coacd(
-        coacd.Mesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)),
-        max_convex_hull=max_parts,
-        max_ch_vertex=max_vertices,
-        **params,
-    )
+    parts = run_coacd(mesh.vertices, mesh.faces, {**params, "max_convex_hull": max_parts, "max_ch_vertex": max_vertices},
+                      DECOMPOSITION_TIME_LIMIT)
     pieces = []
-    for vertices, _ in parts:
+    for vertices in parts:
         try:
-            pieces.append(_reduce(np.asarray(vertices, dtype=float), max_vertices, "part"))
+            pieces.append(_reduce(vertices, max_vertices, "part"))
         except ValueError:  # a flat sliver: no volume to contact
             continue
     if not pieces:
@@ -298,7 +300,15 @@ def _from_mesh(
         raise TypeError(f"mesh must be a trimesh.Trimesh or Scene, got {type(mesh).__name__}")
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} has no faces; load a point cloud with from_points instead")
+    faces = np.asarray(mesh.faces)
+    if faces.min() < 0 or faces.max() >= len(mesh.vertices):
+        raise ValueError(f"{what} has faces that name vertices it does not have (indices {faces.min()} to {faces.max()}, "
+                         f"{len(mesh.vertices)} vertices): the mesh is corrupt; repair or re-export it")
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
+    if len(np.unique(faces)) < len(vertices):  # vertices no face uses are not the object's surface
+        mesh = mesh.copy()
+        mesh.remove_unreferenced_vertices()
+        vertices = np.asarray(mesh.vertices, dtype=float)
     hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
@@ -331,6 +341,13 @@ def _from_mesh(
             return pieces, {**meta, "method": f"voxel closing: {meta['method']}"}
         try:
             return _decompose(mesh, max_parts, max_vertices, decomposition), {"method": "coacd"}
+        except DecompositionTimeout as exc:  # a shape CoACD loops on: the solid its surface encloses, clustered
+            samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
+            pieces, meta = _cluster_cloud(np.unique(np.vstack([vertices, samples]), axis=0), max_parts, max_vertices, what)
+            _warn(f"{what}: {exc}; its pieces are clusters of the solid its surface encloses instead "
+                  f"({meta['method']}). Check them (obj.piece_meshes()), or raise "
+                  "synergrasp.objects.loading.DECOMPOSITION_TIME_LIMIT and load it with cache=False")
+            return pieces, {**meta, "method": f"{meta['method']} (CoACD timed out)"}
         except Exception as exc:  # noqa: BLE001 - the hull is a usable fallback
             _warn(f"convex decomposition of {what} failed ({exc}); using its convex hull")
             return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)", "transient": True}
@@ -353,8 +370,10 @@ def _from_mesh(
     shown.apply_scale(scale)
     if repair is not None:
         repair = {**repair, "cap_area": repair["cap_area"] * scale**2, "volume": repair["volume"] * scale**3}
-        _warn(f"{what} is not watertight: {_describe(repair)}. Check the pieces (obj.piece_meshes()); "
-              "contacts on a filled hole are on surface the file does not have")
+        opened = repair["holes_filled"] or repair["welded_vertices"]  # else only duplicate or degenerate faces
+        _warn(f"{what} {'is not watertight' if opened else 'needed repair'}: {_describe(repair)}. "
+              "Check the pieces (obj.piece_meshes())"
+              + ("; contacts on a filled hole are on surface the file does not have" if repair["holes_filled"] else ""))
     elif refusal is not None:
         repair = {"method": "voxel closing", "reason": refusal, "filled_volume": meta.get("filled_volume", 0.0) * scale**3}
         _warn(f"{what} is not watertight and cannot be capped ({refusal}); it is closed "
@@ -822,6 +841,8 @@ def load(
             f"cannot load '{path}': unknown format {ext or '(no extension)'!r}; "
             f"supported extensions: {', '.join(SUPPORTED_FORMATS)}"
         )
+    if path.stat().st_size == 0:
+        raise ValueError(f"cannot load '{path}': the file is empty")
     name = name or path.name
     options = dict(name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
                    center=center, torque_scale=torque_scale, _source=str(path))

@@ -218,11 +218,12 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     else:
         queue = starts(hand, obj, grasp, opts, backend=solver)
         if approach is not None:
-            first = start_configuration(hand, obj, as_vector(approach, "approach", 3), opts.start_distance,
-                                        opts.start_clearance, palm_centred=grasp == "power")
+            direction = as_vector(approach, "approach", 3)
+            first = start_configuration(hand, obj, direction, opts.start_distance, opts.start_clearance,
+                                        palm_centred=grasp == "power")
             if grasp == "power":
                 first[6:] = wide
-            queue = itertools.chain([Start(first, "direction", {"direction": list(approach)})], queue)
+            queue = itertools.chain([Start(first, "direction", {"direction": direction.tolist()})], queue)
     physics = _validator(validate, obj, hand, solver)
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):
