@@ -4,7 +4,7 @@ Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
                                     [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
-                                    [--rows]
+                                    [--rows] [--urdf-sizes MM ...]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (269 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -20,6 +20,8 @@ after run); the verified count is then the median of the runs' counts, each run'
 figures pool the runs' plans. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
 ``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
 README summary; ``--rows`` plans nothing and summarises (and documents) the rows already there.
+``--urdf-sizes 60 150 --only urdf/`` plans the random_urdfs shapes at sizes the benchmark does not
+hold (each shape in its split), for a sweep of sizes on train.
 """
 
 from __future__ import annotations
@@ -41,7 +43,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from objectset import SPLITS, select  # noqa: E402
+from objectset import SPLITS, URDF_SIZES, select  # noqa: E402
 from verification import true_surface, verify  # noqa: E402
 
 ROOT = HERE.parent
@@ -77,10 +79,10 @@ def fidelity(obj, samples=2000):
     return float(gap.max()), float(np.percentile(gap, 95))
 
 
-def run(entry_name, grasp, options):
+def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES):
     """Plan and verify one object: a JSON-able row."""
     warnings.simplefilter("ignore")
-    (entry,) = [e for e in select("all") if e.name == entry_name]
+    (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
     return plan_row(entry.make(), grasp, options, name=entry.name, source=entry.source, split=entry.split)
 
 
@@ -192,9 +194,16 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help=f"only {', '.join(QUICK)}")
     parser.add_argument("--rows", action="store_true",
                         help="plan nothing: summarise (and with --docs, write the docs from) the rows already in --out")
+    parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
+                        help="sizes of the random_urdfs shapes (default: the benchmark's); with --only urdf/, a sweep "
+                             "of sizes, split by shape as the benchmark")
     args = parser.parse_args(argv)
     if args.runs < 1:
         parser.error(f"--runs must be at least 1, got {args.runs}")
+    if not all(size > 0 for size in args.urdf_sizes):
+        parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
+    if args.docs and tuple(args.urdf_sizes) != URDF_SIZES:
+        parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes only")
     options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
@@ -205,11 +214,12 @@ def main(argv=None):
 
 def _plan_all(args, options):
     """Plan and verify every (object, grasp) task of the run; the rows, also written to --out."""
-    entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only)
+    sizes = tuple(args.urdf_sizes)
+    entries = select("all" if args.quick else args.split, QUICK if args.quick else args.only, sizes)
     tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        futures = [(k, pool.submit(run, name, grasp, options)) for k, name, grasp in tasks]
+        futures = [(k, pool.submit(run, name, grasp, options, sizes)) for k, name, grasp in tasks]
         for k, future in futures:
             rows.append({**future.result(), "run": k})
             print_row(rows[-1], f"run {k} " if args.runs > 1 else "")

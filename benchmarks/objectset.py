@@ -264,8 +264,14 @@ def _urdf(path, size):
     return make
 
 
-def catalogue() -> list[Entry]:
+def catalogue(urdf_sizes=URDF_SIZES) -> list[Entry]:
     """Every object of the benchmark, in a fixed order (nothing is built until ``make()``).
+
+    Parameters
+    ----------
+    urdf_sizes : sequence of float
+        The sizes of the random_urdfs shapes (default `URDF_SIZES`; others for a sweep of sizes
+        outside the benchmark, the split unchanged since it goes by shape).
 
     Returns
     -------
@@ -289,7 +295,7 @@ def catalogue() -> list[Entry]:
     for name in _household_shape_names():
         entries.append(Entry(f"household/{name}", "household", f"household/{name}", from_household(name)))
     for path in sorted(URDFS.glob("*.stl")):
-        for size in URDF_SIZES:
+        for size in urdf_sizes:
             entries.append(Entry(f"urdf/{path.stem}@{size:g}", "urdf", f"urdf/{path.stem}", _urdf(path, size)))
     for family in FAMILIES:
         for index in range(PER_FAMILY):
@@ -310,7 +316,7 @@ def _household_shape_names():
     raise RuntimeError("household_objects() has no dict of shapes")
 
 
-def select(split="all", only=None) -> list[Entry]:
+def select(split="all", only=None, urdf_sizes=URDF_SIZES) -> list[Entry]:
     """The entries of one split (``"train"``, ``"test"`` or ``"all"``), optionally only some names.
 
     Parameters
@@ -318,6 +324,8 @@ def select(split="all", only=None) -> list[Entry]:
     split : str
     only : sequence of str, optional
         Names or name prefixes (``"urdf/"``) to keep.
+    urdf_sizes : sequence of float
+        See `catalogue`.
 
     Returns
     -------
@@ -325,7 +333,7 @@ def select(split="all", only=None) -> list[Entry]:
     """
     if split not in SPLITS + ("all",):
         raise ValueError(f"split must be one of {SPLITS + ('all',)}, got {split!r}")
-    chosen = [e for e in catalogue() if split == "all" or e.split == split]
+    chosen = [e for e in catalogue(urdf_sizes) if split == "all" or e.split == split]
     if only:
         chosen = [e for e in chosen if any(e.name == o or e.name.startswith(o) for o in only)]
     return chosen

@@ -98,6 +98,18 @@ def test_the_benchmark_has_over_200_objects_in_a_fixed_split_by_shape():
     assert [e.split for e in objectset.catalogue()] == [e.split for e in entries]  # the same split every time
 
 
+def test_a_sweep_of_urdf_sizes_keeps_each_shape_in_its_split(tmp_path, capsys):
+    swept = objectset.select("train", ["urdf/"], urdf_sizes=(60.0,))
+    usual = objectset.select("train", ["urdf/"])
+    assert {e.base for e in swept} == {e.base for e in usual} and all(e.name.endswith("@60") for e in swept)
+    obj = swept[0].make()
+    assert obj.mesh.extents.max() == pytest.approx(60.0)
+    for argv in (["--urdf-sizes", "0"], ["--urdf-sizes", "60", "--docs"]):
+        with pytest.raises(SystemExit):
+            generalise.main([*argv, "--out", str(tmp_path)])
+    assert "positive sizes" in capsys.readouterr().err
+
+
 def test_procedural_objects_are_seeded():
     a, b = objectset.select("all", ["procedural/blob_2"])[0].make(), objectset.select("all", ["procedural/blob_2"])[0].make()
     np.testing.assert_array_equal(a.mesh.vertices, b.mesh.vertices)
