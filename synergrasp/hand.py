@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import itertools
 import json
 import math
 from dataclasses import dataclass
@@ -41,6 +42,9 @@ from ._jit import kernel
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 
 POINT_KINDS = ("precision", "power")
+#: Most points of a grid over the synergy box (`SynergyHand.synergy_grid`): the paper's hand's
+#: 41 x 41 grid fits, a hand with many synergies gets fewer values per synergy.
+SYNERGY_GRID_POINTS = 2000
 
 _DEFAULT_FILE = "paper_hand.json"
 #: Skin points of a segment, for the status of a grasp of each kind: fractions along its axis, and
@@ -51,6 +55,15 @@ SKIN_AROUND = (-math.pi / 2, 0.0, math.pi / 2)
 #: Palm skin points besides the palm point P: the corners and edge midpoints of the palm box's
 #: front face, as fractions of its half extents along the palm frame's x and y.
 PALM_SKIN = tuple((sx, sy) for sx in (-1.0, 0.0, 1.0) for sy in (-1.0, 0.0, 1.0) if (sx, sy) != (0.0, 0.0))
+
+
+def _numbers(value) -> bool:
+    """Whether ``value`` is a number or (nested) lists or arrays of numbers: no strings, no booleans."""
+    if isinstance(value, np.ndarray):
+        return value.dtype.kind in "iuf"
+    if isinstance(value, (list, tuple)):
+        return all(_numbers(v) for v in value)
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
 def rotation_xyz(phi):
@@ -144,6 +157,8 @@ class _Spec:
 
     def array(self, data, key, field, shape):
         value = self.get(data, key, field)
+        if not _numbers(value):  # numpy would read "8" and true as numbers
+            self.fail(field, f"must be numbers of shape {shape}, got {value!r}")
         try:
             arr = np.array(value, dtype=float)
         except (TypeError, ValueError):
@@ -237,7 +252,9 @@ class SynergyHand:
         spec.known(data, ("name", "description", "actuated", "mean_pose", "synergies", "synergy_limits",
                           "finger_radius", "contact_offset", "palm", "fingers"), "")
         name = spec.get(data, "name", "name")
-        self.name = str(name)
+        if not isinstance(name, str) or not name:
+            spec.fail("name", f"must be a non-empty string, got {name!r}")
+        self.name = name
         self.actuated_names = spec.name_list(data, "actuated", "actuated")
         n_act = len(self.actuated_names)
         self.mean_pose = spec.array(data, "mean_pose", "mean_pose", (n_act,))
@@ -593,6 +610,42 @@ class SynergyHand:
         _hand_points(u, rotation_xyz(u[3:6]), rot, pos, self._palm_nodes, self._axes, self._q_z, nodes, weights,
                      upstream, frame, offset, points, jac)
         return points, (jac if jacobian else None)
+
+    def synergy_grid(self, steps, max_points=SYNERGY_GRID_POINTS):
+        """Synergy values on a grid over the synergy box, of at most ``max_points`` points.
+
+        ``steps`` values per synergy, the limits included, in `itertools.product` order; fewer
+        values per synergy (down to 2) where ``steps ** n_syn`` would exceed ``max_points``, and
+        past that (``2 ** n_syn > max_points``) ``max_points`` points drawn from the 2-value grid
+        with a fixed seed: the grid's cost does not grow exponentially with the synergies.
+
+        Parameters
+        ----------
+        steps : int
+            Values per synergy (at least 2).
+        max_points : int
+
+        Returns
+        -------
+        (g, n_syn) float
+
+        Examples
+        --------
+        >>> hand = SynergyHand.default()
+        >>> hand.synergy_grid(3).tolist()
+        [[-1.0, -1.0], [-1.0, 0.0], [-1.0, 1.0], [0.0, -1.0], [0.0, 0.0], [0.0, 1.0], [1.0, -1.0], [1.0, 0.0], [1.0, 1.0]]
+        >>> hand.synergy_grid(41).shape, hand.synergy_grid(41, max_points=100).shape
+        ((1681, 2), (100, 2))
+        """
+        per = int(steps)
+        while per > 2 and per**self.n_syn > max_points:
+            per -= 1
+        lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
+        levels = [a + np.linspace(0.0, 1.0, per) * (b - a) for a, b in zip(lo, hi)]
+        if per**self.n_syn <= max_points:
+            return np.array(list(itertools.product(*levels)))
+        picks = np.random.default_rng(0).integers(0, per, size=(max_points, self.n_syn))
+        return np.array([[levels[j][i] for j, i in enumerate(row)] for row in picks])
 
     def points(self, u, kind="precision"):
         """Hand points in the world frame.

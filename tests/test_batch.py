@@ -305,6 +305,11 @@ def test_worker_that_keeps_dying_is_recorded(tmp_path):
     assert row["status"] == "worker lost" and "died" in row["reason"]
 
 
+def test_a_local_cluster_starts_no_more_workers_than_tasks(tmp_path):
+    report = run(["ellipsoid"], ["precision"], tmp_path, workers=4, progress=False)
+    assert report.workers == 1 and report.rows[0]["success"]
+
+
 def test_plan_task_pins_blas_to_one_thread(tmp_path):
     env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
     code = (
@@ -410,3 +415,8 @@ def test_report_page(tmp_path, cluster):
     assert pictures[0].stat().st_mtime_ns == stamp  # reused, not drawn again
     with pytest.raises(ValueError, match="gallery must be"):
         write_report(tmp_path, gallery=-1)
+    (tmp_path / "results" / "cup" / "precision.json").write_text("garbage")  # damaged: named, not counted in silence
+    with pytest.warns(UserWarning, match=r"1 result file\(s\) .* could not be read .*results/cup/precision.json"):
+        write_report(tmp_path, gallery=0)
+    page = (tmp_path / "report.html").read_text()
+    assert page.count("<tr class=") == 2 and "1 result file(s) could not be read and are left out" in page

@@ -379,3 +379,34 @@ def test_points_and_skin_is_the_grasps_points_and_its_skin_from_one_pass(hand, k
 def test_skin_of_an_unknown_grasp_kind_is_refused(hand, call):
     with pytest.raises(ValueError, match="unknown kind of grasp 'pinch'"):
         getattr(hand, call)(np.zeros(hand.n_u), "pinch")
+
+
+def hand_with_synergies(k):
+    """The paper's hand with k - 2 more synergies that move nothing (zero columns)."""
+    data = SynergyHand.default().to_dict()
+    data["synergies"] = [row + [0.0] * (k - 2) for row in data["synergies"]]
+    data["synergy_limits"] += [[-1.0, 1.0]] * (k - 2)
+    return SynergyHand(data)
+
+
+@pytest.mark.parametrize("k, values", [(3, 12), (4, 6), (10, 2)])
+def test_a_grid_over_many_synergies_stays_small(k, values):
+    """41 values per synergy would be 41**k hand evaluations: fewer values per synergy keep the grid within its
+    bound, the limits included; past 2**k points it is a seeded draw from the 2-value grid."""
+    from synergrasp.hand import SYNERGY_GRID_POINTS
+
+    grid = hand_with_synergies(k).synergy_grid(41)
+    assert len(grid) <= SYNERGY_GRID_POINTS and grid.shape[1] == k
+    assert sorted(set(grid[:, -1])) == pytest.approx(np.linspace(-1.0, 1.0, values))
+    np.testing.assert_array_equal(grid, hand_with_synergies(k).synergy_grid(41))
+
+
+def test_a_hand_of_ten_synergies_plans(hand):
+    """Its starts and grids stay small (a 41**10 grid never finished); the power pre-shapes are the user's to give."""
+    import synergrasp as sg
+
+    many = hand_with_synergies(10)
+    assert sg.plan("ellipsoid", "precision", hand=many).success
+    with pytest.raises(ValueError, match="power_preshape and power_wide_preshape 10 values each, or None"):
+        sg.plan("ellipsoid", "power", hand=many)
+    assert sg.plan("ellipsoid", "power", hand=many, power_preshape=None, power_wide_preshape=None).success

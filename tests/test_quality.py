@@ -192,6 +192,17 @@ def test_bad_input(kwargs, error, match):
         sg.q_distance(args.pop("points"), args.pop("normals"), **args)
 
 
+@pytest.mark.parametrize("scale", [1e-200, 1e-6, 1e6, 1e154, 1e200])
+def test_the_q_distance_does_not_depend_on_the_units(scale, backend):
+    """Q is scale-invariant with the default torque scale (its square would overflow past about 1e154 or underflow
+    below 1e-154); lever arms that overflow are refused."""
+    P, N = sphere_grasp(np.random.default_rng(1), 5)
+    assert sg.q_distance(P * scale, N, backend=backend).value == pytest.approx(sg.q_distance(P, N, backend=backend).value,
+                                                                               rel=1e-9, abs=1e-12)
+    with pytest.raises(ValueError, match="lever arms .* overflow"):
+        sg.q_distance([[1e308, 0.0, 0.0], [1e308, 1.0, 0.0]], N[:2], center=[-1e308, 0.0, 0.0], backend=backend)
+
+
 def test_contacts_at_the_centre_need_a_torque_scale():
     with pytest.raises(ValueError, match="pass torque_scale"):
         sg.q_distance([[0, 0, 0.0]], [[0, 0, 1.0]])

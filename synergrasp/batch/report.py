@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import html
 import math
+import warnings
 from pathlib import Path
 
 from .._files import atomic_path
@@ -55,6 +56,12 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
     ValueError
         If ``gallery`` is negative.
 
+    Warns
+    -----
+    UserWarning
+        For result files that cannot be read (edited or damaged): the page
+        names them and leaves them out of its counts.
+
     Examples
     --------
     An output folder with one plan, written as `synergrasp.batch.run` would:
@@ -72,13 +79,18 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
     if not isinstance(gallery, int) or isinstance(gallery, bool) or gallery < 0:
         raise ValueError(f"gallery must be a whole number >= 0, got {gallery!r}")
     store = ResultStore(out)
-    rows, _ = store.scan()
+    rows, unreadable = store.scan()
     if not rows:
         raise FileNotFoundError(f"no batch results in '{store.results}': run `synergrasp batch OBJECTS... --out {out}` first")
+    unreadable = [path.relative_to(store.out).as_posix() for path in unreadable]
+    if unreadable:
+        warnings.warn(f"{len(unreadable)} result file(s) in '{store.out}' could not be read and are left out of the report "
+                      f"({', '.join(unreadable)}): `synergrasp batch` on the same folder plans them again", UserWarning,
+                      stacklevel=2)
     pictures = _gallery(store, rows, gallery, hand or SynergyHand.default())
     page = store.out / "report.html"
     with atomic_path(page) as tmp:
-        tmp.write_text(_page(store, rows, pictures), encoding="utf-8")
+        tmp.write_text(_page(store, rows, pictures, unreadable), encoding="utf-8")
     return page
 
 
@@ -113,15 +125,19 @@ def _cell(value) -> str:
     return html.escape(str(value))
 
 
-def _page(store, rows, pictures) -> str:
+def _page(store, rows, pictures, unreadable) -> str:
     e = html.escape
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>synergrasp batch: {e(str(store.out))}</title>"
              f"<style>{_STYLE}</style></head><body>",
              f"<h1>Batch report</h1><p>{len(rows)} tasks in <code>{e(str(store.out.resolve()))}</code>; "
-             "table: <a href='summary.csv'>summary.csv</a>.</p>",
-             "<h2>Per grasp type</h2><table><tr><th>grasp</th><th>tasks</th><th>grasps found</th><th>success</th>"
-             "<th>failed</th><th>timeouts</th><th>median s</th><th>p90 s</th><th>plans/s per worker</th>"
-             "<th>held in MuJoCo / validated</th></tr>"]
+             "table: <a href='summary.csv'>summary.csv</a>.</p>"]
+    if unreadable:
+        parts.append(f"<p class='unreadable'><b>{len(unreadable)} result file(s) could not be read and are left out</b> "
+                     f"(not counted below; <code>synergrasp batch</code> on the same folder plans them again): "
+                     f"{', '.join(f'<code>{e(name)}</code>' for name in unreadable)}.</p>")
+    parts.append("<h2>Per grasp type</h2><table><tr><th>grasp</th><th>tasks</th><th>grasps found</th><th>success</th>"
+                 "<th>failed</th><th>timeouts</th><th>median s</th><th>p90 s</th><th>plans/s per worker</th>"
+                 "<th>held in MuJoCo / validated</th></tr>")
     for s in grasp_summary(rows):
         held = f"{s['held']} / {s['validated']}" if s["validated"] else "-"
         parts.append(f"<tr><td>{e(s['grasp'])}</td><td>{s['tasks']}</td><td>{s['success']}</td>"

@@ -121,8 +121,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     out : str or Path
         Output folder (layout in `synergrasp.batch.store`); created if needed.
     workers : int, optional
-        Worker processes of the local cluster (one thread each); default the
-        number of CPUs. Not with ``scheduler``.
+        Worker processes of the local cluster (one thread each), at most one
+        per task; default the number of CPUs. Not with ``scheduler``.
     scheduler : str, optional
         Address of a running Dask scheduler (``tcp://host:8786``); its workers
         plan the tasks. Default: a ``LocalCluster`` on this machine's loopback.
@@ -234,6 +234,10 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
             raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     if options is not None and not isinstance(options, dict):
         raise TypeError(f"options must be a dict of synergrasp.plan keyword arguments, got {type(options).__name__}")
+    own = sorted(set(options or {}) & {"obj", "grasp", "backend", "progress"})
+    if own:
+        raise ValueError(f"options {own} are set by the batch itself: give the objects and grasp types as its "
+                         "arguments and the backend as backend=...; a batch reports its own progress")
     probe = ellipsoid()
     for grasp in dict.fromkeys(t.grasp for t in tasks):
         try:
@@ -337,6 +341,8 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     from tqdm import tqdm
 
     start = time.perf_counter()
+    if scheduler is None:  # no more local workers than tasks: each one costs a process start
+        workers = min(workers or os.cpu_count() or 1, len(todo))
     client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
     report.startup_s = time.perf_counter() - start
     futures, token = {}, uuid.uuid4().hex[:8]

@@ -38,7 +38,7 @@ from ..pseudo_distance import reset_regime_memory
 from .annealing import anneal, with_history
 from .attempt import Outcome, run_attempt
 from .options import GRASPS, AnnealingOptions, PlannerOptions
-from .reach import executable_reach
+from .reach import executable_reach, widest_opening
 from .result import PlanResult
 from .starts import Start, preshape, smallest_pinch, start_configuration, starts
 from .stop import CRITERION
@@ -50,9 +50,7 @@ METHODS = {"gradient": PlannerOptions, "annealing": AnnealingOptions}
 
 
 def hand_opening(hand):
-    """The hand's largest opening: the farthest a fingertip gets from the thumb tip (mm).
-
-    Taken over the corners and centre of the synergy box.
+    """The hand's largest opening: the farthest a fingertip gets from the thumb tip (mm), at `widest_opening`.
 
     Parameters
     ----------
@@ -62,13 +60,8 @@ def hand_opening(hand):
     -------
     float
     """
-    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    corners = np.array(np.meshgrid(*[(a, 0.5 * (a + b), b) for a, b in zip(lo, hi)])).reshape(hand.n_syn, -1).T
-    widest = 0.0
-    for z in corners:
-        tips = hand.points(np.r_[np.zeros(6), z], "precision")
-        widest = max(widest, float(np.linalg.norm(tips[1:] - tips[0], axis=1).max()))
-    return widest
+    tips = hand.points(np.r_[np.zeros(6), widest_opening(hand)], "precision")
+    return float(np.linalg.norm(tips[1:] - tips[0], axis=1).max())
 
 
 def _check_object(obj, hand):

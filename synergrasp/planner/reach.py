@@ -24,7 +24,6 @@ goes deepest.
 
 from __future__ import annotations
 
-import itertools
 import time
 from dataclasses import dataclass
 
@@ -127,7 +126,7 @@ def widest_opening(hand):
     """Synergy values of the hand's widest opening: the farthest fingertip from the thumb tip.
 
     Taken over the corners, edge midpoints and centre of the synergy limits'
-    box. For the paper's hand: (-1, 1), the fingers nearly flat and the thumb
+    box (`SynergyHand.synergy_grid` of 3 values per synergy). For the paper's hand: (-1, 1), the fingers nearly flat and the thumb
     spread away from them.
 
     Parameters
@@ -144,8 +143,7 @@ def widest_opening(hand):
     >>> widest_opening(SynergyHand.default()).tolist()
     [-1.0, 1.0]
     """
-    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    grid = np.array(list(itertools.product(*[(a, 0.5 * (a + b), b) for a, b in zip(lo, hi)])))
+    grid = hand.synergy_grid(3)
 
     def spread(z):
         tips = hand.points(np.r_[np.zeros(6), z], "precision")

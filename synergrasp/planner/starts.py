@@ -61,6 +61,8 @@ WRAP_SAMPLES = 64
 WRAP_ROLLS = 8
 #: Synergy values per synergy on the wrap seeds' grid (between the hand's limits).
 WRAP_GRID = 5
+#: Most synergy values on the wrap seeds' grid (the paper's hand: 5 x 5; more synergies get fewer values each).
+WRAP_GRID_POINTS = 128
 #: Gap (mm) between the palm point and the surface in a wrap seed.
 WRAP_STANDOFF = 2.0
 #: Wrap seeds per batch (a batch checks at most four times as many poses).
@@ -235,9 +237,7 @@ PARTNERS = (1, 2)
 
 def _aperture_table(hand, steps=41):
     """Synergy values on a grid and the fingertips' pad points there: (k, n_syn) and (k, n_fingers, 3)."""
-    grid = np.linspace(0.0, 1.0, steps)
-    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    z = np.array(list(itertools.product(*[a + grid * (b - a) for a, b in zip(lo, hi)])))
+    z = hand.synergy_grid(steps)
     return z, np.array([hand.points(np.r_[np.zeros(6), zi], "precision") for zi in z])
 
 
@@ -476,9 +476,7 @@ def _wrap_table(hand, steps=WRAP_GRID, fractions=6):
         palm point first), then points along every phalanx capsule's axis.
     k, p : int
     """
-    grid = np.linspace(0.0, 1.0, steps)
-    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    z = np.array(list(itertools.product(*[a + grid * (b - a) for a, b in zip(lo, hi)])))
+    z = hand.synergy_grid(steps, max_points=WRAP_GRID_POINTS)
     along = np.linspace(0.0, 1.0, fractions)[:, None, None]
     points = []
     for zi in z:
@@ -658,7 +656,9 @@ def preshape(hand, value):
     if value is None:
         return np.zeros(hand.n_syn)
     if len(value) != hand.n_syn:
-        raise ValueError(f"a power pre-shape needs one value per synergy ({hand.n_syn} for {hand.name}), got {value!r}")
+        raise ValueError(f"a power pre-shape needs one value per synergy ({hand.n_syn} for {hand.name}), got {value!r}: "
+                         f"give PlannerOptions' power_preshape and power_wide_preshape {hand.n_syn} values each, or "
+                         "None (the mean pose, respectively cupped starts only); the defaults are for two synergies")
     return np.clip(np.asarray(value, dtype=float), hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
 
 
