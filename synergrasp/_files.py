@@ -1,4 +1,4 @@
-"""Output files: atomic writes (a temporary file, then one rename) and writable folders."""
+"""Output files: atomic writes (a temporary file, then one rename), writable folders, image file names."""
 
 from __future__ import annotations
 
@@ -100,4 +100,27 @@ def writable_folder(path, what: str = "output folder") -> Path:
         if path.exists() and not path.is_dir():
             reason = "it is a file, not a folder"
         raise ValueError(f"cannot write to the {what} '{path}' ({reason}); choose a writable folder") from None
+    return path
+
+
+def image_path(path, suffixes=None) -> Path:
+    """``Path(path)``; ValueError unless its extension is an image format matplotlib writes (or one of ``suffixes``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    suffixes : list of str, optional
+        The extensions allowed (e.g. ``[".gif"]``); default matplotlib's.
+
+    Returns
+    -------
+    Path
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    path = Path(path)
+    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes())
+    if path.suffix.lower() not in known:
+        raise ValueError(f"cannot write '{path}': {path.suffix or 'no extension'} is not a supported format; "
+                         f"use one of {', '.join(known)}")
     return path

@@ -300,7 +300,7 @@ def main(argv=None) -> int:
         warnings.showwarning = _show_warning
         try:
             return args.func(args)
-        except (ValueError, TypeError, OSError) as exc:
+        except (ValueError, TypeError, OSError, ImportError) as exc:
             print(f"synergrasp: error: {_command_line_hint(str(exc))}", file=sys.stderr)
             return 2
 

@@ -20,7 +20,7 @@ from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from ._checks import integer  # noqa: E402
-from ._files import atomic_path  # noqa: E402
+from ._files import atomic_path, image_path  # noqa: E402
 
 __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
 
@@ -67,7 +67,7 @@ def plot_status(result, path, labels=None, attempts=None):
     ...     path.name, path.stat().st_size > 0
     ('status.png', True)
     """
-    path = _image_path(path)
+    path = image_path(path)
     return _save(status_figure(result, labels, attempts), path, dpi=120)
 
 
@@ -204,18 +204,6 @@ def _check(result=None, obj=None, hand=None):
             raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
 
 
-def _image_path(path, suffixes=None):
-    """``Path(path)``; ValueError unless its extension is an image format matplotlib writes (or one of ``suffixes``)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    path = Path(path)
-    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes())
-    if path.suffix.lower() not in known:
-        raise ValueError(f"cannot write '{path}': {path.suffix or 'no extension'} is not a supported format; "
-                         f"use one of {', '.join(known)}")
-    return path
-
-
 def _save(fig, path, dpi):
     """Lay out, write (atomically) and close a figure; returns ``Path(path)``."""
     fig.tight_layout()
@@ -304,7 +292,7 @@ def plot_poses(result, obj, hand, path, count=5):
     True
     """
     _check(result=result, obj=obj, hand=hand)
-    path = _image_path(path)
+    path = image_path(path)
     count = integer(count, "count", what="poses drawn")
     traj = np.asarray(result.trajectory)
     picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
@@ -373,7 +361,7 @@ def plot_grasps(plans, hand, path, columns=6):
     if not plans:
         raise ValueError("plot_grasps needs at least one (result, object, caption) triple")
     _check(hand=hand)
-    path = _image_path(path)
+    path = image_path(path)
     for i, plan in enumerate(plans):
         if not isinstance(plan, (tuple, list)) or len(plan) != 3:
             raise ValueError(f"plans[{i}] must be a (result, object, caption) triple")
@@ -436,7 +424,7 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     True
     """
     _check(result=result, obj=obj, hand=hand)
-    path = _image_path(path, [".gif"])
+    path = image_path(path, [".gif"])
     fps, max_frames = integer(fps, "fps"), integer(max_frames, "max_frames")
     traj = np.asarray(result.trajectory)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))

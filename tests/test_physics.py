@@ -14,7 +14,7 @@ import synergrasp as sg
 from synergrasp.cli import main
 from synergrasp.physics import (DIRECTIONS, PRESETS, Protocol, RenderingUnavailable, Validation, ball_pinch,
                                 build_model, hand_without, moving_joints, pinch_grasp, plot_validation, protocol,
-                                squeeze_targets, validate)
+                                render_still, squeeze_targets, validate)
 
 HAND = sg.SynergyHand.default()
 #: A palm pose away from the world frame, so that frame mistakes show.
@@ -142,6 +142,52 @@ def test_the_same_hand_40mm_back_does_not_hold(pinch, pinch_check):
     assert c.squeeze_z == pytest.approx(pinch_check.squeeze_z)  # the squeeze of the grasp itself
 
 
+def test_a_hand_touching_nothing_never_holds(pinch):
+    """A push too short to move a free object far is no verdict of holding: without contacts, no contact."""
+    u, box = pinch
+    c = validate(u, box, retreat=100.0, push_time=0.04)
+    assert (c.displacement < c.settings.max_displacement).all() and not c.contact_bodies
+    assert not c.held and c.outcome == "no contact" and "did not move it far enough to say" in c.reason
+
+
+def test_a_validation_is_the_same_whatever_was_solved_before(pinch):
+    """The squeeze's LPs start cold, as a plan's do: a plan in between changes nothing, bit for bit."""
+    u, box = pinch
+    first = validate(u, box)
+    sg.plan("cup", "precision", max_iter=20)
+    again = validate(u, box)
+    np.testing.assert_array_equal(first.squeeze_z, again.squeeze_z)
+    np.testing.assert_array_equal(first.displacement, again.displacement)
+
+
+def test_a_contact_on_a_phalanx_skin_is_squeezed(pinch):
+    """The planner reads a fingertip's contact anywhere on its distal phalanx's skin: a bead 2 mm off the index's
+    distal skin, beside it, is 20 mm from every hand point, and the squeeze takes the skin points instead of refusing."""
+    u, _ = pinch
+    skin, _, _, _ = HAND.skin_and_jacobian(u)
+    k = HAND.point_labels("power").index("I3")
+    a, b = HAND.segments(u).capsules[k]
+    point = skin[k][0]  # at the segment's start, on a lateral side
+    foot = a + (point - a) @ (b - a) / ((b - a) @ (b - a)) * (b - a)
+    outward = (point - foot) / np.linalg.norm(point - foot)
+    bead = sg.objects.from_mesh(trimesh.creation.icosphere(3, 5.0).apply_translation(point + 7.0 * outward), name="bead",
+                                cache=False)
+    points = np.vstack([HAND.points(u, kind) for kind in ("precision", "power")])
+    assert bead.contact_distance(points).value.min() > 5.0
+    z, labels = squeeze_targets(HAND, bead, u, 10.0, 5.0)
+    assert labels and set(labels) <= set(HAND.point_labels("power")) and not np.array_equal(z, u[6:])
+
+
+def test_a_plan_keeps_searching_past_a_grasp_the_simulation_refuses(monkeypatch):
+    def refuse(*args, **kwargs):
+        raise ValueError("no hand point is within 5 mm")
+
+    monkeypatch.setattr(sg.physics, "validate", refuse)
+    result = sg.plan("ellipsoid", "precision", validate=True, restarts=2)
+    assert result.success and result.held is False
+    assert all(a["physics"] == "not simulated: no hand point is within 5 mm" for a in result.attempts if "held" in a)
+
+
 def test_ball_pinch_slips_without_either_finger():
     u, ball = ball_pinch(HAND, **POSE)
     two = hand_without(HAND, "M", "R", "L")
@@ -193,7 +239,9 @@ def test_configuration_away_from_the_object_is_refused(pinch):
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
-    (dict(mu=-1.0), ValueError, "mu must be a number > 0"),
+    (dict(mu=-1.0), ValueError, "mu must be a finite number > 0"),
+    (dict(push_time=np.inf), ValueError, "push_time must be a finite number > 0"),
+    (dict(squeeze=np.inf), ValueError, "squeeze must be a finite number > 0"),
     (dict(friction=0.5), ValueError, "unknown protocol settings"),
     (dict(preset="isaac"), ValueError, "unknown protocol preset"),
     (dict(measure_from="start"), ValueError, "measure_from"),
@@ -225,6 +273,14 @@ def test_missing_mujoco_names_the_extra(pinch, monkeypatch):
     monkeypatch.setitem(sys.modules, "mujoco", None)  # `import mujoco` now raises ImportError
     with pytest.raises(ImportError, match=r'pip install "synergrasp\[sim\]"'):
         validate(*pinch)
+
+
+def test_a_rendering_backend_that_is_not_there_is_named():
+    code = "from synergrasp.physics import mujoco_module; mujoco_module()"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env={**os.environ, "MUJOCO_GL": "no-such-gl"}, cwd=Path(__file__).resolve().parents[1])
+    assert run.returncode != 0 and "ImportError: importing mujoco failed with MUJOCO_GL='no-such-gl'" in run.stderr
+    assert "unset MUJOCO_GL" in run.stderr
 
 
 def test_importing_synergrasp_does_not_import_mujoco():
@@ -261,6 +317,23 @@ def test_protocol_settings_round_trip():
 def test_figure_shows_each_direction(pinch_check, tmp_path):
     path = plot_validation(pinch_check, tmp_path / "v.png")
     assert path.stat().st_size > 10_000
+
+
+def test_figures_refuse_what_they_cannot_draw(pinch, pinch_check, tmp_path):
+    """Checked before anything is drawn: the file's format, the validation itself, the object and hand it was of,
+    and a still larger than MuJoCo's offscreen buffer."""
+    _, box = pinch
+    with pytest.raises(ValueError, match="no extension is not a supported format"):
+        plot_validation(pinch_check, tmp_path / "figure")
+    with pytest.raises(TypeError, match="validation must be a Validation"):
+        plot_validation(pinch_result(*pinch), tmp_path / "v.png")
+    with pytest.raises(ValueError, match="not of 'cup'"):
+        render_still(pinch_check, sg.objects.get("cup"), tmp_path / "s.png")
+    with pytest.raises(ValueError, match=r"larger than MuJoCo's offscreen buffer \(1280 x 960\)"):
+        render_still(pinch_check, box, tmp_path / "s.png", width=5000, height=5000)
+    with pytest.raises(ValueError, match="width must be a whole number of pixels"):
+        render_still(pinch_check, box, tmp_path / "s.png", width=0)
+    assert not list(tmp_path.iterdir())
 
 
 def test_still_without_opengl_says_what_to_set(tmp_path):

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._files import atomic_path
+from .._files import atomic_path, image_path
 from ..hand import SynergyHand
 from .protocol import Protocol
 from .simulate import build_model
@@ -39,6 +39,8 @@ def plot_validation(validation, path):
     Path
         ``path``.
     """
+    path = image_path(path)
+    _check_validation(validation)
     plt = _pyplot()
     v = validation
     p = v.settings
@@ -96,9 +98,26 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
     RenderingUnavailable
         If MuJoCo cannot render offscreen here (set ``MUJOCO_GL=egl`` or
         ``MUJOCO_GL=osmesa`` before starting Python).
+    ValueError
+        For a path that is not an image file, a size beyond MuJoCo's offscreen
+        buffer, or an object or hand other than those validated.
     """
+    path = image_path(path)
+    _check_validation(validation)
     hand = SynergyHand.default() if hand is None else hand
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
+    if validation.object_name != obj.name or validation.hand_name != hand.name:
+        raise ValueError(f"the validation is of {validation.object_name!r} with hand {validation.hand_name!r}, not of "
+                         f"{obj.name!r} with {hand.name!r}: pass the object and hand it validated")
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ValueError(f"{name} must be a whole number of pixels >= 1, got {value!r}")
     mujoco, model, scene = build_model(hand, obj, validation.u, Protocol(**validation.protocol))
+    most = (int(model.vis.global_.offwidth), int(model.vis.global_.offheight))
+    if width > most[0] or height > most[1]:
+        raise ValueError(f"a still of {width} x {height} pixels is larger than MuJoCo's offscreen buffer "
+                         f"({most[0]} x {most[1]}); ask for at most that")
     data = mujoco.MjData(model)
     angles = validation.joint_angles or hand.joint_angles(validation.u)
     for name in scene.joints:
@@ -126,6 +145,13 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
     with atomic_path(path) as tmp:
         _pyplot().imsave(tmp, pixels)
     return Path(path)
+
+
+def _check_validation(validation):
+    from .result import Validation
+
+    if not isinstance(validation, Validation):
+        raise TypeError(f"validation must be a Validation (sg.validate's result), got {type(validation).__name__}")
 
 
 def _pyplot():

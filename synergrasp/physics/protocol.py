@@ -113,14 +113,17 @@ class Protocol:
     def __post_init__(self):
         positive = ("mu", "density", "acceleration", "push_time", "max_displacement", "max_rotation",
                     "squeeze", "contact_distance", "kp", "squeeze_time", "max_speed", "timestep", "impratio")
+        unbounded = ("max_displacement", "max_rotation", "max_speed", "max_penetration")  # inf: no such check
         for name in positive:
             value = getattr(self, name)
-            if not _real(value) or not value > 0:
-                raise ValueError(f"protocol setting {name} must be a number > 0, got {value!r}")
+            if not _real(value) or not value > 0 or (name not in unbounded and value == math.inf):
+                raise ValueError(f"protocol setting {name} must be a {'' if name in unbounded else 'finite '}number > 0, "
+                                 f"got {value!r}")
         for name in ("torsional_friction", "joint_damping", "settle_time", "settle_damping", "max_penetration"):
             value = getattr(self, name)
-            if not _real(value) or not value >= 0:  # max_penetration may be inf: no overlap check
-                raise ValueError(f"protocol setting {name} must be a number >= 0, got {value!r}")
+            if not _real(value) or not value >= 0 or (name not in unbounded and value == math.inf):
+                raise ValueError(f"protocol setting {name} must be a {'' if name in unbounded else 'finite '}number >= 0, "
+                                 f"got {value!r}")
         if self.mass is not None and (not _real(self.mass) or not 0 < self.mass < math.inf):
             raise ValueError(f"protocol setting mass must be None or a finite number > 0 (kg), got {self.mass!r}")
         if self.measure_from not in _REFERENCES:

@@ -7,6 +7,7 @@ of one grasp (`simulate`); `synergrasp.physics.validate` prepares its inputs.
 from __future__ import annotations
 
 import contextlib
+import os
 
 import numpy as np
 
@@ -40,12 +41,18 @@ def mujoco_module():
     Raises
     ------
     ImportError
-        If MuJoCo is not installed; the message says how to install it.
+        If MuJoCo is not installed (the message says how to install it), or
+        cannot be imported with the rendering backend ``MUJOCO_GL`` names.
     """
     try:
         import mujoco
     except ImportError as exc:
         raise ImportError(f"physics validation needs the mujoco package: {INSTALL_HINT}") from exc
+    except Exception as exc:  # noqa: BLE001 - MUJOCO_GL names a rendering library that is not there
+        raise ImportError(
+            f"importing mujoco failed with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} ({type(exc).__name__}: {exc}): "
+            "that rendering backend is not installed; unset MUJOCO_GL (validation itself renders nothing) or install "
+            "it (egl: libEGL, osmesa: libOSMesa)") from exc
     return mujoco
 
 
@@ -334,13 +341,14 @@ class _Simulation:
         moved = displacement >= p.max_displacement
         turned = rotation >= p.max_rotation
         failed = moved | turned
+        where = ", ".join(DIRECTIONS[k] for k in np.flatnonzero(failed))
+        if not contacts:  # whatever the pushes did: a push too short or too weak can leave a free object in place
+            lost = f" (lost along {where})" if where else " (the pushes did not move it far enough to say)"
+            return "no contact", f"no contact after the squeeze: the hand does not touch the object{lost}"
         if not failed.any():
             k = int(np.argmax(displacement))
             return "held", (f"held along all six directions (largest displacement {displacement[k]:.2f} mm along "
                             f"{DIRECTIONS[k]}, largest rotation {rotation.max():.2f} deg)")
-        where = ", ".join(DIRECTIONS[k] for k in np.flatnonzero(failed))
-        if not contacts:
-            return "no contact", f"no contact after the squeeze: the hand does not touch the object (lost along {where})"
         if moved.any():
             k = int(np.flatnonzero(moved)[0])
             return "slip", (f"slipped under the push along {where}: moved {displacement[k]:.1f} mm along {DIRECTIONS[k]} "

@@ -7,7 +7,8 @@ import time
 import numpy as np
 
 from ..hand import rotation_xyz
-from ..planner import PlanResult, hand_and_object
+from ..lp import get_backend
+from ..planner import PlanResult, forget_warm_starts, hand_and_object
 from .protocol import protocol as make_protocol
 from .result import Validation
 from .simulate import mujoco_module, simulate
@@ -58,7 +59,9 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """The synergies closed a step past ``u``: each contact pushed into the object.
 
     The hand points (fingertips, phalanx and palm points) closer than
-    ``contact_distance`` to the object are the contacts. The direction of the
+    ``contact_distance`` to the object are the contacts; if none is, the
+    skin points of the phalanges and the palm (`SynergyHand.skin_and_jacobian`,
+    where the planner also reads contacts), labelled by their segment. The direction of the
     step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
     the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
     the object's inward normal at the point nearest to it), and its length
@@ -112,6 +115,14 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     points, jacobians = np.vstack(points), np.vstack(jacobians)
     near = obj.contact_distance(points, backend=backend)
     contact = near.value < contact_distance
+    if not contact.any():  # the planner also reads a fingertip's contact anywhere on its distal phalanx's skin
+        skin, palm, skin_jac, palm_jac = hand.skin_and_jacobian(u)
+        points = np.vstack([skin.reshape(-1, 3), palm])
+        jacobians = np.vstack([skin_jac.reshape(-1, 3, hand.n_u), palm_jac])[:, :, 6:]
+        labels = [segment for segment in hand.point_labels("power")[:-1] for _ in range(skin.shape[1])]
+        labels += ["P"] * len(palm)
+        near = obj.contact_distance(points, backend=backend)
+        contact = near.value < contact_distance
     if not contact.any():
         raise ValueError(
             f"no hand point is within {contact_distance:g} mm of {obj.name!r} (nearest {near.value.min():.1f} mm): "
@@ -208,6 +219,7 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
             raise ValueError(f"u must have shape ({hand.n_u},) for hand {hand.name!r} ({hand.u_labels}), got {u.shape}")
         if not np.isfinite(u).all():
             raise ValueError("u contains NaN or inf")
+    forget_warm_starts(get_backend(backend), obj)  # the squeeze's LPs start cold: the same verdict in any process
     z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
     placed = u.copy()
     placed[:3] -= retreat * rotation_xyz(u[3:6])[:, 2]

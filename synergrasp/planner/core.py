@@ -26,6 +26,7 @@ import itertools
 import os
 import time
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -317,7 +318,13 @@ def _validator(validate, obj, hand, backend):
     # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
     mujoco_module()
     protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
-    return lambda u: simulate(u, obj, hand=hand, backend=backend, **settings)
+    def check(u):
+        try:
+            return simulate(u, obj, hand=hand, backend=backend, **settings)
+        except ValueError as exc:  # a grasp the simulation refuses (e.g. no hand point near enough to squeeze)
+            return SimpleNamespace(held=False, reason=f"not simulated: {exc}")
+
+    return check
 
 
 def _failure(attempts, grasp, pinch, eps_c):
