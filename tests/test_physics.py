@@ -312,6 +312,8 @@ def test_protocol_settings_round_trip():
     for p in (*PRESETS.values(), protocol(mu=0.5, mass=0.2, max_penetration=float("inf"))):
         assert Protocol(**json.loads(json.dumps(p.to_dict()))) == p
     assert protocol("dexgraspbench", mu=0.3).name == "custom"
+    numpy_count = protocol(noslip_iterations=np.int64(3))  # a numpy integer is an integer
+    assert type(numpy_count.noslip_iterations) is int and json.dumps(numpy_count.to_dict())
 
 
 def test_figure_shows_each_direction(pinch_check, tmp_path):

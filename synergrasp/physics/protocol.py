@@ -128,8 +128,10 @@ class Protocol:
             raise ValueError(f"protocol setting mass must be None or a finite number > 0 (kg), got {self.mass!r}")
         if self.measure_from not in _REFERENCES:
             raise ValueError(f"protocol setting measure_from must be one of {_REFERENCES}, got {self.measure_from!r}")
-        if isinstance(self.noslip_iterations, bool) or not isinstance(self.noslip_iterations, int) or self.noslip_iterations < 0:
+        if (isinstance(self.noslip_iterations, bool) or not isinstance(self.noslip_iterations, numbers.Integral)
+                or self.noslip_iterations < 0):
             raise ValueError(f"protocol setting noslip_iterations must be an int >= 0, got {self.noslip_iterations!r}")
+        object.__setattr__(self, "noslip_iterations", int(self.noslip_iterations))
         for name, size in (("solref", 2), ("solimp", 3)):
             value = getattr(self, name)
             if (not isinstance(value, (tuple, list)) or len(value) != size
