@@ -18,7 +18,7 @@ taxonomy of why every failed attempt ended. With ``--runs R`` every object is pl
 after run); the verified count is then the median of the runs' counts, each run's count beside it
 (plan times near the time limit move a few objects between runs on a loaded machine), and the other
 figures pool the runs' plans. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
-``bench-out/generalise``); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
+``bench-out/generalise``, ``bench-out/generalise-sizes`` for a sweep of sizes); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
 README summary; ``--rows`` plans nothing and summarises (and documents) the rows already there.
 ``--urdf-sizes 60 150 --only urdf/`` plans the random_urdfs shapes at sizes the benchmark does not
 hold (each shape in its split), for a sweep of sizes on train.
@@ -188,7 +188,9 @@ def main(argv=None):
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--runs", type=int, default=1, help="plan every object this many times (a median count)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "generalise", help="folder of the rows")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="folder of the rows (default bench-out/generalise, and bench-out/generalise-sizes for "
+                             "--urdf-sizes other than the benchmark's)")
     parser.add_argument("--docs", action="store_true",
                         help=f"write {PAGE.relative_to(ROOT)}, its figure and the README summary")
     parser.add_argument("--quick", action="store_true", help=f"only {', '.join(QUICK)}")
@@ -202,8 +204,12 @@ def main(argv=None):
         parser.error(f"--runs must be at least 1, got {args.runs}")
     if not all(size > 0 for size in args.urdf_sizes):
         parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
-    if args.docs and tuple(args.urdf_sizes) != URDF_SIZES:
+    args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
+    sweep = tuple(args.urdf_sizes) != URDF_SIZES
+    if args.docs and sweep:
         parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes only")
+    if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
+        args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise")
     options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]

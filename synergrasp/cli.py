@@ -136,6 +136,7 @@ def object_from_args(args):
     GraspObject
     """
     import time
+    from pathlib import Path
 
     from . import objects
 
@@ -144,7 +145,7 @@ def object_from_args(args):
     if scale is not None and builtin:
         option = "--scale" if args.scale is not None else "--units"
         raise ValueError(f"{option} applies to object files; the built-in {args.object!r} is in millimetres already")
-    talk = not builtin and not getattr(args, "quiet", False)
+    talk = not builtin and Path(args.object).expanduser().is_file() and not getattr(args, "quiet", False)
     if talk:  # a mesh seen for the first time is decomposed, which can take a minute
         print(f"loading {args.object} (a mesh new to the cache is cut into convex pieces first)", file=sys.stderr,
               flush=True)

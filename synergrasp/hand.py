@@ -624,6 +624,7 @@ class SynergyHand:
         steps : int
             Values per synergy (at least 2).
         max_points : int
+            Most rows of the grid (at least 1).
 
         Returns
         -------
@@ -637,6 +638,9 @@ class SynergyHand:
         >>> hand.synergy_grid(41).shape, hand.synergy_grid(41, max_points=100).shape
         ((1681, 2), (100, 2))
         """
+        for name, value, least in (("steps", steps, 2), ("max_points", max_points, 1)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+                raise ValueError(f"{name} must be a whole number >= {least}, got {value!r}")
         per = int(steps)
         while per > 2 and per**self.n_syn > max_points:
             per -= 1

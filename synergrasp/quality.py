@@ -281,10 +281,13 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
         raise ValueError("the contacts' lever arms (points - center) overflow the float range: bring the points and the "
                          "centre nearer (the Q distance does not depend on where the object is)")
     if torque_scale is None:
-        top = float(np.abs(arm).max())  # the largest |p_i - c|, scaled so that its square neither overflows nor underflows
+        top = float(np.abs(arm).max())  # the largest lever arm component
         if top <= 0:
             raise ValueError("every contact lies at the centre, so the default torque_scale is 0; pass torque_scale")
-        L = top * float(np.sqrt(((arm / top) ** 2).sum(axis=1).max()))
+        with np.errstate(over="ignore", under="ignore"):
+            L = float(np.sqrt((arm * arm).sum(axis=1).max()))  # the largest |p_i - c|
+        if not 0 < L < np.inf:  # its square overflowed or underflowed: the same length, scaled
+            L = top * float(np.sqrt(((arm / top) ** 2).sum(axis=1).max()))
     else:
         L = positive_scalar(torque_scale, "torque_scale")
     return arm, nhat, length, mu, c, L

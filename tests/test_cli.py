@@ -99,6 +99,8 @@ def test_loading_a_file_says_what_it_is_doing(tmp_path, capsys):
     assert main([*argv, "--quiet"]) == 1 and "loading" not in capsys.readouterr().err
     assert main(["plan", "--object", "cup", "--max-iter", "2", "--out", str(tmp_path / "out"), "--no-animation"]) == 1
     assert "loading" not in capsys.readouterr().err  # a built-in object is ready at once
+    assert main(["plan", "--object", "elipsoid", "--out", str(tmp_path / "out")]) == 2
+    assert "loading" not in capsys.readouterr().err  # a misspelt name is no file to load
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -389,7 +389,7 @@ def hand_with_synergies(k):
     return SynergyHand(data)
 
 
-@pytest.mark.parametrize("k, values", [(3, 12), (4, 6), (10, 2)])
+@pytest.mark.parametrize("k, values", [(3, 12), (4, 6), (10, 2), (11, 2)])
 def test_a_grid_over_many_synergies_stays_small(k, values):
     """41 values per synergy would be 41**k hand evaluations: fewer values per synergy keep the grid within its
     bound, the limits included; past 2**k points it is a seeded draw from the 2-value grid."""
@@ -399,6 +399,14 @@ def test_a_grid_over_many_synergies_stays_small(k, values):
     assert len(grid) <= SYNERGY_GRID_POINTS and grid.shape[1] == k
     assert sorted(set(grid[:, -1])) == pytest.approx(np.linspace(-1.0, 1.0, values))
     np.testing.assert_array_equal(grid, hand_with_synergies(k).synergy_grid(41))
+    if 2**k > SYNERGY_GRID_POINTS:  # the seeded draw from the 2-value grid
+        assert len(grid) == SYNERGY_GRID_POINTS and set(np.unique(grid)) == {-1.0, 1.0}
+
+
+def test_a_grid_needs_two_values_per_synergy(hand):
+    for steps, max_points in ((1, 10), (0, 10), (3, 0), (2.5, 10)):
+        with pytest.raises(ValueError, match="must be a whole number"):
+            hand.synergy_grid(steps, max_points)
 
 
 def test_a_hand_of_ten_synergies_plans(hand):

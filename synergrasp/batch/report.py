@@ -54,7 +54,7 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
     FileNotFoundError
         If ``out`` holds no batch results.
     ValueError
-        If ``gallery`` is negative.
+        If ``gallery`` is negative, or no result file can be read.
 
     Warns
     -----
@@ -80,6 +80,9 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
         raise ValueError(f"gallery must be a whole number >= 0, got {gallery!r}")
     store = ResultStore(out)
     rows, unreadable = store.scan()
+    if not rows and unreadable:
+        raise ValueError(f"no result in '{store.results}' can be read ({', '.join(str(p) for p in unreadable)}): "
+                         f"run `synergrasp batch OBJECTS... --out {out}` again to plan them anew")
     if not rows:
         raise FileNotFoundError(f"no batch results in '{store.results}': run `synergrasp batch OBJECTS... --out {out}` first")
     unreadable = [path.relative_to(store.out).as_posix() for path in unreadable]

@@ -17,12 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-#: The child's program: read the mesh, decompose it, write each part's vertices.
+#: The child's program: read the mesh, decompose it, write each part's vertices. It ends itself when its
+#: standard input closes, which the system does when the parent dies (killed, not only interrupted).
 _CHILD = """
-import json, sys
+import json, os, sys, threading
 import numpy as np
 import coacd
 
+threading.Thread(target=lambda: (sys.stdin.read(), os._exit(1)), daemon=True).start()
 mesh = np.load(sys.argv[1])
 coacd.set_log_level("error")
 parts = coacd.run_coacd(coacd.Mesh(mesh["vertices"], mesh["faces"]), **json.loads(sys.argv[3]))
@@ -59,20 +61,24 @@ def run_coacd(vertices, faces, params: dict, time_limit: float) -> list[np.ndarr
         If the child process fails (its last line of error output is quoted).
     """
     with tempfile.TemporaryDirectory(prefix="synergrasp-coacd-") as folder:
-        mesh, parts = Path(folder) / "mesh.npz", Path(folder) / "parts.npz"
+        mesh, parts, log = (Path(folder) / name for name in ("mesh.npz", "parts.npz", "errors.txt"))
         np.savez(mesh, vertices=np.asarray(vertices, dtype=float), faces=np.asarray(faces, dtype=np.int64))
-        child = subprocess.Popen([sys.executable, "-c", _CHILD, str(mesh), str(parts), json.dumps(params)],
-                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        try:
-            _, errors = child.communicate(timeout=time_limit)
-        except subprocess.TimeoutExpired:
-            raise DecompositionTimeout(f"CoACD did not finish within {time_limit:g} s") from None
-        finally:
-            if child.poll() is None:  # timed out, or interrupted (Ctrl-C) while waiting
-                child.kill()
-                child.communicate()
+        with open(log, "wb") as errors:
+            child = subprocess.Popen([sys.executable, "-c", _CHILD, str(mesh), str(parts), json.dumps(params)],
+                                     stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=errors)
+            try:
+                child.wait(timeout=time_limit)
+            except subprocess.TimeoutExpired:
+                raise DecompositionTimeout(f"CoACD did not finish within {time_limit:g} s") from None
+            finally:
+                if child.poll() is None:  # timed out, or interrupted (Ctrl-C) while waiting
+                    child.kill()
+                    child.wait()
+                child.stdin.close()
         if child.returncode != 0:
-            last = (errors or "").strip().splitlines()[-1:] or [f"exit status {child.returncode}"]
-            raise RuntimeError(f"CoACD failed: {last[0]}")
+            lines = log.read_text(errors="replace").strip().splitlines()
+            status = (f"killed by signal {-child.returncode} (out of memory?)" if child.returncode < 0
+                      else f"exit status {child.returncode}")
+            raise RuntimeError(f"CoACD failed: {lines[-1] if lines else status}")
         with np.load(parts) as saved:
             return [saved[f"arr_{i}"] for i in range(len(saved.files))]

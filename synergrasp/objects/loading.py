@@ -330,20 +330,21 @@ def _from_mesh(
     if refusal is None and not ratio > CONVEX_RATIO:  # decomposed by CoACD: its grid for the object's size
         decomposition["preprocess_resolution"] = coacd_resolution(float(np.ptp(vertices, axis=0).max()) * scale)
 
+    def surface_cloud(**checks):
+        """The solid the surface encloses, on a voxel grid: its vertices and surface samples, clustered."""
+        samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
+        return _cluster_cloud(np.unique(np.vstack([vertices, samples]), axis=0), max_parts, max_vertices, what, **checks)
+
     def compute():
         if ratio is not None and ratio > CONVEX_RATIO:
             return [_reduce(vertices, max_vertices, what)], {"method": "hull"}
-        if refusal is not None:  # no inside to decompose: the solid its surface encloses, on a voxel grid
-            samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
-            cloud = np.unique(np.vstack([vertices, samples]), axis=0)
-            pieces, meta = _cluster_cloud(cloud, max_parts, max_vertices, what,
-                                          require_inside=f"{what} is not watertight and cannot be capped ({refusal})")
+        if refusal is not None:  # no inside to decompose
+            pieces, meta = surface_cloud(require_inside=f"{what} is not watertight and cannot be capped ({refusal})")
             return pieces, {**meta, "method": f"voxel closing: {meta['method']}"}
         try:
             return _decompose(mesh, max_parts, max_vertices, decomposition), {"method": "coacd"}
-        except DecompositionTimeout as exc:  # a shape CoACD loops on: the solid its surface encloses, clustered
-            samples, _ = trimesh.sample.sample_surface(mesh, OPEN_MESH_SAMPLES, seed=0)
-            pieces, meta = _cluster_cloud(np.unique(np.vstack([vertices, samples]), axis=0), max_parts, max_vertices, what)
+        except DecompositionTimeout as exc:  # a shape CoACD loops on
+            pieces, meta = surface_cloud()
             _warn(f"{what}: {exc}; its pieces are clusters of the solid its surface encloses instead "
                   f"({meta['method']}). Check them (obj.piece_meshes()), or raise "
                   "synergrasp.objects.loading.DECOMPOSITION_TIME_LIMIT and load it with cache=False")

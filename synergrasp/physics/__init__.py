@@ -23,9 +23,11 @@ from .protocol import DIRECTIONS, PRESETS, Protocol, protocol
 from .replay import Replay, replay_reach
 from .result import OUTCOMES, Validation
 from .simulate import INSTALL_HINT, build_model, mujoco_module, simulate_reach
-from .validate import check_match, squeeze_targets, validate
+from .validate import NoContact, check_match, retreat_distance, squeeze_targets, validate
 
 __all__ = [
+    "NoContact",
+    "retreat_distance",
     "DIRECTIONS",
     "GraspScene",
     "INSTALL_HINT",

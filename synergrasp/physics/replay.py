@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._checks import as_points, positive_scalar
-from ..planner import PlanResult, hand_and_object
+from ..lp import get_backend
+from ..planner import PlanResult, forget_warm_starts, hand_and_object
 from .protocol import protocol as make_protocol
 from .simulate import mujoco_module, simulate_reach
 from .validate import squeeze_targets
@@ -154,6 +155,7 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     path = as_points(path, "path", dim=hand.n_u)
     speed = positive_scalar(speed, "speed")
     settings = make_protocol(preset, **protocol)
+    forget_warm_starts(get_backend(backend), obj)  # the squeeze's LPs start cold, as in validate
     z, _ = squeeze_targets(hand, obj, path[-1], settings.squeeze, settings.contact_distance, backend)
     squeezed = np.r_[path[-1, :6], z]
     measured = simulate_reach(hand, obj, path, hand.joint_angles(squeezed), settings, speed)

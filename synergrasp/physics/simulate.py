@@ -51,8 +51,8 @@ def mujoco_module():
     except Exception as exc:  # noqa: BLE001 - MUJOCO_GL names a rendering library that is not there
         raise ImportError(
             f"importing mujoco failed with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} ({type(exc).__name__}: {exc}): "
-            "that rendering backend is not installed; unset MUJOCO_GL (validation itself renders nothing) or install "
-            "it (egl: libEGL, osmesa: libOSMesa)") from exc
+            "it must name a rendering backend that is installed (egl: libEGL, osmesa: libOSMesa, glfw: a display); "
+            "or unset MUJOCO_GL (validation itself renders nothing)") from exc
     return mujoco
 
 

@@ -55,6 +55,36 @@ def check_match(result, obj, hand, tolerance):
                 f"scale (an object file in metres or centimetres is loaded with scale=1000 or 10, as it was for the plan)")
 
 
+class NoContact(ValueError):
+    """A configuration with no hand point near enough to the object to squeeze it: not a grasp of it."""
+
+
+def retreat_distance(value) -> float:
+    """``validate``'s ``retreat`` as a float, checked.
+
+    Parameters
+    ----------
+    value : float
+        Distance (mm) the palm is moved back along its normal.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ValueError
+        If it is not a finite number.
+    """
+    try:
+        retreat = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"retreat must be a finite number of mm, got {value!r}") from None
+    if not np.isfinite(retreat):
+        raise ValueError(f"retreat must be a finite number of mm, got {value!r}")
+    return retreat
+
+
 def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """The synergies closed a step past ``u``: each contact pushed into the object.
 
@@ -89,7 +119,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
 
     Raises
     ------
-    ValueError
+    NoContact
         If no hand point is within ``contact_distance`` of the object.
 
     Examples
@@ -124,7 +154,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         near = obj.contact_distance(points, backend=backend)
         contact = near.value < contact_distance
     if not contact.any():
-        raise ValueError(
+        raise NoContact(
             f"no hand point is within {contact_distance:g} mm of {obj.name!r} (nearest {near.value.min():.1f} mm): "
             "this configuration does not grasp the object (another object, or the hand is not at its grasp)")
     normals, jac = near.normal[contact], jacobians[contact]
@@ -201,12 +231,7 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     mujoco = mujoco_module()
     hand = hand_and_object(hand, obj)
     settings = make_protocol(preset, **protocol)
-    try:
-        retreat = float(retreat)
-    except (TypeError, ValueError):
-        raise ValueError(f"retreat must be a finite number of mm, got {retreat!r}") from None
-    if not np.isfinite(retreat):
-        raise ValueError(f"retreat must be a finite number of mm, got {retreat!r}")
+    retreat = retreat_distance(retreat)
     if isinstance(result_or_u, PlanResult):
         check_match(result_or_u, obj, hand, settings.contact_distance)
         u = np.asarray(result_or_u.u, dtype=float)

@@ -150,8 +150,10 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         dict gives its protocol settings) and keep searching, through
         further attempts, until one holds. The result records both verdicts
         (``success`` and ``held``); if no grasp holds within the budget, the
-        first accepted one is returned with ``held`` False. Needs the
-        ``sim`` extra.
+        first accepted one is returned with ``held`` False; a grasp the
+        simulation refuses (`synergrasp.physics.NoContact`) counts as not
+        held. A validation starts its LPs cold (`forget_warm_starts`), and so
+        do the attempts after it. Needs the ``sim`` extra.
     **option_values
         Fields of the method's options class, replacing those of ``options``.
 
@@ -311,17 +313,18 @@ def _validator(validate, obj, hand, backend):
     """The physics test of a plan's accepted grasps (a function of u -> Validation), or None."""
     if validate is False:
         return None
-    from ..physics import mujoco_module, protocol  # noqa: PLC0415 - MuJoCo only when asked for
+    from ..physics import NoContact, mujoco_module, protocol, retreat_distance  # noqa: PLC0415 - MuJoCo when asked for
     from ..physics import validate as simulate  # noqa: PLC0415
 
     settings = {} if validate is True else dict(validate)
     # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
     mujoco_module()
     protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
+    retreat_distance(settings.get("retreat", 0.0))
     def check(u):
         try:
             return simulate(u, obj, hand=hand, backend=backend, **settings)
-        except ValueError as exc:  # a grasp the simulation refuses (e.g. no hand point near enough to squeeze)
+        except NoContact as exc:  # a grasp read on the phalanges' capsules that no hand point squeezes
             return SimpleNamespace(held=False, reason=f"not simulated: {exc}")
 
     return check
