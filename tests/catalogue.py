@@ -318,6 +318,7 @@ API = [
     Case("planner.executable_reach", "a trajectory of points", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), trajectory=np.zeros((4, 3))), ValueError, "trajectory has points of dimension 3, expected 8"),
     Case("sg.replay_reach", "a plan without a grasp", lambda tmp: sg.replay_reach(sg.plan("ellipsoid", max_iter=1), so.ellipsoid()), ValueError, "the result has no executable reach"),
     Case("sg.replay_reach", "speed = 0", lambda tmp: sg.replay_reach([np.zeros(8)], so.ellipsoid(), speed=0.0), ValueError, "speed must be a finite number > 0"),
+    Case("sg.replay_reach", "speed = 0.1 (m/s meant?)", lambda tmp: sg.replay_reach([np.zeros(8)], so.ellipsoid(), speed=0.1), ValueError, "speed is in mm/s (default 100), not m/s"),
     Case("sg.replay_reach", "a path of 7 columns", lambda tmp: sg.replay_reach(np.zeros((2, 7)), so.ellipsoid()), ValueError, "path has points of dimension 7, expected 8"),
     Case("sg.replay_reach", "a trimesh for the object", lambda tmp: sg.replay_reach([np.zeros(8)], trimesh.creation.box()), TypeError, "obj must be a GraspObject"),
     # ------------------------------------------------------------ hand, LP, figures

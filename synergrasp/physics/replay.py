@@ -24,6 +24,9 @@ from .validate import squeeze_targets
 
 __all__ = ["Replay", "replay_reach"]
 
+#: Slowest replay speed (mm/s) taken: the CPU time grows as 1 / speed (the default, 100 mm/s, takes about a second).
+MIN_SPEED = 5.0
+
 
 @dataclass(frozen=True)
 class Replay:
@@ -127,8 +130,8 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
         If ``obj`` is not a GraspObject or ``hand`` not a SynergyHand.
     ValueError
         A result without an executable reach, a path that does not fit the
-        hand, a grasp that touches nothing (no squeeze), a ``speed`` that is
-        not a positive number, or a bad protocol setting.
+        hand, a grasp that touches nothing (no squeeze), a ``speed`` below
+        `MIN_SPEED` (5 mm/s), or a bad protocol setting.
 
     Examples
     --------
@@ -154,6 +157,9 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
         path = result_or_path
     path = as_points(path, "path", dim=hand.n_u)
     speed = positive_scalar(speed, "speed")
+    if speed < MIN_SPEED:
+        raise ValueError(f"speed {speed:g} mm/s is slower than {MIN_SPEED:g} mm/s: the replay's simulated time grows as "
+                         "1 / speed (at 0.1 mm/s, about a minute of CPU). speed is in mm/s (default 100), not m/s")
     settings = make_protocol(preset, **protocol)
     forget_warm_starts(get_backend(backend), obj)  # the squeeze's LPs start cold, as in validate
     z, _ = squeeze_targets(hand, obj, path[-1], settings.squeeze, settings.contact_distance, backend)
