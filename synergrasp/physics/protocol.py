@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from dataclasses import asdict, dataclass, fields, replace
 
 __all__ = ["Protocol", "PRESETS", "protocol", "DIRECTIONS"]
@@ -15,6 +16,8 @@ __all__ = ["Protocol", "PRESETS", "protocol", "DIRECTIONS"]
 DIRECTIONS = ("-x", "+x", "-y", "+y", "-z", "+z")
 
 _REFERENCES = ("settled", "planned")
+#: Time steps (s) coarser than this change verdicts (2 ms changes some in the physics study's sensitivity table): a warning says so.
+COARSE_TIMESTEP = 0.001
 
 
 @dataclass(frozen=True)
@@ -132,6 +135,10 @@ class Protocol:
                 or self.noslip_iterations < 0):
             raise ValueError(f"protocol setting noslip_iterations must be an int >= 0, got {self.noslip_iterations!r}")
         object.__setattr__(self, "noslip_iterations", int(self.noslip_iterations))
+        if self.timestep > COARSE_TIMESTEP:
+            warnings.warn(f"protocol timestep {self.timestep:g} s is coarser than {COARSE_TIMESTEP:g} s: verdicts change "
+                          "with it there (the phalanges are light for the servos; 1 ms, the default, agrees with "
+                          "0.5 ms, 2 ms changes some)", UserWarning, stacklevel=3)
         for name, size in (("solref", 2), ("solimp", 3)):
             value = getattr(self, name)
             if (not isinstance(value, (tuple, list)) or len(value) != size
