@@ -202,6 +202,17 @@ def test_a_decomposition_past_its_time_limit_is_stopped_and_the_mesh_clustered(m
     assert obj.contains([[0.0, 0.0, 0.0], [0.0, 0.0, 50.0]]).all() and obj.extents == pytest.approx([40, 40, 90], abs=1)
 
 
+def test_a_cached_timeout_is_decomposed_again_under_a_longer_limit(monkeypatch):
+    monkeypatch.setattr(loading, "DECOMPOSITION_TIME_LIMIT", 1.0)
+    with pytest.warns(UserWarning, match="the next load tries CoACD again"):
+        first = so.from_mesh(two_boxes(10.0))
+    assert first.info["cache"] == "miss" and "CoACD timed out" in first.info["method"]
+    assert so.from_mesh(two_boxes(10.0)).info["cache"] == "hit"  # the same limit: the clusters are kept
+    monkeypatch.setattr(loading, "DECOMPOSITION_TIME_LIMIT", 1.5)
+    with pytest.warns(UserWarning, match="did not finish within 1.5 s"):
+        assert so.from_mesh(two_boxes(10.0)).info["cache"] == "miss"  # a longer limit: CoACD again
+
+
 def test_a_failing_decomposition_process_says_why():
     with pytest.raises(RuntimeError, match="CoACD failed: .*no_such_setting"):
         decompose.run_coacd(box_mesh().vertices, box_mesh().faces, {"no_such_setting": 1}, time_limit=60.0)

@@ -11,7 +11,8 @@
   process (`run_coacd`): a mesh it does not finish within
   ``DECOMPOSITION_TIME_LIMIT`` seconds (CoACD loops on some shapes, such as
   two bodies a few mm apart) is decomposed from its surface samples like a
-  point cloud (below), with a warning. A mesh that is not
+  point cloud (below), with a warning; the cache keeps that limit, and a
+  load under a longer one tries CoACD again. A mesh that is not
   watertight has no inside to decompose. A watertight mesh wound inward is turned outward first
   (`orient_outward`, with a warning). An open one is closed first where that is sound (`close_mesh`:
   seams welded, planar holes capped; ``info["repair"]`` says what changed)
@@ -50,6 +51,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
 import sys
 import warnings
@@ -188,8 +190,8 @@ def _cached(content: bytes, params: dict, compute, use_cache: bool):
         return pieces, meta, "disabled"
     key = _cache_key(content, params)
     hit = _cache_read(key)
-    if hit is not None:
-        return hit[0], hit[1], "hit"
+    if hit is not None and not hit[1].get("timed_out_at", math.inf) < DECOMPOSITION_TIME_LIMIT:
+        return hit[0], hit[1], "hit"  # (a decomposition that timed out is tried again under a longer limit)
     pieces, meta = compute()
     if meta.pop("transient", False):  # a fallback after a failure is not stored
         return pieces, meta, "miss"
@@ -347,8 +349,9 @@ def _from_mesh(
             pieces, meta = surface_cloud()
             _warn(f"{what}: {exc}; its pieces are clusters of the solid its surface encloses instead "
                   f"({meta['method']}). Check them (obj.piece_meshes()), or raise "
-                  "synergrasp.objects.loading.DECOMPOSITION_TIME_LIMIT and load it with cache=False")
-            return pieces, {**meta, "method": f"{meta['method']} (CoACD timed out)"}
+                  "synergrasp.objects.loading.DECOMPOSITION_TIME_LIMIT: the next load tries CoACD again")
+            return pieces, {**meta, "method": f"{meta['method']} (CoACD timed out)",
+                            "timed_out_at": DECOMPOSITION_TIME_LIMIT}
         except Exception as exc:  # noqa: BLE001 - the hull is a usable fallback
             _warn(f"convex decomposition of {what} failed ({exc}); using its convex hull")
             return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)", "transient": True}
