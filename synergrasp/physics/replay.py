@@ -16,8 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._checks import as_points, positive_scalar
-from ..lp import get_backend
-from ..planner import PlanResult, forget_warm_starts, hand_and_object
+from ..planner import PlanResult, hand_and_object
 from .protocol import protocol as make_protocol
 from .simulate import mujoco_module, simulate_reach
 from .validate import squeeze_targets
@@ -161,7 +160,6 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
         raise ValueError(f"speed {speed:g} mm/s is slower than {MIN_SPEED:g} mm/s: the replay's simulated time grows as "
                          "1 / speed (at 0.1 mm/s, about a minute of CPU). speed is in mm/s (default 100), not m/s")
     settings = make_protocol(preset, **protocol)
-    forget_warm_starts(get_backend(backend), obj)  # the squeeze's LPs start cold, as in validate
     z, _ = squeeze_targets(hand, obj, path[-1], settings.squeeze, settings.contact_distance, backend)
     squeezed = np.r_[path[-1, :6], z]
     measured = simulate_reach(hand, obj, path, hand.joint_angles(squeezed), settings, speed)

@@ -95,7 +95,9 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
     the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
     the object's inward normal at the point nearest to it), and its length
-    makes that motion ``squeeze`` mm on average over the contacts.
+    makes that motion ``squeeze`` mm on average over the contacts. Its cP
+    queries start cold (`forget_warm_starts`), so the squeeze does not depend
+    on what was solved before.
 
     Parameters
     ----------
@@ -136,6 +138,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     >>> bool(z[1] < u[7])                 # z2 decreases: the hand closes
     True
     """
+    forget_warm_starts(get_backend(backend), obj)  # its LPs start cold: the same squeeze in any process
     points, jacobians, labels = [], [], []
     for kind in _KINDS:
         p, jac = hand.points_and_jacobian(u, kind)
@@ -244,7 +247,6 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
             raise ValueError(f"u must have shape ({hand.n_u},) for hand {hand.name!r} ({hand.u_labels}), got {u.shape}")
         if not np.isfinite(u).all():
             raise ValueError("u contains NaN or inf")
-    forget_warm_starts(get_backend(backend), obj)  # the squeeze's LPs start cold: the same verdict in any process
     z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
     placed = u.copy()
     placed[:3] -= retreat * rotation_xyz(u[3:6])[:, 2]
