@@ -36,7 +36,7 @@ from importlib import resources
 
 import numpy as np
 
-from ._checks import as_path
+from ._checks import as_path, integer
 from ._jit import kernel
 
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
@@ -638,10 +638,8 @@ class SynergyHand:
         >>> hand.synergy_grid(41).shape, hand.synergy_grid(41, max_points=100).shape
         ((1681, 2), (100, 2))
         """
-        for name, value, least in (("steps", steps, 2), ("max_points", max_points, 1)):
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-                raise ValueError(f"{name} must be a whole number >= {least}, got {value!r}")
-        per = int(steps)
+        per = integer(steps, "steps", 2, "values per synergy")
+        max_points = integer(max_points, "max_points", 1, "rows of the grid")
         while per > 2 and per**self.n_syn > max_points:
             per -= 1
         lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._checks import integer
 from .._files import atomic_path, image_path
 from ..hand import SynergyHand
 from .protocol import Protocol
@@ -110,9 +111,7 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
     if validation.object_name != obj.name or validation.hand_name != hand.name:
         raise ValueError(f"the validation is of {validation.object_name!r} with hand {validation.hand_name!r}, not of "
                          f"{obj.name!r} with {hand.name!r}: pass the object and hand it validated")
-    for name, value in (("width", width), ("height", height)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-            raise ValueError(f"{name} must be a whole number of pixels >= 1, got {value!r}")
+    width, height = integer(width, "width", 1, "pixels"), integer(height, "height", 1, "pixels")
     mujoco, model, scene = build_model(hand, obj, validation.u, Protocol(**validation.protocol))
     most = (int(model.vis.global_.offwidth), int(model.vis.global_.offheight))
     if width > most[0] or height > most[1]:
