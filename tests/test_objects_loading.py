@@ -512,3 +512,153 @@ def test_a_scene_s_point_cloud_left_out_is_named(tmp_path):
     scene.export(tmp_path / "scene.glb")
     with pytest.warns(UserWarning, match="left out"):
         so.load(tmp_path / "scene.glb", cache=False)
+
+
+# --------------------------------------------------------------------------- shells that overlap, debris, outliers
+
+
+def l_block():
+    """Two closed boxes that pass through each other (one STL of an assembly), and the L-shaped solid they enclose."""
+    a = trimesh.creation.box((60.0, 30.0, 30.0))
+    b = trimesh.creation.box((30.0, 60.0, 30.0)).apply_translation([10.0, 10.0, 0.0])
+    return trimesh.util.concatenate([a, b]), trimesh.boolean.union([a, b])
+
+
+def test_closed_shells_that_overlap_are_joined_not_taken_as_their_hull():
+    """The L-block's volume counts the 30 x 30 x 30 mm overlap twice (more than its hull's): it is not convex, and
+    its empty corner is not part of the object."""
+    mesh, solid = l_block()
+    with pytest.warns(UserWarning, match=r"L-block: its closed shells pass through each other \(2\.7e\+04 mm\^3 lies "
+                                         r"inside more than one.*joined into the solid they enclose, 8\.1e\+04 mm\^3"):
+        obj = so.from_mesh(mesh, name="L-block")
+    assert obj.info["method"] == "coacd" and obj.info["volume_ratio"] == pytest.approx(81000 / 94500)
+    assert obj.info["repair"] == {"method": "union", "overlap": pytest.approx(27000), "volume": pytest.approx(81000)}
+    assert obj.mesh.volume == pytest.approx(solid.volume) and obj.mesh.is_watertight
+    corner = [[-15.0, 22.0, 0.0]]  # 7 mm from the L, in its empty corner
+    assert not obj.contains(corner)[0] and not obj.mesh.contains(corner)[0]
+    assert trimesh.proximity.closest_point(solid, obj.index.vertices)[1].max() < 3.0
+
+
+def test_a_mesh_with_more_volume_than_its_hull_is_not_taken_as_its_hull(monkeypatch):
+    """A surface that passes through itself where its shells cannot be joined: decomposed, with a warning."""
+    monkeypatch.setattr(loading, "union_of_bodies", lambda mesh: (mesh, 0.0))
+    with pytest.warns(UserWarning, match=r"its volume is 1\.14 times its convex hull's, which no solid's is"):
+        obj = so.from_mesh(l_block()[0], name="L-block")
+    assert obj.info["method"] == "coacd" and not obj.contains([[-15.0, 22.0, 0.0]])[0]
+
+
+def test_a_cavity_is_not_joined_to_the_shell_around_it():
+    outer = trimesh.creation.icosphere(3, 40.0)
+    inner = trimesh.creation.icosphere(3, 30.0)
+    inner.invert()
+    hollow = trimesh.util.concatenate([outer, inner])
+    assert so.repair.union_of_bodies(hollow) == (hollow, 0.0)
+
+
+def test_a_speck_of_debris_far_from_the_object_is_dropped_with_a_warning(tmp_path):
+    """A 60 x 50 x 90 mm box and a 2 mm speck 300 mm away: the box, exactly, not a coarser decomposition of both."""
+    box = trimesh.creation.box((60.0, 50.0, 90.0))
+    speck = trimesh.creation.icosphere(subdivisions=0, radius=1.0).apply_translation([300.0, 0.0, 0.0])
+    with pytest.warns(UserWarning, match=r"box: 1 loose fragment\(s\) dropped as debris \(20 faces 1\.7 mm across, "
+                                         r"269 mm from the rest\): each has at most 0\.1% of the largest part's volume"):
+        obj = so.from_mesh(trimesh.util.concatenate([box, speck]), name="box")
+    assert obj.info["method"] == "hull" and obj.extents == pytest.approx([60.0, 50.0, 90.0])
+    assert obj.torque_scale == pytest.approx(so.from_mesh(box, cache=False).torque_scale)
+    triangle = trimesh.Trimesh([[300.0, 0, 0], [301.0, 0, 0], [300.0, 1.0, 0]], [[0, 1, 2]])  # a stray face, no volume
+    path = tmp_path / "scan.stl"
+    trimesh.util.concatenate([box, triangle]).export(path)
+    with pytest.warns(UserWarning, match="1 loose fragment"):
+        assert so.load(path).extents == pytest.approx([60.0, 50.0, 90.0])
+    # read as metres the triangle is 0.3 mm from the box, not debris: the same file at scale 0.001 keeps it
+    with pytest.warns(UserWarning) as record:
+        assert so.load(path, scale=0.001).extents[0] > 0.3
+    assert not any("debris" in str(w.message) for w in record)
+
+
+def test_a_second_object_or_a_small_part_near_the_object_is_not_debris():
+    box = trimesh.creation.box((60.0, 50.0, 90.0))
+    ball = trimesh.creation.icosphere(2, 10.0).apply_translation([100.0, 0.0, 0.0])  # 1.6 % of the box's volume
+    with pytest.warns(UserWarning, match="2 separate parts"):
+        assert so.from_mesh(trimesh.util.concatenate([box, ball])).extents[0] > 130.0  # both (60 mm alone)
+    knob = trimesh.creation.icosphere(1, 1.0).apply_translation([36.0, 0.0, 0.0])  # a speck 5 mm from the box
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert so.from_mesh(trimesh.util.concatenate([box, knob])).extents[0] > 66.0  # both
+
+
+def test_an_isolated_outlier_of_a_scan_is_dropped():
+    """One point 35 mm off an 80 mm ball scan: its 8th neighbour is under 10 typical 8th-neighbour distances away, but
+    its nearest is over 20 typical nearest-neighbour distances; without the drop the object grows a spike."""
+    rng = np.random.default_rng(0)
+    points = rng.normal(size=(2000, 3))
+    points *= 40.0 / np.linalg.norm(points, axis=1, keepdims=True)
+    points += rng.normal(scale=0.3, size=points.shape)
+    with pytest.warns(UserWarning, match=r"ball scan: 1 stray point\(s\) dropped \(up to 35 mm from the nearest other "
+                                         r"point, where the cloud's typical spacing is 1\.5 mm\)"):
+        obj = so.from_points(np.vstack([points, [[75.0, 0.0, 0.0]]]), name="ball scan", cache=False)
+    assert obj.n_pieces == 1 and obj.extents == pytest.approx([80.0, 80.0, 80.0], abs=2.0)
+
+
+# --------------------------------------------------------------------------- other inputs and messages
+
+
+@pytest.mark.parametrize("primitive", [trimesh.primitives.Box(extents=[50, 60, 70]), trimesh.primitives.Sphere(radius=30),
+                                       trimesh.primitives.Cylinder(radius=30, height=80),
+                                       trimesh.primitives.Capsule(radius=20, height=80)])
+def test_trimesh_primitives_are_meshes(primitive):
+    obj = so.from_mesh(primitive, cache=False)
+    assert obj.info["method"] == "hull" and obj.extents == pytest.approx(primitive.extents, abs=0.5)
+
+
+def test_a_non_finite_vertex_of_an_npz_mesh_is_refused(tmp_path):
+    """As in the other mesh files: not dropped with its faces and the hole capped. Duplicate vertices are still merged."""
+    mesh = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
+    vertices = mesh.vertices.copy()
+    vertices[5] = np.nan
+    np.savez(tmp_path / "ball.npz", vertices=vertices, faces=mesh.faces)
+    with pytest.raises(ValueError, match=r"ball\.npz vertices contains NaN or inf at rows \[5\]"):
+        so.load(tmp_path / "ball.npz", cache=False)
+    box = trimesh.creation.box((40.0, 50.0, 60.0))
+    np.savez(tmp_path / "soup.npz", vertices=box.triangles.reshape(-1, 3), faces=np.arange(36).reshape(12, 3))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # welded on reading as trimesh does: no "needed repair"
+        obj = so.load(tmp_path / "soup.npz", cache=False)
+    assert obj.info["method"] == "hull" and obj.info["watertight"]
+
+
+def test_a_gltf_whose_buffer_file_is_missing_says_so(tmp_path):
+    trimesh.creation.box((40.0, 50.0, 60.0)).export(tmp_path / "part.gltf")
+    for buffer in tmp_path.glob("*.bin"):
+        buffer.unlink()
+    with pytest.raises(ValueError, match=r"could not read .*part\.gltf' as a \.gltf file: a file it refers to is "
+                                         r"missing: 'gltf_buffer_0\.bin'.*export it as one \.glb"):
+        so.load(tmp_path / "part.gltf")
+
+
+def test_empty_meshes_are_called_empty(tmp_path):
+    for mesh in (trimesh.Scene(), trimesh.Trimesh()):
+        with pytest.raises(ValueError, match="mesh is empty: it has no vertices and no faces"):
+            so.from_mesh(mesh)
+    np.savez(tmp_path / "empty.npz", vertices=np.zeros((0, 3)), faces=np.zeros((0, 3), dtype=int))
+    with pytest.raises(ValueError, match="empty.npz vertices is empty"):
+        so.load(tmp_path / "empty.npz")
+
+
+@pytest.mark.parametrize("ext", [".stl", ".glb"])
+def test_the_advice_for_separate_parts_runs(tmp_path, ext):
+    """The warning's way to load one part alone works for a mesh file and for a scene file."""
+    ball = trimesh.creation.icosphere(radius=20.0).apply_translation([150.0, 0.0, 0.0])
+    path = tmp_path / f"two{ext}"
+    trimesh.Scene([trimesh.creation.box((40.0, 40.0, 40.0)), ball]).export(path)
+    with pytest.warns(UserWarning, match="separate parts") as record:
+        so.load(path, cache=False)
+    advice = str(record[-1].message).split("its parts are ")[1]
+    parts = eval(advice, {"trimesh": trimesh, "path": str(path)})
+    one = so.from_mesh(max(parts, key=lambda part: part.volume), cache=False)
+    assert one.extents == pytest.approx([40.0, 40.0, 40.0])
+
+
+def test_the_size_warning_suggests_inches():
+    can = trimesh.creation.cylinder(radius=1.5, height=4.0)  # a 3 x 3 x 4 inch can
+    with pytest.warns(UserWarning, match=r"metres pass scale=1000 \(centimetres: scale=10, inches: scale=25\.4\)"):
+        so.from_mesh(can, cache=False)

@@ -1,8 +1,14 @@
 """Loading objects: mesh files, point clouds, convex decomposition and its disk cache.
 
-* Meshes (any format trimesh reads: .obj .stl .ply .off .glb .gltf): a
-  watertight mesh whose volume is more than ``CONVEX_RATIO`` (0.97) of its
-  hull's is taken as its hull; otherwise it is decomposed into at most
+* Meshes (any format trimesh reads: .obj .stl .ply .off .glb .gltf): parts
+  of negligible volume lying apart from the rest (a scan's specks:
+  ``DEBRIS_FRACTION``, `drop_debris`) are dropped first, with a warning. Closed
+  shells that pass through each other (an assembly exported as one mesh) are
+  joined into their union (`union_of_bodies`, with a warning). A watertight
+  mesh whose volume is more than ``CONVEX_RATIO`` (0.97) of its hull's is
+  taken as its hull (unless it is more than the hull's, which no solid's is:
+  a surface that passes through itself, decomposed with a warning); otherwise
+  it is decomposed into at most
   ``max_parts`` convex parts with CoACD (approximate convex decomposition,
   the ``coacd`` package; ``COACD_PARAMS``: remeshed on a grid of at least 20
   voxels along the longest side and of voxels at most ``VOXEL_PITCH`` (12 mm)
@@ -25,7 +31,8 @@
   (`separate_parts`: several objects in one file, a scan's loose fragment)
   is planned as one rigid object, with a warning that says so.
 * Point clouds (.ply without faces, .xyz, .npy, .npz, or an array): stray
-  points first dropped (a scan's outliers: `STRAY_FACTOR`), then a small
+  points first dropped (a scan's outliers, alone or in small groups:
+  `STRAY_FACTOR`), then a small
   cloud, or a convex one (no facet of its hull farther than ``CLOUD_CONCAVITY``
   = 3 % of its size, or 4 sampling spacings, from its points), is one
   hull. Otherwise the cloud is voxelised, its gaps closed and its inside
@@ -43,8 +50,11 @@ sampling), which bounds the LP sizes of the cP and sQ queries.
 Decompositions and clusterings are cached on disk, in ``$SYNERGRASP_CACHE``
 or ``~/.cache/synergrasp``, keyed by the SHA-256 of the file's content (or of
 the arrays) and the parameters; a cached load reads the pieces back
-(``obj.info["cache"] == "hit"``). The pieces are computed before scaling, so
-the cache does not depend on ``scale``.
+(``obj.info["cache"] == "hit"``). The pieces are computed before scaling; the
+key holds the decomposition's grid resolution, which depends on the scaled size
+above 240 mm (`coacd_resolution`), and, when debris was dropped (which depends
+on the scale through ``PART_GAP``), what was kept. So the same file at another
+scale is a hit as long as those stay the same.
 """
 
 from __future__ import annotations
@@ -71,8 +81,10 @@ from .repair import (
     WELD_TOLERANCE,
     RepairError,
     close_mesh,
+    drop_debris,
     orient_outward,
     separate_parts,
+    union_of_bodies,
 )
 
 #: Mesh file extensions (read with trimesh).
@@ -81,7 +93,7 @@ MESH_FORMATS = (".obj", ".stl", ".ply", ".off", ".glb", ".gltf")
 POINT_FORMATS = (".xyz", ".npy", ".npz", ".ply")
 #: Every extension `load` accepts.
 SUPPORTED_FORMATS = tuple(sorted(set(MESH_FORMATS + POINT_FORMATS)))
-#: A watertight mesh with volume / hull volume above this is treated as convex.
+#: A watertight mesh with volume / hull volume above this (and not above 1, which no solid's is) is treated as convex.
 CONVEX_RATIO = 0.97
 #: A point cloud (or a cluster) is convex when no facet centroid of its hull is farther than
 #: this fraction of the object's size from its points (or 4 sampling spacings, if larger:
@@ -95,14 +107,18 @@ OPEN_MESH_SAMPLES = 20000
 ENCLOSED_DIRECTIONS = 5
 #: Clouds with fewer points are always one hull.
 SMALL_CLOUD = 64
-#: Stray points of a cloud: a point whose `STRAY_NEIGHBOURS`-th nearest neighbour is farther than
-#: `STRAY_FACTOR` times the cloud's median such distance is dropped, when such points are at most
-#: `STRAY_SHARE` of the cloud (more of them are a sparse part of the object, not strays).
+#: Stray points of a cloud: a point whose k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
+#: is farther than `STRAY_FACTOR` times the cloud's median k-th neighbour distance (an isolated point, or
+#: one of a group of at most `STRAY_NEIGHBOURS` apart from the rest) is dropped, when such points are at
+#: most `STRAY_SHARE` of the cloud (more of them are a sparse part of the object, not strays).
 STRAY_NEIGHBOURS = 8
 STRAY_FACTOR = 10.0
 STRAY_SHARE = 0.01
 #: Parts of a mesh that no face joins and that lie farther apart than this (mm) are reported as separate objects.
 PART_GAP = 10.0
+#: A part of a mesh whose hull has at most this fraction of the largest part's hull volume, and that lies
+#: farther than ``PART_GAP`` from the rest, is debris and is dropped (`drop_debris`, with a warning).
+DEBRIS_FRACTION = 1e-3
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
 #: Widest remeshing voxel (mm) of the decomposition: the pieces stick out of the true surface by
@@ -216,7 +232,7 @@ def _check_size(obj: GraspObject, what: str) -> None:
     if size < lo:
         _warn(
             f"{what} is only {size:.3g} mm across (expected {lo:g}-{hi:g} mm for a hand): synergrasp works in mm; "
-            "if the data are in metres pass scale=1000 (centimetres: scale=10)"
+            "if the data are in metres pass scale=1000 (centimetres: scale=10, inches: scale=25.4)"
         )
     elif size > hi:
         _warn(
@@ -300,6 +316,10 @@ def _from_mesh(
         mesh = _scene_mesh(mesh, what)
     if not isinstance(mesh, trimesh.Trimesh):
         raise TypeError(f"mesh must be a trimesh.Trimesh or Scene, got {type(mesh).__name__}")
+    if type(mesh) is not trimesh.Trimesh:  # a subclass (trimesh.primitives.Box, ...): its copy() differs
+        mesh = trimesh.Trimesh(mesh.vertices, mesh.faces, process=False)
+    if len(mesh.vertices) == 0:
+        raise ValueError(f"{what} is empty: it has no vertices and no faces; check that its geometry was exported")
     if len(mesh.faces) == 0:
         raise ValueError(f"{what} has no faces; load a point cloud with from_points instead")
     faces = np.asarray(mesh.faces)
@@ -311,6 +331,15 @@ def _from_mesh(
         mesh = mesh.copy()
         mesh.remove_unreferenced_vertices()
         vertices = np.asarray(mesh.vertices, dtype=float)
+    mesh, debris = drop_debris(mesh, DEBRIS_FRACTION, PART_GAP / scale)
+    if debris:
+        vertices = np.asarray(mesh.vertices, dtype=float)
+        _warn(f"{what}: {len(debris)} loose fragment(s) dropped as debris ("
+              + ", ".join(f"{d['faces']} faces {d['size'] * scale:.3g} mm across, {d['distance'] * scale:.3g} mm "
+                          "from the rest" for d in debris[:3]) + (", ..." if len(debris) > 3 else "")
+              + f"): each has at most {DEBRIS_FRACTION:.1%} of the largest part's volume and lies more than "
+              f"{PART_GAP:g} mm from the rest, and would make the object larger than it is. To keep them, set "
+              "synergrasp.objects.loading.DEBRIS_FRACTION = 0")
     hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
@@ -320,16 +349,31 @@ def _from_mesh(
     if not watertight:
         try:
             mesh, repair = close_mesh(mesh, what)
-            vertices = np.asarray(mesh.vertices, dtype=float)
-            hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # of what was kept and welded
         except RepairError as exc:  # not closable by capping: closed on a voxel grid below, or refused there
             refusal = exc.reason
-    ratio = None
+    union = None
+    if refusal is None:
+        mesh, overlap = union_of_bodies(mesh)
+        if overlap:
+            union = {"method": "union", "overlap": overlap * scale**3, "volume": float(mesh.volume) * scale**3}
+            _warn(f"{what}: its closed shells pass through each other ({union['overlap']:.4g} mm^3 lies inside more "
+                  f"than one, and its volume counted that twice); they were joined into the solid they enclose, "
+                  f"{union['volume']:.4g} mm^3 (their union, manifold3d). Check the pieces (obj.piece_meshes())")
+        if repair is not None or union is not None:
+            vertices = np.asarray(mesh.vertices, dtype=float)
+            hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # of what was kept, welded, joined
+    ratio, through_itself = None, False
     if refusal is None:
         ratio = float(abs(mesh.volume) / hull_volume) if hull_volume > 0 else 0.0
+        through_itself = ratio > 1.0 + 1e-6  # more than its hull (beyond round-off): no solid's surface
+        if through_itself:
+            _warn(f"{what}: its volume is {ratio:.3g} times its convex hull's, which no solid's is: its surface passes "
+                  "through itself. It is decomposed as the solid CoACD's voxel remeshing makes of it, not taken as "
+                  "its hull; check the pieces (obj.piece_meshes()), or repair the mesh in a mesh editor")
+    convex = ratio is not None and ratio > CONVEX_RATIO and not through_itself
 
     decomposition = dict(COACD_PARAMS)
-    if refusal is None and not ratio > CONVEX_RATIO:  # decomposed by CoACD: its grid for the object's size
+    if refusal is None and not convex:  # decomposed by CoACD: its grid for the object's size
         decomposition["preprocess_resolution"] = coacd_resolution(float(np.ptp(vertices, axis=0).max()) * scale)
 
     def surface_cloud(**checks):
@@ -338,7 +382,7 @@ def _from_mesh(
         return _cluster_cloud(np.unique(np.vstack([vertices, samples]), axis=0), max_parts, max_vertices, what, **checks)
 
     def compute():
-        if ratio is not None and ratio > CONVEX_RATIO:
+        if convex:
             return [_reduce(vertices, max_vertices, what)], {"method": "hull"}
         if refusal is not None:  # no inside to decompose
             pieces, meta = surface_cloud(require_inside=f"{what} is not watertight and cannot be capped ({refusal})")
@@ -366,6 +410,10 @@ def _from_mesh(
         "concavity": CLOUD_CONCAVITY,
         "samples": OPEN_MESH_SAMPLES,
     }
+    if debris:  # which parts are debris depends on the scale (PART_GAP is in mm): the key names what was kept
+        params["kept"] = hashlib.sha256(vertices.tobytes() + np.asarray(mesh.faces, dtype=np.int64).tobytes()).hexdigest()
+    if union is not None:  # the file's shells joined: not the pieces of the file's own surface
+        params["union"] = True
     if not watertight:
         params["repair"] = {"planarity": PLANARITY, "caps": MAX_CAP_FRACTION, "weld": WELD_TOLERANCE,
                             "enclosed": ENCLOSED_DIRECTIONS}
@@ -390,13 +438,14 @@ def _from_mesh(
         center=center,
         torque_scale=torque_scale,
         info={"source": _source or "mesh", "method": meta["method"], "cache": status, "volume_ratio": ratio,
-              "watertight": watertight, "repair": repair, "scale": scale},
+              "watertight": watertight, "repair": repair or union, "scale": scale},
     )
     _check_size(obj, what)
     parts, gap = separate_parts(shown)
     if gap > PART_GAP:
         _warn(f"{what} is {parts} separate parts, some {gap:.0f} mm from the rest: they are planned as one rigid "
-              "object. To grasp one of them, load it alone (trimesh: mesh.split())")
+              "object. To grasp one of them, load it alone: its parts are "
+              'trimesh.load(path, force="mesh").split(only_watertight=False)')
     return obj
 
 
@@ -426,20 +475,21 @@ def _spacing(points: np.ndarray) -> float:
 
 
 def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
-    """``points`` without its stray points (a scan's outliers; see `STRAY_FACTOR`), with a warning if any."""
+    """``points`` (n, 3) without its stray points (a scan's outliers; see `STRAY_FACTOR`), with a warning if any."""
     if len(points) < SMALL_CLOUD:
         return points
     from scipy.spatial import cKDTree
 
-    dist, _ = cKDTree(points).query(points, k=STRAY_NEIGHBOURS + 1)
-    reach = dist[:, STRAY_NEIGHBOURS]
-    typical = float(np.median(reach))
-    stray = reach > STRAY_FACTOR * typical
+    dist = cKDTree(points).query(points, k=STRAY_NEIGHBOURS + 1)[0][:, 1:]  # (n, STRAY_NEIGHBOURS): k = 1, 2, ...
+    typical = np.median(dist, axis=0)
+    stray = (dist > STRAY_FACTOR * typical).any(axis=1)
     if not stray.any() or stray.sum() > STRAY_SHARE * len(points):
         return points
-    _warn(f"{what}: {int(stray.sum())} stray point(s) dropped, each farther than {STRAY_FACTOR:g} times the cloud's "
-          f"typical spacing ({typical:.2g} mm to the {STRAY_NEIGHBOURS}th neighbour) from its {STRAY_NEIGHBOURS}th "
-          "nearest neighbour (a scan's outliers would make the object larger than it is)")
+    _warn(f"{what}: {int(stray.sum())} stray point(s) dropped (up to {dist[stray, 0].max():.2g} mm from the nearest "
+          f"other point, where the cloud's typical spacing is {typical[0]:.2g} mm): isolated points or groups of at "
+          f"most {STRAY_NEIGHBOURS}, whose k-th nearest neighbour, for some k from 1 to {STRAY_NEIGHBOURS}, is more "
+          f"than {STRAY_FACTOR:g} times as far as is typical in the cloud. A scan's outliers would make the object "
+          "larger than it is")
     return points[~stray]
 
 
@@ -592,7 +642,8 @@ def from_mesh(
     Parameters
     ----------
     mesh : trimesh.Trimesh or trimesh.Scene
-        The surface (a scene's meshes are concatenated).
+        The surface (a scene's meshes are concatenated; trimesh's primitives,
+        such as ``trimesh.primitives.Box``, are meshes too).
     scale : float
         Factor applied to the coordinates (``scale=1000`` for a mesh in metres).
     name : str, optional
@@ -612,17 +663,22 @@ def from_mesh(
         ``info["method"]`` is ``"hull"``, ``"coacd"`` or (not watertight)
         ``"surface points: ..."``, ``info["cache"]`` is
         ``"hit"``, ``"miss"`` or ``"disabled"``, ``info["volume_ratio"]`` the
-        mesh's volume over its hull's (None when not watertight).
+        mesh's volume over its hull's (None when not watertight),
+        ``info["repair"]`` what `close_mesh` did, or for closed shells joined
+        into their union ``{"method": "union", "overlap", "volume"}`` (mm^3).
 
     Raises
     ------
     ValueError
-        If the mesh has no faces or no volume (all vertices on a plane).
+        If the mesh is empty, has no faces or no volume (all vertices on a plane),
+        or has a NaN or inf vertex.
 
     Warns
     -----
     UserWarning
-        If the mesh is not watertight, or the object's size is outside 10-500 mm.
+        If the mesh is not watertight, its closed shells pass through each
+        other, its volume exceeds its hull's, debris was dropped, its parts lie
+        apart, or the object's size is outside 10-500 mm.
 
     Examples
     --------
@@ -684,8 +740,9 @@ def from_points(
     -----
     UserWarning
         If the object's size is outside 10-500 mm, or if stray points were dropped
-        (at most 1 % of the cloud, each farther than `STRAY_FACTOR` times the cloud's
-        typical spacing from its `STRAY_NEIGHBOURS`-th nearest neighbour).
+        (at most 1 % of the cloud, each with its k-th nearest neighbour, for some k
+        from 1 to `STRAY_NEIGHBOURS`, farther than `STRAY_FACTOR` times the cloud's
+        typical k-th neighbour distance: isolated points and groups of up to 8).
 
     Examples
     --------
@@ -708,7 +765,7 @@ def from_points(
 
 
 def _read_array_file(path: Path, ext: str):
-    """(kind, data) from .npy/.npz/.xyz: ("points", array) or ("mesh", Trimesh)."""
+    """(kind, data) from .npy/.npz/.xyz: ("points", array) or ("mesh", Trimesh, unprocessed)."""
     if ext == ".xyz":
         try:
             data = np.loadtxt(path, ndmin=2, comments="#")
@@ -733,7 +790,7 @@ def _read_array_file(path: Path, ext: str):
                                  f"got {faces.dtype} of shape {faces.shape}"
                                  + (f" from {faces.min()} to {faces.max()}" if faces.size and faces.dtype.kind in "iuf"
                                     else ""))
-            return "mesh", trimesh.Trimesh(data["vertices"], faces)
+            return "mesh", trimesh.Trimesh(data["vertices"], faces, process=False)  # processed after the checks
         if "points" in keys:
             return "points", data["points"]
         if len(keys) == 1:
@@ -809,12 +866,15 @@ def load(
         If the file does not exist.
     ValueError
         If the extension is not supported (the message lists the supported
-        ones), the file cannot be read, or its content has no volume.
+        ones), the file cannot be read (or a file it refers to, such as a
+        .gltf's buffer, is missing), a vertex is NaN or inf, or its content
+        has no volume.
 
     Warns
     -----
     UserWarning
-        If a mesh is not watertight, or the size is outside 10-500 mm.
+        As `from_mesh` or `from_points` warn (a mesh not watertight, debris
+        dropped, the size outside 10-500 mm, ...).
 
     Examples
     --------
@@ -851,6 +911,7 @@ def load(
     options = dict(name=name, max_parts=max_parts, max_vertices=max_vertices, cache=cache,
                    center=center, torque_scale=torque_scale, _source=str(path))
     reading = f"could not read '{path}' as a {ext} file"
+    kind = None
     try:
         if ext in (".xyz", ".npy", ".npz"):
             kind, data = _read_array_file(path, ext)
@@ -861,11 +922,14 @@ def load(
                 data = trimesh.load(str(path), file_type=ext[1:], process=False)
             if isinstance(data, trimesh.Scene) and not data.geometry:
                 raise ValueError("no geometry found in the file")
+    except FileNotFoundError as exc:  # a file it refers to (a .gltf's buffer or image): the file itself exists
+        raise ValueError(f"{reading}: a file it refers to is missing: '{exc.filename or exc}' (looked for in "
+                         f"'{path.absolute().parent}'); keep the files it names next to it, or export it as one .glb") from exc
     except (OSError, ValueError, KeyError, IndexError, TypeError, UnicodeDecodeError, EOFError) as exc:
         raise ValueError(f"{reading}: {exc}") from exc
     except Exception as exc:  # noqa: BLE001 - third-party readers raise anything
         raise ValueError(f"{reading}: {type(exc).__name__}: {exc}") from exc
-    if ext not in (".xyz", ".npy", ".npz"):
+    if kind != "points":  # a mesh file, or an .npz mesh
         parts = list(data.geometry.values()) if isinstance(data, trimesh.Scene) else [data]
         for part in parts:  # the error from_mesh gives, before anything is dropped
             as_points(np.asarray(getattr(part, "vertices", np.zeros((0, 3)))), f"{name} vertices", dim=3)

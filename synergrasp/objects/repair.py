@@ -25,7 +25,9 @@ mostly cap), rather than guessed at.
 point out of the solid for the planner's tests against the true surface. `simplify` gives a closed
 mesh with fewer faces within a tolerance of it (those tests on a large scan). `separate_parts`
 finds the parts of a mesh that no face joins and the gap between them (a file holding several
-objects, or a scan with a loose fragment).
+objects, or a scan with a loose fragment); `drop_debris` removes the parts of negligible volume that lie
+apart from the rest (a scan's specks). `union_of_bodies` joins the closed shells of a mesh that pass through
+each other (an assembly exported as one mesh) into the surface of the solid they enclose.
 """
 
 from __future__ import annotations
@@ -255,22 +257,15 @@ def separate_parts(mesh: trimesh.Trimesh):
     >>> parts, round(gap, 6)
     (2, 20.0)
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components, minimum_spanning_tree
+    from scipy.sparse.csgraph import minimum_spanning_tree
     from scipy.spatial import cKDTree
 
     vertices = np.asarray(mesh.vertices, dtype=float)
-    _, same = np.unique(vertices, axis=0, return_inverse=True)  # coinciding corners join their faces
-    faces = same.reshape(-1)[np.asarray(mesh.faces, dtype=np.int64)]
-    n = int(same.max()) + 1 if len(same) else 0
-    edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    _, labels = connected_components(coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)),
-                                     directed=False)
-    face_label = labels[faces[:, 0]]
+    face_label = _part_labels(mesh)
     parts = np.unique(face_label)
     if len(parts) < 2:
         return int(len(parts)), 0.0
-    area = np.bincount(face_label, weights=mesh.area_faces, minlength=labels.max() + 1)
+    area = np.bincount(face_label, weights=mesh.area_faces)
     measured = parts[np.argsort(-area[parts], kind="stable")][:MAX_PARTS]
     count = int(np.clip(area.sum() / PART_SPACING**2, *PART_SAMPLES))
     samples, sampled = trimesh.sample.sample_surface(mesh, count, seed=0)
@@ -284,6 +279,146 @@ def separate_parts(mesh: trimesh.Trimesh):
             gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
     tree = minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray()  # (a zero entry would be no edge)
     return int(len(parts)), float(tree.max())
+
+
+def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
+    """The mesh without its debris: parts of negligible volume that lie apart from the rest.
+
+    Parts are those of `separate_parts`. A part is debris when the volume of
+    its convex hull is at most ``fraction`` of the largest part's (a flat
+    part has none) and none of its vertices and face centres is within
+    ``gap`` of the surface of the parts that are not debris: a speck or a
+    stray triangle of a scan, which would make the object larger than it is
+    and its decomposition coarser.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A mesh with finite vertices.
+    fraction : float
+        Largest hull volume of debris, as a fraction of the largest part's.
+    gap : float
+        Least distance of debris from the rest (mesh units).
+
+    Returns
+    -------
+    kept : trimesh.Trimesh
+        ``mesh`` itself when no part is debris, else a copy without the debris.
+    dropped : list of dict
+        Per part dropped: ``faces`` (its number of faces), ``size`` (its
+        largest bounding-box side) and ``distance`` (from the rest; mesh units).
+
+    Examples
+    --------
+    A 60 mm box and a speck of radius 1 mm 300 mm away:
+
+    >>> import trimesh
+    >>> speck = trimesh.creation.icosphere(subdivisions=0, radius=1.0).apply_translation([300.0, 0.0, 0.0])
+    >>> kept, dropped = drop_debris(trimesh.util.concatenate([trimesh.creation.box((60.0, 60.0, 60.0)), speck]), 1e-3, 10.0)
+    >>> len(kept.faces), [(d["faces"], round(d["size"], 1), round(d["distance"])) for d in dropped]
+    (12, [(20, 1.7, 269)])
+    """
+    from scipy.spatial import ConvexHull, QhullError
+
+    if mesh.body_count < 2:  # (vertices joined by edges: one body is one part)
+        return mesh, []
+    label = _part_labels(mesh)
+    parts = np.unique(label)
+    if len(parts) < 2:
+        return mesh, []
+    faces = np.asarray(mesh.faces)
+    vertices = np.asarray(mesh.vertices, dtype=float)
+
+    def hull_volume(part):
+        try:
+            return ConvexHull(vertices[np.unique(faces[label == part])]).volume
+        except (QhullError, ValueError):  # flat, or too few points
+            return 0.0
+
+    volume = np.array([hull_volume(part) for part in parts])
+    small = parts[volume <= fraction * volume.max()]
+    if len(small) == 0:
+        return mesh, []
+    rest = ~np.isin(label, small)
+    body = trimesh.Trimesh(vertices, faces[rest], process=False)
+    keep, dropped = rest.copy(), []
+    for part in small:
+        mine = label == part
+        near = np.vstack([vertices[np.unique(faces[mine])], mesh.triangles_center[mine]])
+        distance = float(trimesh.proximity.closest_point(body, near)[1].min())
+        if distance > gap:
+            dropped.append({"faces": int(mine.sum()), "size": float(np.ptp(near, axis=0).max()), "distance": distance})
+        else:
+            keep |= mine
+    if not dropped:
+        return mesh, []
+    kept = trimesh.Trimesh(vertices, faces[keep], process=False)
+    kept.remove_unreferenced_vertices()
+    return kept, dropped
+
+
+def union_of_bodies(mesh: trimesh.Trimesh):
+    """A closed mesh whose bodies pass through each other, as the surface of their union.
+
+    An assembly exported as one mesh, or a multi-solid STL, is closed shells
+    that overlap: the mesh is watertight, but its volume counts the overlap
+    once per shell (it can exceed its hull's) and a ray-parity inside test
+    reads the overlap as outside. Its bodies (faces joined by shared edges)
+    are joined with manifold3d's boolean union. A mesh with a body wound
+    inward (a cavity inside another body) is left as it is.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+        A watertight mesh wound outward.
+
+    Returns
+    -------
+    joined : trimesh.Trimesh
+        The union's surface, or ``mesh`` itself when no bodies overlap.
+    overlap : float
+        The volume counted more than once (mesh units cubed): the bodies'
+        volumes summed less the union's; 0 when ``mesh`` is returned.
+
+    Examples
+    --------
+    Two 40 mm cubes that share a 20 x 40 x 40 mm slab:
+
+    >>> import trimesh
+    >>> a = trimesh.creation.box((40.0, 40.0, 40.0))
+    >>> b = a.copy().apply_translation([20.0, 0.0, 0.0])
+    >>> joined, overlap = union_of_bodies(trimesh.util.concatenate([a, b]))
+    >>> round(overlap), round(float(joined.volume)), joined.is_watertight
+    (32000, 96000, True)
+    """
+    import manifold3d
+
+    if not mesh.is_watertight or mesh.body_count < 2:
+        return mesh, 0.0
+    bodies = [_manifold(body) for body in mesh.split(only_watertight=False)]
+    if len(bodies) < 2 or any(body is None or body.volume() <= 0 for body in bodies):
+        return mesh, 0.0
+    total = sum(body.volume() for body in bodies)
+    union = manifold3d.Manifold.batch_boolean(bodies, manifold3d.OpType.Add)
+    overlap = total - float(union.volume())
+    if overlap <= 1e-9 * total:  # round-off: the bodies only touch, or lie apart
+        return mesh, 0.0
+    out = union.to_mesh64()
+    return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=False), overlap
+
+
+def _part_labels(mesh):
+    """The part of each face: connected components of the faces through shared vertex positions, (m,) int."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    _, same = np.unique(np.asarray(mesh.vertices, dtype=float), axis=0, return_inverse=True)  # coinciding corners join
+    faces = same.reshape(-1)[np.asarray(mesh.faces, dtype=np.int64)]
+    n = int(same.max()) + 1 if len(same) else 0
+    edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    _, labels = connected_components(coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)),
+                                     directed=False)
+    return labels[faces[:, 0]]
 
 
 def _edge_use(edges_sorted):
