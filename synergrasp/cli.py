@@ -37,13 +37,15 @@ def _vector(text):
 def _positive(kind):
     """An argparse type: a finite number (``float``) or a whole number (``int``) greater than 0."""
 
+    wanted = "an integer" if kind is int else "a finite number"
+
     def parse(text):
         try:
             value = kind(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a{'n integer' if kind is int else ' number'} > 0, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"expected {wanted} > 0, got {text!r}") from None
         if not np.isfinite(value) or value <= 0:
-            raise argparse.ArgumentTypeError(f"expected a{'n integer' if kind is int else ' number'} > 0, got {text!r}")
+            raise argparse.ArgumentTypeError(f"expected {wanted} > 0, got {text!r}")
         return value
 
     return parse
@@ -306,9 +308,14 @@ def main(argv=None) -> int:
             return 2
 
 
+#: Library advice (a keyword argument to pass) and the command line's way of saying it.
+_COMMAND_LINE_ADVICE = {"scale=": "--units m or cm, or --scale FACTOR", "as hand=": "--hand FILE"}
+
+
 def _command_line_hint(message: str) -> str:
-    """A library message that suggests ``scale=...``, with the command line's way of saying it."""
-    return message + (" (on the command line: --units m or cm, or --scale FACTOR)" if "scale=" in message else "")
+    """A library message that suggests ``scale=...`` or ``hand=...``, with the command line's way of saying it."""
+    hints = [flags for advice, flags in _COMMAND_LINE_ADVICE.items() if advice in message]
+    return message + "".join(f" (on the command line: {flags})" for flags in hints)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

@@ -104,12 +104,13 @@ def test_loading_a_file_says_what_it_is_doing(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--scale", "0"], "expected a number > 0"),
-    (["--scale", "nan"], "expected a number > 0"),
+    (["--scale", "0"], "expected a finite number > 0"),
+    (["--scale", "nan"], "expected a finite number > 0"),
     (["--units", "inch"], "invalid choice: 'inch'"),
     (["--scale", "10", "--units", "m"], "not allowed with argument"),
     (["--max-iter", "0"], "expected an integer > 0"),
-    (["--time-limit", "-1"], "expected a number > 0"),
+    (["--time-limit", "-1"], "expected a finite number > 0"),
+    (["--time-limit", "inf"], "expected a finite number > 0, got 'inf'"),
     (["--approach", "1,nan,0"], "expected three finite numbers"),
 ])
 def test_bad_arguments_exit_2(capsys, argv, message):

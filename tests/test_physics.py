@@ -367,8 +367,8 @@ def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
     assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still"]) == 0
     printed = capsys.readouterr().out
     assert printed.startswith("held (held)") and "wrote" in printed
-    check = Validation.load(out / "pinch_validation.json")
-    assert check.held and (out / "pinch_validation.png").stat().st_size > 0
+    check = Validation.load(out / "box_stl_precision_validation.json")  # named after the object, as plan names it
+    assert check.held and (out / "box_stl_precision_validation.png").stat().st_size > 0
     assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still",
                  "--retreat", "40"]) == 1
     assert "NOT HELD (no contact)" in capsys.readouterr().out
@@ -379,3 +379,21 @@ def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
     assert main(["validate", str(path), "--object", str(metres), "--out", str(out), "--no-still"]) == 2
     assert "another scale" in capsys.readouterr().err
     assert main(["validate", str(path), "--object", str(metres), "--units", "m", "--out", str(out), "--no-still"]) == 0
+    other_hand = pinch_result(np.r_[u, 0.0], box).save(tmp_path / "nine.json")  # a u of another hand's size
+    assert main(["validate", str(other_hand), "--object", str(mesh), "--out", str(out), "--no-still"]) == 2
+    assert "another hand? Pass that hand as hand= (on the command line: --hand FILE)" in capsys.readouterr().err
+
+
+def test_cli_validations_of_two_objects_results_keep_their_own_files(pinch, tmp_path, capsys):
+    """A batch's results are OBJECT/GRASP.json: two objects' precision.json validated into one folder make two files."""
+    u, box = pinch
+    out = tmp_path / "out"
+    for name in ("box_a", "box_b"):
+        mesh = tmp_path / f"{name}.stl"
+        trimesh.Trimesh(box.pieces[0], box.convex[0].facets).export(mesh)
+        (tmp_path / name).mkdir()
+        path = pinch_result(u, box).save(tmp_path / name / "precision.json")
+        assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still"]) == 0
+    assert sorted(p.name for p in out.glob("*.json")) == ["box_a_stl_precision_validation.json",
+                                                         "box_b_stl_precision_validation.json"]
+    assert Validation.load(out / "box_a_stl_precision_validation.json").object_name == "box_a.stl"

@@ -1,6 +1,9 @@
 """PlanResult files: atomic saves, and loads that check every field and name the file and the field."""
 
 import json
+import re
+import warnings
+from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -9,6 +12,9 @@ import pytest
 import synergrasp as sg
 from synergrasp import viz
 from synergrasp._files import atomic_path, writable_folder
+from synergrasp.planner import status_rows
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
 
 
 @pytest.fixture(scope="module")
@@ -21,6 +27,29 @@ def failed_plan():
 def saved(failed_plan, tmp_path):
     path = failed_plan.save(tmp_path / "plan.json")
     return path, json.loads(path.read_text())
+
+
+def test_the_plan_result_page_labels_every_status_row(monkeypatch, tmp_path):
+    """docs/howto/plan-result.md: its example runs, and its legend has one entry per cP row of the status."""
+    monkeypatch.chdir(tmp_path)
+    page = (DOCS / "howto" / "plan-result.md").read_text()
+    names = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # e.g. matplotlib's warning of a legend with more labels than lines
+        exec(re.search(r"```python\n(.*?)```", page, re.S).group(1), names)
+    result, top = names["result"], names["top"]
+    rows = status_rows(names["hand"], result.grasp)[0]
+    assert result.status.shape[1] == len(rows) + 1 == 17 and result.target.shape == (17,)
+    assert [t.get_text() for t in top.get_legend().get_texts()] == rows and len(top.get_lines()) == len(rows)
+    plt.close("all")
+
+
+def test_getting_started_shows_what_the_goblet_plan_prints():
+    page = (DOCS / "getting-started.md").read_text()
+    result = sg.plan(sg.objects.get("goblet"), "precision")
+    assert f"# True, {result.reason!r}" in page
+    assert f"# {result.contact_labels}, {result.final_q:.4f}" in page
+    assert f"final g: {result.status.shape[1] - 1} cP rows" in page
 
 
 def test_plan_takes_a_name_or_a_path(tmp_path):

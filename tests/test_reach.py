@@ -322,6 +322,12 @@ def test_a_plan_returns_its_executable_reach(cup_plan):
     json.dumps(r.reach)  # the summary is JSON as it is
 
 
+def test_a_replay_refuses_the_plan_of_another_object(cup_plan):
+    """replay_reach checks a result against the object and the hand as sg.validate does."""
+    with pytest.raises(ValueError, match=r"planned for another object \('cup'\)"):
+        sg.replay_reach(cup_plan, so.ellipsoid())
+
+
 def test_the_reach_survives_a_save_and_load(cup_plan, tmp_path):
     back = PlanResult.load(cup_plan.save(tmp_path / "plan.json"))
     for name in ("pregrasp", "path", "clearance"):

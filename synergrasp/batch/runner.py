@@ -23,7 +23,7 @@ from pathlib import Path
 from .._checks import positive_scalar
 from ..lp import get_backend
 from ..objects import ellipsoid
-from ..planner import PlanResult, plan
+from ..planner import METHODS, PlanResult, plan
 from .store import ResultStore, TaskFailure, grasp_summary
 from .tasks import expand
 from .worker import plan_task, prepare_object
@@ -130,7 +130,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         LP backend name.
     options : dict, optional
         Keyword arguments of ``synergrasp.plan`` for every task (planner options,
-        ``max_iter``...); checked by a one-iteration plan before any task runs.
+        ``max_iter``...); checked before any task runs: the values by the
+        method's options class, the rest by a one-step plan of an ellipsoid.
     time_limit : float, optional
         Seconds per plan (checked after every planner iteration); a plan that
         exceeds it is recorded as ``"timeout"``. None: no limit.
@@ -234,16 +235,21 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
             raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     if options is not None and not isinstance(options, dict):
         raise TypeError(f"options must be a dict of synergrasp.plan keyword arguments, got {type(options).__name__}")
-    own = sorted(set(options or {}) & {"obj", "grasp", "backend", "progress"})
+    options = options or {}
+    own = sorted(set(options) & {"obj", "grasp", "backend", "progress"})
     if own:
         raise ValueError(f"options {own} are set by the batch itself: give the objects and grasp types as its "
                          "arguments and the backend as backend=...; a batch reports its own progress")
+    method = options.get("method", "gradient")
+    cap = "steps" if method == "annealing" else "max_iter"  # the option that makes the probe plan one step
     probe = ellipsoid()
-    for grasp in dict.fromkeys(t.grasp for t in tasks):
-        try:
-            plan(probe, grasp, backend=backend, **{**(options or {}), "max_iter": 1})
-        except (ValueError, TypeError) as exc:
-            raise ValueError(f"the planner rejects the options {options!r}: {exc}") from None
+    try:
+        if cap in options and method in METHODS:  # the user's own value, which the probe replaces
+            METHODS[method](**{cap: options[cap]})
+        for grasp in dict.fromkeys(t.grasp for t in tasks):
+            plan(probe, grasp, backend=backend, **{**options, cap: 1})
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"the planner rejects the options {options!r}: {exc}") from None
 
 
 def local_cluster(workers=None):

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import os
 import sys
-from pathlib import Path
 
-from ..cli import add_unit_options, object_from_args
+from ..cli import add_unit_options, object_from_args, output_stem
 from .protocol import PRESETS
 
 __all__ = ["add_validate_parser"]
@@ -30,8 +29,11 @@ def add_validate_parser(subparsers):
         help="test a saved plan result in MuJoCo: squeeze, settle, push along six directions",
         description="Test a saved PlanResult in MuJoCo (the documentation's 'Physics validation' page): the hand "
         "squeezes, the grasp settles, and the object is pushed with its weight along -x, +x, -y, +y, -z, +z. "
-        "Writes DIR/NAME_validation.json, the displacement figure and, where MuJoCo can render offscreen, a still "
-        "of the settled grasp. Exit status 0 if the grasp holds, 1 if not. Needs pip install \"synergrasp[sim]\".",
+        "Writes DIR/NAME_GRASP_validation.json, the displacement figure and, where MuJoCo can render offscreen, a "
+        "still of the settled grasp. NAME is the object's as synergrasp plan names it (the built-in's name, or the "
+        "file's stem and extension) and GRASP the result's grasp type, so the results of different objects (such as "
+        "a batch's results/OBJECT/GRASP.json) never share output files. Exit status 0 if the grasp holds, 1 if "
+        "not. Needs pip install \"synergrasp[sim]\".",
     )
     p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
     p.add_argument("--object", required=True,
@@ -65,7 +67,7 @@ def _validate(args) -> int:
     hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
-    stem = f"{Path(args.result).stem}_validation"
+    stem = f"{output_stem(args.object, result.grasp)}_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
     if not args.no_still:
         try:

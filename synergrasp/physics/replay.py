@@ -19,7 +19,7 @@ from .._checks import as_points, positive_scalar
 from ..planner import PlanResult, hand_and_object
 from .protocol import protocol as make_protocol
 from .simulate import mujoco_module, simulate_reach
-from .validate import squeeze_targets
+from .validate import check_match, squeeze_targets
 
 __all__ = ["Replay", "replay_reach"]
 
@@ -100,8 +100,9 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     Parameters
     ----------
     result_or_path : PlanResult or (k, 6 + n_syn) array_like
-        A plan result with an executable reach (`PlanResult.path`), or a path
-        (pre-grasp first, grasp last, e.g. `synergrasp.planner.Reach.path`).
+        A plan result with an executable reach (`PlanResult.path`; checked
+        against ``obj`` and ``hand`` as `synergrasp.validate` checks it), or a
+        path (pre-grasp first, grasp last, e.g. `synergrasp.planner.Reach.path`).
     obj : GraspObject
         The object, at the pose it was planned in.
     hand : SynergyHand, optional
@@ -128,9 +129,10 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     TypeError
         If ``obj`` is not a GraspObject or ``hand`` not a SynergyHand.
     ValueError
-        A result without an executable reach, a path that does not fit the
-        hand, a grasp that touches nothing (no squeeze), a ``speed`` below
-        `MIN_SPEED` (5 mm/s), or a bad protocol setting.
+        A result without an executable reach or from another object or hand,
+        a path that does not fit the hand, a grasp that touches nothing (no
+        squeeze), a ``speed`` below `MIN_SPEED` (5 mm/s), or a bad protocol
+        setting.
 
     Examples
     --------
@@ -147,10 +149,12 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     start = time.process_time()
     mujoco = mujoco_module()
     hand = hand_and_object(hand, obj)
+    settings = make_protocol(preset, **protocol)
     if isinstance(result_or_path, PlanResult):
         if len(result_or_path.path) == 0:
             raise ValueError("the result has no executable reach (no grasp was found, or it was planned with "
                              "executable_reach=False): nothing to replay")
+        check_match(result_or_path, obj, hand, settings.contact_distance)
         path = np.asarray(result_or_path.path, dtype=float)
     else:
         path = result_or_path
@@ -159,7 +163,6 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     if speed < MIN_SPEED:
         raise ValueError(f"speed {speed:g} mm/s is slower than {MIN_SPEED:g} mm/s: the replay's simulated time grows as "
                          "1 / speed (at 0.1 mm/s, about a minute of CPU). speed is in mm/s (default 100), not m/s")
-    settings = make_protocol(preset, **protocol)
     z, _ = squeeze_targets(hand, obj, path[-1], settings.squeeze, settings.contact_distance, backend)
     squeezed = np.r_[path[-1, :6], z]
     measured = simulate_reach(hand, obj, path, hand.joint_angles(squeezed), settings, speed)

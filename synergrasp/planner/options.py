@@ -15,6 +15,7 @@ def _number(value, name, low=None, high=None, *, integer=False, open_low=False, 
             low_from=None, high_from=None):
     """``value`` as a float (or int) within ``[low, high]`` (``(low, high]`` with ``open_low``), else a ValueError naming it.
 
+    A bound of None: no bound on that side but finiteness; the message's range is open there (``[1, inf)``).
     ``low_from`` / ``high_from``: the names of the options the bounds are (the message names them).
     """
     if value is None and allow_none:
@@ -22,7 +23,7 @@ def _number(value, name, low=None, high=None, *, integer=False, open_low=False, 
     kind = "an integer" if integer else "a number"
     lo = "-inf" if low is None else f"{owner}.{low_from} = {low}" if low_from else low
     hi = "inf" if high is None else f"{owner}.{high_from} = {high}" if high_from else high
-    span = f"{'(' if open_low else '['}{lo}, {hi}]"
+    span = f"{'(' if open_low or low is None else '['}{lo}, {hi}{')' if high is None else ']'}"
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
     if isinstance(value, (bool, np.bool_)) or not ok_type or not math.isfinite(float(value)):
         none = " or None" if allow_none else ""
@@ -241,11 +242,18 @@ class PlannerOptions(_Fields):
         set_(self, "radius_max", _number(self.radius_max, "radius_max", self.radius_min, 10.0, low_from="radius_min"))
         set_(self, "radius", _number(self.radius, "radius", self.radius_min, self.radius_max, low_from="radius_min",
                                             high_from="radius_max"))
-        windows = self.stall_window if isinstance(self.stall_window, (tuple, list)) else (self.stall_window,) * 2
+        window = self.stall_window
+        if isinstance(window, np.ndarray) and window.ndim == 0:
+            window = window.item()
+        windows = tuple(window) if isinstance(window, (tuple, list, np.ndarray)) else (window,) * 2
+        try:
+            windows = tuple(_number(w, "stall_window", 1, None, integer=True) for w in windows)
+        except ValueError:
+            windows = ()
         if len(windows) != 2:
-            raise ValueError(f"PlannerOptions.stall_window must be an integer or a (precision, power) pair of integers, "
-                             f"got {self.stall_window!r}")
-        set_(self, "stall_window", tuple(_number(w, "stall_window", 1, None, integer=True) for w in windows))
+            raise ValueError(f"PlannerOptions.stall_window must be an integer in [1, inf) or a (precision, power) pair "
+                             f"of them, got {self.stall_window!r}")
+        set_(self, "stall_window", windows)
         for name, low in (("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
                           ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
