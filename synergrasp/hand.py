@@ -892,16 +892,44 @@ class SynergyHand:
             palm as an oriented box (``palm.center`` and ``palm.size`` of the file).
         """
         u = self._check_u(u)
-        rot = rotation_xyz(u[3:6])
+        center, rot = self.palm_box(u)
         nodes = u[:3] + np.vstack([self._chains(u[6:])[1].reshape(-1, 3), self.palm_point]) @ rot.T
         return HandGeometry(
             capsules=nodes[self._segment_nodes],
             radius=self.finger_radius,
             labels=self._kinds["power"][2][:-1],
-            palm_center=u[:3] + rot @ self._palm_center,
+            palm_center=center,
             palm_axes=rot,
             palm_half_extents=self.palm_half_extents.copy(),
         )
+
+    def palm_box(self, u):
+        """The palm box's centre and axes in the world frame (its half extents are ``palm_half_extents``).
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+
+        Returns
+        -------
+        center : (3,) float
+        axes : (3, 3) float
+            Columns: the palm frame's x, y and z in the world; z is the outward
+            normal of the box's front face (the face the fingers close over).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> hand = SynergyHand.default()
+        >>> u = np.array([5.0, -3.0, 20.0, 0.4, -0.7, 1.1, 0.5, -0.4])
+        >>> center, axes = hand.palm_box(u)
+        >>> geo = hand.segments(u)
+        >>> bool(np.array_equal(center, geo.palm_center) and np.array_equal(axes, geo.palm_axes))
+        True
+        """
+        u = self._check_u(u)
+        rot = rotation_xyz(u[3:6])
+        return u[:3] + rot @ self._palm_center, rot
 
     def __repr__(self):
         return (f"SynergyHand({self.name!r}, fingers={self.finger_names}, "

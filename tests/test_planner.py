@@ -17,6 +17,7 @@ from synergrasp.planner import (
     PlannerOptions,
     PlanResult,
     check_grasp,
+    forget_warm_starts,
     grasp_status,
     pinch_seeds,
     plan,
@@ -31,10 +32,11 @@ from synergrasp.planner import (
     status_rows,
     wrap_seeds,
 )
+from synergrasp.lp import get_backend
 from synergrasp.planner import attempt as attempt_module
 from synergrasp.planner.clearance import HandClearance
 from synergrasp.planner.starts import surface_samples
-from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration
+from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration, palm_face_point
 from synergrasp.planner.stop import mesh_depth, surface_check
 
 from .conftest import BACKENDS
@@ -130,8 +132,49 @@ def test_every_row_is_the_deepest_of_its_skin_points(hand, ellipsoid, backend, k
         np.testing.assert_allclose(st.g[:5], np.minimum(pads, each[[2, 5, 8, 11, 14]]), atol=1e-6)
     others = [i for i, lab in enumerate(hand.point_labels("power")[:-1]) if kind == "power" or lab[1] != "3"]
     np.testing.assert_allclose(st.g[st.segment_rows[others]], each[others], atol=1e-6)
-    palm_cp = ellipsoid.contact_distance(palm, backend=backend).value.min()
-    np.testing.assert_allclose(st.g[-2], palm_cp, atol=1e-6)  # the palm row: P and the rim of the palm box
+    face = palm_face_point(hand, ellipsoid, u)
+    palm_cp = ellipsoid.contact_distance(np.vstack([palm, face]), backend=backend).value.min()
+    np.testing.assert_allclose(st.g[-2], palm_cp, atol=1e-6)  # the palm row: P, the rim of the palm box, the face point
+
+
+def small_ball_under_the_palm(hand, gap):
+    """A 24 x 20 x 16 mm ellipsoid ``gap`` mm in front of the palm's face, between its skin samples, and the pose."""
+    u = np.r_[np.zeros(6), 0.1, -0.2]
+    u[3:6] = [0.05, -0.03, 0.02]  # tilted: one vertex is nearest the face
+    center, axes = hand.palm_box(u)
+    h = hand.palm_half_extents
+    ball = so.ellipsoid(12.0, 10.0, 8.0)
+    offset = center + axes @ [0.5 * h[0], -0.5 * h[1], h[2]]
+    support = np.vstack(ball.pieces) @ axes[:, 2]
+    shift = offset - ball.center + axes[:, 2] * (gap + ball.center @ axes[:, 2] - support.min())
+    return ball.transformed(trimesh.transformations.translation_matrix(shift)), u
+
+
+@pytest.mark.parametrize("kind", ["precision", "power"])
+def test_the_palm_row_sees_a_small_object_between_its_skin_samples(hand, kind):
+    ball, u = small_ball_under_the_palm(hand, gap=2.0)
+    palm = hand.skin_and_jacobian(u, kind)[1]
+    face = palm_face_point(hand, ball, u)
+    mesh = ball.to_mesh()
+    assert trimesh.proximity.closest_point(mesh, palm)[1].min() > 15.0  # every sample reads it far off
+    assert trimesh.proximity.closest_point(mesh, face)[1][0] == pytest.approx(2.0, abs=0.1)
+    st = grasp_status(hand, ball, u, kind)
+    sampled = ball.contact_distance(palm).value.min()
+    assert st.g[-2] == pytest.approx(ball.contact_distance(face).value[0]) and st.g[-2] < sampled - 10.0
+    center, axes = hand.palm_box(u)
+    local = (face[0] - center) @ axes  # the row's derivative: the face point carried by the palm
+
+    def carried(v):
+        c, a = hand.palm_box(v)
+        return ball.contact_distance((c + a @ local)[None]).value[0]
+
+    np.testing.assert_allclose(st.J[-2], finite_difference(carried, u), rtol=1e-4, atol=1e-6)
+
+
+def test_no_face_point_when_nothing_lies_over_the_palm(hand):
+    ball, u = small_ball_under_the_palm(hand, gap=2.0)
+    u[:3] += 200.0 * hand.palm_box(u)[1][:, 0]  # slid 200 mm sideways: the ball is beside the palm
+    assert palm_face_point(hand, ball, u).shape == (0, 3)
 
 
 def test_the_palm_row_sees_a_corner_of_the_palm_box_in_the_object(hand, box):
@@ -570,10 +613,12 @@ def test_refining_raises_the_margin(hand):
 
 
 def test_a_refinement_that_never_gets_the_hand_out_ends_in_penetration_not_surface(hand):
-    """The goblet's first power start meets the criterion with a phalanx or the palm deeper than
-    max_penetration and stays so while refining: no grasp was judged on the true surface."""
-    goblet, cup, opts = so.goblet(), so.cup(), PlannerOptions()
-    r = run_attempt(hand, goblet, "power", next(starts(hand, goblet, "power", opts)).u, opts)
+    """The cup's first power start (the attempt started cold) meets the criterion with a phalanx or the palm
+    deeper than max_penetration and stays so while refining: no grasp was judged on the true surface."""
+    cup, opts = so.cup(), PlannerOptions()
+    start = next(starts(hand, cup, "power", opts)).u
+    forget_warm_starts(get_backend("native"), cup)
+    r = run_attempt(hand, cup, "power", start, opts)
     assert r.outcome is Outcome.PENETRATION and r.surface is None
     depth = float(r.reason.split("(")[1].split(" mm")[0])
     assert depth > opts.max_penetration
@@ -642,6 +687,16 @@ def test_options_come_as_an_object_or_as_keywords(ellipsoid):
     np.testing.assert_allclose(a.trajectory, b.trajectory, atol=1e-6)  # the LP warm starts differ at round-off
     np.testing.assert_allclose(a.trajectory, c.trajectory, atol=1e-6)
     assert a.options == b.options == c.options and a.options["max_iter"] == 5
+
+
+def test_the_stall_window_pair_comes_as_any_sequence_of_two():
+    """A (precision, power) pair as a tuple, a list or a NumPy array (as contact_band takes one); one integer for both."""
+    for pair in ((5, 6), [5, 6], np.array([5, 6])):
+        assert PlannerOptions(stall_window=pair).stall_window == (5, 6)
+    assert PlannerOptions(stall_window=np.int64(7)).stall_window == PlannerOptions(stall_window=np.array(7)).stall_window == (7, 7)
+    for bad in (np.array([5, 6, 7]), np.array([[5, 6]]), (5, 0), 2.5):
+        with pytest.raises(ValueError, match=r"stall_window must be an integer in \[1, inf\) or a \(precision, power\) pair"):
+            PlannerOptions(stall_window=bad)
 
 
 def test_a_plan_stops_at_its_time_limit(ellipsoid):
@@ -822,9 +877,9 @@ def test_a_failed_power_plan_says_when_the_fingers_did_not_close_around_the_obje
 
 
 def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the_object():
-    """With the palm on a 30 mm ball at most two phalanges come near it (``benchmarks/power_reach.py``): the wrap
-    seeds the plan tried say so; the ellipsoid's first wrap seed has three, and a plan stopped after it does not."""
-    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=15.0), name="30 mm ball", cache=False)
+    """With the palm on a 20 mm ball no phalanx comes near it: the wrap seeds the plan tried say so; the
+    ellipsoid's first wrap seed has three, and a plan stopped after it does not."""
+    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=10.0), name="20 mm ball", cache=False)
     r = plan(ball, "power", restarts=4, executable_reach=False)
     touching = [a["touching"] for a in r.attempts if a["kind"] == "wrap"]
     assert not r.success and len(touching) == 4 and max(touching) <= 2

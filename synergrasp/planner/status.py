@@ -4,7 +4,8 @@ g = [cP rows ; g_sQ]: the contact pseudo-distance of the hand's parts, then
 the Q distance of the contacts the hand would make with the object scaled
 about its centre (sQ). Every part is watched over its skin: a phalanx's row
 is the smallest cP of the points on its capsule, the palm's that of the palm
-point and the rim of the palm box's front face. A precision grasp's contact
+point, the rim of the palm box's front face and the point of the face over
+the object's nearest vertex (`palm_face_point`). A precision grasp's contact
 rows are the five fingertips (each the smaller of its pad point's cP and its
 distal phalanx's row); its other phalanges and the palm are clearance rows.
 A power grasp's rows are the 15 phalanges and the palm. The Jacobian chains
@@ -328,6 +329,60 @@ def _require(hand, obj):
         raise TypeError(f"obj must be a GraspObject, got {type(obj).__name__}")
 
 
+def palm_face_point(hand, obj, u):
+    """The point of the palm box's front face over the object's vertex nearest to it.
+
+    The palm's skin points sample its front face at the centre, the corners
+    and the edge midpoints, 42-48 mm apart on the paper's hand: a smaller
+    object, or an edge of one, can touch the face between them while every
+    sample reads it 20-40 mm away, and a wrap then lifts the palm off an
+    object it touches. Among the vertices of the object's convex pieces that
+    lie over the face (within its extent in the palm frame's x and y) and in
+    front of the box's back face, the one nearest the face's plane (the
+    deepest, when some are behind it) is projected onto the face: where a
+    convex piece comes nearest a flat face. The point is fixed to the palm,
+    like the other skin points.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    obj : GraspObject
+    u : (6 + n_syn,) float
+
+    Returns
+    -------
+    (1, 3) float, or (0, 3) when no vertex lies over the face
+        World point (mm).
+
+    Examples
+    --------
+    A 20 mm cube 2 mm in front of the face, between the samples: the
+    nearest sample is 16 mm from it, the face point 2 mm.
+
+    >>> import trimesh
+    >>> from synergrasp import SynergyHand, objects
+    >>> hand = SynergyHand.default()
+    >>> u = np.zeros(hand.n_u)
+    >>> center, axes = hand.palm_box(u)
+    >>> corner = center + axes @ [0.5 * hand.palm_half_extents[0], 0.5 * hand.palm_half_extents[1], 0.0]
+    >>> cube = objects.from_mesh(trimesh.creation.box((20.0, 20.0, 20.0)), cache=False)
+    >>> cube = cube.transformed(trimesh.transformations.translation_matrix(corner + [0.0, 0.0, hand.palm_half_extents[2] + 12.0]))
+    >>> samples = hand.skin_and_jacobian(u, "power")[1]
+    >>> face = palm_face_point(hand, cube, u)
+    >>> gaps = trimesh.proximity.closest_point(cube.to_mesh(), np.vstack([samples, face]))[1]
+    >>> round(float(gaps[:-1].min()), 1), round(float(gaps[-1]), 1)
+    (15.9, 2.0)
+    """
+    center, axes = hand.palm_box(u)
+    half = hand.palm_half_extents
+    local = (np.vstack(obj.pieces) - center) @ axes
+    over = np.flatnonzero((np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1]) & (local[:, 2] > -half[2]))
+    if not len(over):
+        return np.zeros((0, 3))
+    x, y, _ = local[over[np.argmin(local[over, 2])]]
+    return (center + axes @ np.array([x, y, half[2]]))[None]
+
+
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
@@ -375,6 +430,8 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
     points, jac, skin, palm, jac_skin, jac_palm = hand.points_and_skin(u, kind)
     labels, contact, segment_rows = status_rows(hand, kind)
     k, m = skin.shape[:2]
+    face = palm_face_point(hand, obj, u)
+    palm, jac_palm = np.vstack([palm, face]), np.concatenate([jac_palm, hand.palm_jacobian(u, face)])
     groups = [np.repeat(segment_rows, m), np.full(len(palm), len(labels) - 1)]
     candidates = [skin.reshape(-1, 3), palm]
     jacobians = [jac_skin.reshape(k * m, 3, -1), jac_palm]
