@@ -539,6 +539,17 @@ def test_closed_shells_that_overlap_are_joined_not_taken_as_their_hull():
     assert trimesh.proximity.closest_point(solid, obj.index.vertices)[1].max() < 3.0
 
 
+def test_shells_that_only_graze_each_other_are_joined_without_a_warning():
+    """Two 40 mm cubes that share a 0.01 mm slab (compound shapes of boxes are often built so): joined quietly."""
+    a = trimesh.creation.box((40.0, 40.0, 40.0))
+    b = a.copy().apply_translation([39.99, 0.0, 0.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        obj = so.from_mesh(trimesh.util.concatenate([a, b]), name="two cubes", cache=False)
+    assert obj.info["repair"]["method"] == "union" and obj.info["repair"]["overlap"] == pytest.approx(16.0, rel=1e-3)
+    assert obj.info["method"] == "hull" and obj.mesh.volume == pytest.approx(128000 - 16.0)
+
+
 def test_a_mesh_with_more_volume_than_its_hull_is_not_taken_as_its_hull(monkeypatch):
     """A surface that passes through itself where its shells cannot be joined: decomposed, with a warning."""
     monkeypatch.setattr(loading, "union_of_bodies", lambda mesh: (mesh, 0.0))

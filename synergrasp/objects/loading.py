@@ -119,6 +119,9 @@ PART_GAP = 10.0
 #: A part of a mesh whose hull has at most this fraction of the largest part's hull volume, and that lies
 #: farther than ``PART_GAP`` from the rest, is debris and is dropped (`drop_debris`, with a warning).
 DEBRIS_FRACTION = 1e-3
+#: Closed shells that pass through each other are joined into their union (`union_of_bodies`); when the
+#: volume they share is more than this fraction of the union's, with a warning (the file's volume was wrong).
+UNION_WARNING = 0.01
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
 #: Widest remeshing voxel (mm) of the decomposition: the pieces stick out of the true surface by
@@ -356,6 +359,7 @@ def _from_mesh(
         mesh, overlap = union_of_bodies(mesh)
         if overlap:
             union = {"method": "union", "overlap": overlap * scale**3, "volume": float(mesh.volume) * scale**3}
+        if overlap > UNION_WARNING * abs(float(mesh.volume)):  # (shells that only graze each other are joined quietly)
             _warn(f"{what}: its closed shells pass through each other ({union['overlap']:.4g} mm^3 lies inside more "
                   f"than one, and its volume counted that twice); they were joined into the solid they enclose, "
                   f"{union['volume']:.4g} mm^3 (their union, manifold3d). Check the pieces (obj.piece_meshes())")
