@@ -904,3 +904,13 @@ def test_an_object_the_hand_cannot_hold():
         huge = so.ellipsoid(300.0, 300.0, 300.0)
     with pytest.raises(ValueError, match="too large for the hand"):
         plan(huge, "precision")
+
+
+def test_an_approach_of_any_magnitude_is_its_direction(hand, ellipsoid):
+    """1e300 and 1e-10 times a direction give that direction's start, without an overflow or a refusal."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        starts_of = [start_configuration(hand, ellipsoid, k * np.array([1.0, 1.0, 0.0])) for k in (1e300, 1.0, 1e-10)]
+    assert all(np.array_equal(s, starts_of[1]) for s in starts_of)
+    with pytest.raises(ValueError, match="approach must be a non-zero direction"):
+        start_configuration(hand, ellipsoid, (0.0, 0.0, 0.0))

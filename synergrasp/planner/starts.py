@@ -131,9 +131,9 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     (8,)
     """
     a = as_vector(approach, "approach", 3)
-    if np.linalg.norm(a) < 1e-9:
+    if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
-    a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows
+    a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
     if abs(a[0]) > 0.95:  # palm normal along x: the XYZ Euler angles would start in gimbal lock
         a = a + np.array([0.0, 0.0, 0.35])
