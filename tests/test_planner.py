@@ -890,6 +890,14 @@ def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the
     assert "wrap poses tried" not in short.reason
 
 
+def test_a_30_mm_ball_has_a_power_grasp_with_the_palm_on_it():
+    """The ball touches the palm's face between its nine skin points; the face point sees it (with the nine points
+    alone every wrap stalled and the plan failed)."""
+    ball = so.from_mesh(trimesh.creation.icosphere(subdivisions=3, radius=15.0), name="30 mm ball", cache=False)
+    r = plan(ball, "power", restarts=4, executable_reach=False)
+    assert r.success and "P" in r.contact_labels and r.final_q < -0.01
+
+
 def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():
     """A card 85 mm long and 1 mm thick is in plausible units: the message says it is too thin, not "metres?"."""
     card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)
