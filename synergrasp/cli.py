@@ -34,7 +34,7 @@ def _vector(text):
     return values
 
 
-def _positive(kind):
+def positive(kind):
     """An argparse type: a finite number (``float``) or a whole number (``int``) greater than 0."""
 
     wanted = "an integer" if kind is int else "a finite number"
@@ -119,7 +119,7 @@ def add_unit_options(parser):
     parser : argparse.ArgumentParser
     """
     units = parser.add_mutually_exclusive_group()
-    units.add_argument("--scale", type=_positive(float), default=None, metavar="FACTOR",
+    units.add_argument("--scale", type=positive(float), default=None, metavar="FACTOR",
                        help="multiply the file's coordinates by FACTOR to get millimetres (1000 for metres)")
     units.add_argument("--units", choices=sorted(UNITS), default=None,
                        help="the file's length unit (m: --scale 1000, cm: --scale 10; default mm)")
@@ -232,7 +232,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="print the Q distance of a built-in grasp",
                           description="Print the Q distance of contacts spread on a sphere's equator.", epilog=_epilog())
-    demo.add_argument("--contacts", type=_positive(int), default=5, help="number of contacts (default 5)")
+    demo.add_argument("--contacts", type=positive(int), default=5, help="number of contacts (default 5)")
     demo.add_argument("--mu", type=float, default=0.3, help="friction coefficient (default 0.3)")
     demo.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
     demo.set_defaults(func=_demo)
@@ -256,9 +256,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_unit_options(p)
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
-    p.add_argument("--max-iter", type=_positive(int), default=1500,
+    p.add_argument("--max-iter", type=positive(int), default=1500,
                    help="cap on the iterations over all attempts (default 1500)")
-    p.add_argument("--time-limit", type=_positive(float), default=None, metavar="SECONDS",
+    p.add_argument("--time-limit", type=positive(float), default=None, metavar="SECONDS",
                    help="cap on the plan's wall-clock time; an attempt running when it passes ends there "
                         "(default: the planner's, PlannerOptions.time_limit)")
     p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")

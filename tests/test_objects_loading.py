@@ -586,6 +586,24 @@ def test_a_speck_of_debris_far_from_the_object_is_dropped_with_a_warning(tmp_pat
     assert not any("debris" in str(w.message) for w in record)
 
 
+def test_parts_that_are_all_flat_are_not_debris_and_the_mesh_is_refused_as_flat():
+    """Two triangles 200 mm apart: no part has a volume to measure debris against; the flat mesh is refused."""
+    a = trimesh.Trimesh([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]], [[0, 1, 2]], process=False)
+    b = a.copy().apply_translation([200.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="has no volume: all its points lie on a plane"):
+        so.from_mesh(trimesh.util.concatenate([a, b]), cache=False)
+
+
+def test_a_debris_fraction_of_0_keeps_a_flat_fragment(monkeypatch):
+    """The debris warning's advice: DEBRIS_FRACTION = 0 keeps every part, a stray triangle too."""
+    monkeypatch.setattr(loading, "DEBRIS_FRACTION", 0.0)
+    triangle = trimesh.Trimesh([[170.0, 0.0, 0.0], [175.0, 0.0, 0.0], [170.0, 5.0, 0.0]], [[0, 1, 2]], process=False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        obj = so.from_mesh(trimesh.util.concatenate([trimesh.creation.box((60.0, 60.0, 60.0)), triangle]), cache=False)
+    assert obj.extents[0] > 200.0 and not any("debris" in str(w.message) for w in caught)
+
+
 def test_a_second_object_or_a_small_part_near_the_object_is_not_debris():
     box = trimesh.creation.box((60.0, 50.0, 90.0))
     ball = trimesh.creation.icosphere(2, 10.0).apply_translation([100.0, 0.0, 0.0])  # 1.6 % of the box's volume

@@ -367,8 +367,8 @@ def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
     assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still"]) == 0
     printed = capsys.readouterr().out
     assert printed.startswith("held (held)") and "wrote" in printed
-    check = Validation.load(out / "box_stl_precision_validation.json")  # named after the object, as plan names it
-    assert check.held and (out / "box_stl_precision_validation.png").stat().st_size > 0
+    check = Validation.load(out / "box_stl_precision_pinch_validation.json")  # the object, as plan names it, and the file
+    assert check.held and (out / "box_stl_precision_pinch_validation.png").stat().st_size > 0
     assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still",
                  "--retreat", "40"]) == 1
     assert "NOT HELD (no contact)" in capsys.readouterr().out
@@ -397,3 +397,8 @@ def test_cli_validations_of_two_objects_results_keep_their_own_files(pinch, tmp_
     assert sorted(p.name for p in out.glob("*.json")) == ["box_a_stl_precision_validation.json",
                                                          "box_b_stl_precision_validation.json"]
     assert Validation.load(out / "box_a_stl_precision_validation.json").object_name == "box_a.stl"
+    for run in ("run1", "run2"):  # two results of one object and grasp: two files
+        path = pinch_result(u, box).save(tmp_path / f"{run}.json")
+        assert main(["validate", str(path), "--object", str(tmp_path / "box_a.stl"), "--out", str(out), "--no-still"]) == 0
+    assert {"box_a_stl_precision_run1_validation.json", "box_a_stl_precision_run2_validation.json"} <= {
+        p.name for p in out.glob("*.json")}

@@ -6,7 +6,7 @@ import signal
 import sys
 import threading
 
-from ..cli import UNITS, _positive
+from ..cli import UNITS, positive
 
 
 def register(sub, epilog: str = "") -> None:
@@ -42,7 +42,7 @@ def register(sub, epilog: str = "") -> None:
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (tcp://host:8786) instead of a local cluster")
     b.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
-    b.add_argument("--max-iter", type=_positive(int), default=None,
+    b.add_argument("--max-iter", type=positive(int), default=None,
                    help="cap on each plan's iterations (default: the planner's)")
     b.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
                    help="a plan running longer is recorded as timed out (default: no limit)")

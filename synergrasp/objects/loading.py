@@ -442,7 +442,8 @@ def _from_mesh(
         center=center,
         torque_scale=torque_scale,
         info={"source": _source or "mesh", "method": meta["method"], "cache": status, "volume_ratio": ratio,
-              "watertight": watertight, "repair": repair or union, "scale": scale},
+              "watertight": watertight, "scale": scale,
+              "repair": {**repair, "union": union} if repair and union else repair or union},
     )
     _check_size(obj, what)
     parts, gap = separate_parts(shown)

@@ -296,7 +296,8 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
     mesh : trimesh.Trimesh
         A mesh with finite vertices.
     fraction : float
-        Largest hull volume of debris, as a fraction of the largest part's.
+        Largest hull volume of debris, as a fraction of the largest part's;
+        0 keeps every part.
     gap : float
         Least distance of debris from the rest (mesh units).
 
@@ -320,7 +321,7 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
     """
     from scipy.spatial import ConvexHull, QhullError
 
-    if mesh.body_count < 2:  # (vertices joined by edges: one body is one part)
+    if fraction <= 0.0 or mesh.body_count < 2:  # (vertices joined by edges: one body is one part)
         return mesh, []
     label = _part_labels(mesh)
     parts = np.unique(label)
@@ -336,6 +337,8 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
             return 0.0
 
     volume = np.array([hull_volume(part) for part in parts])
+    if volume.max() <= 0.0:  # every part flat: no body to measure debris against
+        return mesh, []
     small = parts[volume <= fraction * volume.max()]
     if len(small) == 0:
         return mesh, []

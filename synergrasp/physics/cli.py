@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+from pathlib import Path
 
 from ..cli import add_unit_options, object_from_args, output_stem
 from .protocol import PRESETS
@@ -32,7 +33,8 @@ def add_validate_parser(subparsers):
         "Writes DIR/NAME_GRASP_validation.json, the displacement figure and, where MuJoCo can render offscreen, a "
         "still of the settled grasp. NAME is the object's as synergrasp plan names it (the built-in's name, or the "
         "file's stem and extension) and GRASP the result's grasp type, so the results of different objects (such as "
-        "a batch's results/OBJECT/GRASP.json) never share output files. Exit status 0 if the grasp holds, 1 if "
+        "a batch's results/OBJECT/GRASP.json) never share output files; a result file named otherwise (run1.json) "
+        "adds its stem: NAME_GRASP_run1_validation.json. Exit status 0 if the grasp holds, 1 if "
         "not. Needs pip install \"synergrasp[sim]\".",
     )
     p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
@@ -67,7 +69,10 @@ def _validate(args) -> int:
     hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
-    stem = f"{output_stem(args.object, result.grasp)}_validation"
+    stem = output_stem(args.object, result.grasp)
+    if Path(args.result).stem not in (stem, result.grasp):  # run1.json, run2.json of one object: their own files
+        stem += f"_{Path(args.result).stem}"
+    stem += "_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
     if not args.no_still:
         try:

@@ -91,7 +91,9 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     The hand points (fingertips, phalanx and palm points) closer than
     ``contact_distance`` to the object are the contacts; if none is, the
     skin points of the phalanges and the palm (`SynergyHand.skin_and_jacobian`,
-    where the planner also reads contacts), labelled by their segment. The direction of the
+    where the planner also reads contacts; the point of the palm's face that
+    the planner reads besides, `palm_face_point`, moves with no synergy and
+    would add nothing to the step), labelled by their segment. The direction of the
     step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
     the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
     the object's inward normal at the point nearest to it), and its length

@@ -334,9 +334,11 @@ def palm_face_point(hand, obj, u):
 
     The palm's skin points sample its front face at the centre, the corners
     and the edge midpoints, 42-48 mm apart on the paper's hand: a smaller
-    object, or an edge of one, can touch the face between them while every
+    object, or a corner of one, can touch the face between them while every
     sample reads it 20-40 mm away, and a wrap then lifts the palm off an
-    object it touches. Among the vertices of the object's convex pieces that
+    object it touches. (An edge of a piece that crosses the face with both
+    its ends beyond the face's extent is not seen this way: a bar lying
+    across the palm between the samples is read by the samples alone.) Among the vertices of the object's convex pieces that
     lie over the face (within its extent in the palm frame's x and y) and in
     front of the box's back face, the one nearest the face's plane (the
     deepest, when some are behind it) is projected onto the face: where a
