@@ -14,7 +14,9 @@ than the finger radius less ``max_penetration`` and no palm skin point is deeper
 ``max_penetration`` (on the object's `DistanceGrid`, as the wrap seeds are screened). For each
 object it prints the most phalanges whose power point lies within ``eps_c`` of the surface in a
 pose that counts: under 3, none of the paper's kind was found for this hand (-1: no pose keeps
-out of the object).
+out of the object). The palm is anchored at its nine skin points only, so an object that touches
+the face between them is not searched there: a count under 3 does not prove that no power grasp
+exists (a 30 mm ball counts 2 here, and the planner grasps it with the palm and four phalanges).
 
 Objects: those of ``benchmarks/objectset.py`` whose names start with one of ``--only`` (default
 the three small-object families). Rows go to ``DIR/power_reach.csv`` (default

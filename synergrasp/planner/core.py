@@ -343,8 +343,7 @@ def _failure(attempts, grasp, pinch, eps_c):
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
     says so: the
-    hand may not be able to wrap the object (``benchmarks/power_reach.py``
-    searches such poses densely). No clock time in it (that is
+    hand may not be able to wrap the object. No clock time in it (that is
     `PlanResult.time_s`): the same plan gives the same words.
     """
     counts = {}
