@@ -118,9 +118,12 @@ class PlannerOptions(_Fields):
     max_iter : int
         Most iterations of a plan, over all its attempts.
     time_limit : float or None
-        Most wall-clock seconds of a plan (checked every iteration), not
-        counting numba's compilation of the kernels in the first plan after
-        an install (`synergrasp.planner.clock`); None: no limit.
+        Most wall-clock seconds of a plan's search (checked every iteration),
+        not counting numba's compilation of the kernels in the first plan
+        after an install (`synergrasp.planner.clock`); None: no limit. A
+        grasp found just before it is still simulated (``validate``), and the
+        executable reach of the returned grasp is computed after it
+        (`PlanResult.time_s` is the search's time).
     q_accept : float
         A grasp is accepted when, besides the paper's criterion, its contacts
         moved to the object's true surface have a Q distance below this there
@@ -288,8 +291,10 @@ class AnnealingOptions(_Fields):
     steps : int
         Most annealing steps of a plan (neighbours accepted or refused).
     time_limit : float or None
-        Most wall-clock seconds of a plan, compilation not counted (as for
-        `PlannerOptions`); None: no limit.
+        Most wall-clock seconds of a plan's search, compilation not counted
+        (as for `PlannerOptions`); None: no limit. The status at every row of
+        the returned trajectory (`with_history`, about 6 ms a row) and the
+        executable reach are computed after it.
     t0, k0, cooling, dims : float, int, float, int
         The temperature schedule (GraspIt!: 1e6, 30000, 7, 8).
     energy_scale : float

@@ -53,7 +53,9 @@ class PlanResult:
     penetration : float
         Deepest penetration of a hand segment into the object in the final pose (mm).
     time_s : float
-        Wall-clock planning time (s).
+        Wall-clock time of the search (s): the attempts and, with
+        ``validate``, their simulations; not the executable reach nor an
+        annealing plan's status history, computed after it.
     lp_solves : int
         LP solver calls made.
     backend : str
