@@ -69,9 +69,9 @@ def _validate(args) -> int:
     hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
-    stem = output_stem(args.object, result.grasp)
-    if Path(args.result).stem not in (stem, result.grasp):  # run1.json, run2.json of one object: their own files
-        stem += f"_{Path(args.result).stem}"
+    stem, own = output_stem(args.object, result.grasp), Path(args.result).stem
+    if own not in (stem, result.grasp):  # run1.json, run2.json of one object: their own files
+        stem += f"_{own}"
     stem += "_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
     if not args.no_still:

@@ -336,14 +336,15 @@ def palm_face_point(hand, obj, u):
     and the edge midpoints, 42-48 mm apart on the paper's hand: a smaller
     object, or a corner of one, can touch the face between them while every
     sample reads it 20-40 mm away, and a wrap then lifts the palm off an
-    object it touches. (An edge of a piece that crosses the face with both
-    its ends beyond the face's extent is not seen this way: a bar lying
-    across the palm between the samples is read by the samples alone.) Among the vertices of the object's convex pieces that
-    lie over the face (within its extent in the palm frame's x and y) and in
-    front of the box's back face, the one nearest the face's plane (the
-    deepest, when some are behind it) is projected onto the face: where a
-    convex piece comes nearest a flat face. The point is fixed to the palm,
-    like the other skin points.
+    object it touches. Among the vertices of the object's convex pieces
+    (``obj.index.vertices``) that lie over the face (within its extent in the
+    palm frame's x and y) and in front of the box's back face, the one
+    nearest the face's plane (the deepest, when some are behind it) is
+    projected onto the face: where a convex piece comes nearest a flat face.
+    The point is fixed to the palm, like the other skin points. (An edge of a
+    piece that crosses the face with both its ends beyond the face's extent
+    is not seen this way: a bar lying across the palm between the samples is
+    read by the samples alone.)
 
     Parameters
     ----------
@@ -377,7 +378,7 @@ def palm_face_point(hand, obj, u):
     """
     center, axes = hand.palm_box(u)
     half = hand.palm_half_extents
-    local = (np.vstack(obj.pieces) - center) @ axes
+    local = (obj.index.vertices - center) @ axes  # every piece's vertices, stacked once per object
     over = np.flatnonzero((np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1]) & (local[:, 2] > -half[2]))
     if not len(over):
         return np.zeros((0, 3))
