@@ -44,7 +44,10 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     if arr.shape[0] == 0:
         raise ValueError(f"{name} is empty: it needs at least one point")
     if dim is not None and arr.shape[1] != dim:
-        raise ValueError(f"{name} has points of dimension {arr.shape[1]}, expected {dim}")
+        flipped = ""
+        if arr.shape[0] == dim < arr.shape[1]:  # a (3, n) array of n points
+            flipped = f" (an array of shape ({dim}, n)? pass its transpose, one point per row)"
+        raise ValueError(f"{name} has points of dimension {arr.shape[1]}, expected {dim}{flipped}")
     if arr.shape[1] < min_dim:
         raise ValueError(f"{name} has dimension {arr.shape[1]}, at least {min_dim} is required")
     if not np.isfinite(arr).all():

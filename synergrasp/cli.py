@@ -17,7 +17,8 @@ def _demo(args) -> int:
     normals = -points / 40.0
     result = sg.q_distance(points, normals, mu=args.mu, backend=args.backend)
     print(f"{args.contacts} contacts spread on the equator of a 40 mm sphere, mu = {args.mu}, backend {args.backend}")
-    print(f"Q distance = {result.value:+.4f} ({'force-closed' if result.force_closure else 'not force-closed'})")
+    value = round(result.value, 4) + 0.0  # no "-0.0000" beside "not force-closed"
+    print(f"Q distance = {value:+.4f} ({'force-closed' if result.force_closure else 'not force-closed'})")
     print(f"|dQ/dp| max = {np.abs(result.grad_points).max():.3e} per mm, LP solves: {result.lp_solves}")
     return 0
 

@@ -189,6 +189,10 @@ API = [
     # ------------------------------------------------------------ plan and its results
     Case("sg.plan", "an unknown grasp type", lambda tmp: sg.plan("ellipsoid", "pinch"), ValueError, "grasp must be one of ('precision', 'power')"),
     Case("sg.plan", "an object that is a number", lambda tmp: sg.plan(3), TypeError, "obj must be a GraspObject, a built-in name or a file path"),
+    Case("sg.plan", "a trimesh mesh, not yet an object", lambda tmp: sg.plan(trimesh.creation.box((60.0, 40.0, 30.0))), TypeError,
+         "a mesh in memory becomes one with sg.objects.from_mesh(mesh)"),
+    Case("sg.plan", "a point array, not yet an object", lambda tmp: sg.plan(np.random.default_rng(0).normal(size=(50, 3))), TypeError,
+         "a point cloud becomes one with sg.objects.from_points(points)"),
     Case("sg.plan", "an unknown object name", lambda tmp: sg.plan("teapot"), ValueError, "unknown object 'teapot'"),
     Case("sg.plan", "an object 1 mm wide (metres?)", lambda tmp: sg.plan(so.ellipsoid(0.5, 0.5, 0.5)), ValueError, "too small to grasp"),
     Case("sg.plan", "a card 85 x 54 x 1 mm (a sheet, not metres)", lambda tmp: sg.plan(so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)),

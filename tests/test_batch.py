@@ -212,6 +212,27 @@ def test_batch_results_failures_and_rerun(tmp_path, cluster, bad_objects):
     assert rows["teapot", "power"]["status"] == "load error"
 
 
+def test_a_rerun_at_another_scale_is_refused_before_planning(tmp_path, cluster):
+    """Plans at two scales in one folder, with object.json naming only the last, are silently wrong."""
+    source = tmp_path / "box_in_cm.stl"
+    trimesh.creation.box((6.0, 5.0, 9.0)).export(source)
+    out = tmp_path / "out"
+    run([source], ["precision"], out, scheduler=cluster.scheduler_address, progress=False, scale=10,
+        options={"max_iter": 3})
+    stamps = {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")}
+    for scale, retry in ((1.0, False), (1.0, True), (100.0, False)):
+        with pytest.raises(ValueError, match=r"the plans of 'box_in_cm.stl' in '.*out' were made at scale 10, and this "
+                                             rf"run's scale is {scale:g}: pass the same scale \(--scale 10\)"):
+            run([source], ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False,
+                scale=scale, retry_failed=retry, options={"max_iter": 3})
+    assert {p: p.stat().st_mtime_ns for p in out.glob("results/**/*.json")} == stamps  # nothing planned or written
+    assert main(["batch", str(source), "--out", str(out), "--scheduler", cluster.scheduler_address, "--quiet",
+                 "--max-iter", "3"]) == 2
+    again = run([source], ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False, scale=10,
+                options={"max_iter": 3})
+    assert (again.skipped, again.finished) == (1, 1)
+
+
 def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):
     # a torus-shaped cloud: its centroid is in the hole, so loading it builds fcl geometry
     # (which cannot be pickled) to move the centre inside

@@ -41,11 +41,18 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
         (["plan", "--backend", "gurobi"], "unknown LP backend 'gurobi'"),
         (["plan", "--object", "."], "object '.' is a folder: give a mesh or point-cloud file in it"),
         (["demo", "--mu", "-1"], "mu must be a finite number > 0"),
+        (["plan", "--object", ""], "the object name is empty: give a built-in"),
     ],
 )
 def test_bad_input_is_a_clear_error(tmp_path, capsys, argv, message):
     assert main(argv + (["--out", str(tmp_path), "--quiet"] if argv[0] == "plan" else [])) == 2
     assert message in capsys.readouterr().err
+
+
+def test_demo_prints_no_negative_zero_beside_not_force_closed(capsys):
+    """Two opposite contacts: Q is -1e-17, which is no force closure; "-0.0000" read as a grasp."""
+    assert main(["demo", "--contacts", "2"]) == 0
+    assert "Q distance = +0.0000 (not force-closed)" in capsys.readouterr().out
 
 
 def test_bad_approach_is_rejected_by_the_parser(capsys):

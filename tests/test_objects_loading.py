@@ -691,3 +691,45 @@ def test_the_size_warning_suggests_inches():
     can = trimesh.creation.cylinder(radius=1.5, height=4.0)  # a 3 x 3 x 4 inch can
     with pytest.warns(UserWarning, match=r"metres pass scale=1000 \(centimetres: scale=10, inches: scale=25\.4\)"):
         so.from_mesh(can, cache=False)
+
+
+@pytest.mark.parametrize("value, hint", [
+    (box_mesh(), "got Trimesh: for a trimesh mesh already in memory use sg.objects.from_mesh(mesh)"),
+    (np.zeros((10, 3)), "got ndarray: for points already in memory use sg.objects.from_points(points)"),
+    (None, "got NoneType"),
+    (b"box.stl", "got bytes"),
+])
+def test_load_takes_a_path_and_names_the_function_for_objects_in_memory(value, hint):
+    with pytest.raises(TypeError, match="path must be a file path") as info:
+        so.load(value)
+    assert str(info.value).endswith(hint)
+
+
+@pytest.mark.parametrize("value", ["no", None, 0])
+def test_cache_must_be_a_bool(tmp_path, value):
+    """cache="no" is a true string: it must not turn the cache on silently."""
+    path = tmp_path / "box.stl"
+    box_mesh().export(path)
+    for load in (lambda: so.from_mesh(box_mesh(), cache=value), lambda: so.from_points(ellipsoid_cloud(), cache=value),
+                 lambda: so.load(path, cache=value)):
+        with pytest.raises(TypeError, match=f"cache must be True or False, got {value!r}"):
+            load()
+    assert so.from_mesh(box_mesh(), cache=np.bool_(False)).info["cache"] == "disabled"
+
+
+@pytest.mark.parametrize("name", ["", "  "])
+def test_an_empty_object_name_is_not_taken_for_the_current_folder(name):
+    with pytest.raises(ValueError, match="the object name is empty: give a built-in"):
+        so.get(name)
+
+
+def test_a_cloud_of_shape_3_by_n_and_an_xyz_header_get_a_hint(tmp_path):
+    cloud = ellipsoid_cloud(200)
+    np.save(tmp_path / "t.npy", cloud.T)
+    with pytest.raises(ValueError, match=r"dimension 200, expected 3 \(an array of shape \(3, n\)\? pass its transpose"):
+        so.load(tmp_path / "t.npy")
+    (tmp_path / "h.xyz").write_text("x y z\n" + "\n".join(" ".join(map(str, p)) for p in cloud))
+    with pytest.raises(ValueError, match="start a header or comment line with #"):
+        so.load(tmp_path / "h.xyz")
+    (tmp_path / "h.xyz").write_text("# x y z\n" + "\n".join(" ".join(map(str, p)) for p in cloud))
+    assert so.load(tmp_path / "h.xyz", cache=False).n_pieces == 1

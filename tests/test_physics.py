@@ -253,6 +253,8 @@ def test_configuration_away_from_the_object_is_refused(pinch):
     (dict(solref=(0.005,)), ValueError, "solref must be 2 finite numbers"),
     (dict(mass=0.0), ValueError, "mass must be None or a finite number > 0"),
     (dict(retreat=float("nan")), ValueError, "retreat must be a finite number"),
+    (dict(retreat="40"), ValueError, "retreat must be a finite number of mm, got '40'"),
+    (dict(retreat=True), ValueError, "retreat must be a finite number of mm, got True"),
     (dict(hand="paper_hand"), TypeError, "hand must be a SynergyHand"),
 ])
 def test_bad_settings_are_refused(pinch, kwargs, error, match):
@@ -270,6 +272,19 @@ def test_bad_configuration_or_object_is_refused(pinch):
         validate(u, box.pieces[0])
     with pytest.raises(TypeError, match="PlanResult or a configuration"):
         validate({"u": u}, box)
+
+
+def test_a_name_or_a_file_path_is_refused_with_the_function_that_reads_it(pinch, tmp_path):
+    u, box = pinch
+    with pytest.raises(TypeError, match=r"obj must be a GraspObject, got the str 'cup': load the object first, "
+                                        r"sg.objects.get\('cup'\)"):
+        validate(u, "cup")
+    with pytest.raises(TypeError, match=r"got the \w*Path '.*plan.json': read a saved result first, "
+                                        r"sg.PlanResult.load\(path\)"):
+        validate(tmp_path / "plan.json", box)
+    result = sg.plan("ellipsoid", "precision", max_iter=3)
+    with pytest.raises(TypeError, match=r"got a PlanResult: the result comes first, validate\(result, obj\)"):
+        validate(sg.objects.get("ellipsoid"), result)
     with pytest.raises(ValueError, match="has no finger"):
         hand_without(HAND, "X")
 

@@ -13,6 +13,7 @@ import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.hand import SynergyHand, rotation_xyz
 from synergrasp.planner import (
+    AnnealingOptions,
     Outcome,
     PlannerOptions,
     PlanResult,
@@ -169,6 +170,27 @@ def test_the_palm_row_sees_a_small_object_between_its_skin_samples(hand, kind):
         return ball.contact_distance((c + a @ local)[None]).value[0]
 
     np.testing.assert_allclose(st.J[-2], finite_difference(carried, u), rtol=1e-4, atol=1e-6)
+
+
+def test_the_palm_row_sees_a_bar_across_the_palm_between_its_skin_samples(hand):
+    """A 300 mm bar across the whole face, 2 mm off it: no vertex lies over the face, an edge does."""
+    u = np.r_[0.0, 0.0, 0.0, 0.05, -0.03, 0.02, 0.1, -0.2]
+    center, axes = hand.palm_box(u)
+    h = hand.palm_half_extents
+    pose = np.eye(4)
+    pose[:3, :3] = axes
+    pose[:3, 3] = center + axes @ [0.0, 0.5 * h[1], h[2] + 2.0 + 4.0]  # along the palm's x, between two rows of samples
+    bar = so.from_mesh(trimesh.creation.box((300.0, 8.0, 8.0)), cache=False).transformed(pose)
+    local = (bar.index.vertices - center) @ axes
+    assert not (np.abs(local[:, 0]) <= h[0]).any()  # every vertex lies beyond the face's extent
+    face = palm_face_point(hand, bar, u)
+    mesh = bar.to_mesh()
+    samples = hand.skin_and_jacobian(u, "power")[1]
+    assert trimesh.proximity.closest_point(mesh, samples)[1].min() > 15.0
+    assert trimesh.proximity.closest_point(mesh, face)[1][0] == pytest.approx(2.0, abs=1e-6)
+    st = grasp_status(hand, bar, u, "power")
+    sampled = bar.contact_distance(samples).value.min()
+    assert st.g[-2] == pytest.approx(bar.contact_distance(face).value[0]) and st.g[-2] < sampled - 10.0
 
 
 def test_no_face_point_when_nothing_lies_over_the_palm(hand):
@@ -569,8 +591,8 @@ def test_the_stall_window_is_per_grasp_kind(hand):
     assert default.success and default.iterations > short.iterations
     # the same path until then (to round-off: the LPs start from the bases the first attempt left)
     np.testing.assert_allclose(default.trajectory[: short.iterations + 1], short.trajectory, rtol=0, atol=1e-9)
-    wrap = run_attempt(hand, cup, "power", next(starts(hand, cup, "power", PlannerOptions())).u,
-                       PlannerOptions(stall_window=(20, 4)))  # the power window is the second
+    stalling = list(itertools.islice(starts(hand, cup, "power", PlannerOptions()), 5))[-1].u  # the fifth power start
+    wrap = run_attempt(hand, cup, "power", stalling, PlannerOptions(stall_window=(20, 4)))  # the power window is the second
     assert wrap.outcome is Outcome.STALLED and wrap.reason.endswith("(in 4 iterations)")
 
 
@@ -613,12 +635,12 @@ def test_refining_raises_the_margin(hand):
 
 
 def test_a_refinement_that_never_gets_the_hand_out_ends_in_penetration_not_surface(hand):
-    """The cup's first power start (the attempt started cold) meets the criterion with a phalanx or the palm
+    """The bell's first power start (the attempt started cold) meets the criterion with a phalanx or the palm
     deeper than max_penetration and stays so while refining: no grasp was judged on the true surface."""
-    cup, opts = so.cup(), PlannerOptions()
-    start = next(starts(hand, cup, "power", opts)).u
-    forget_warm_starts(get_backend("native"), cup)
-    r = run_attempt(hand, cup, "power", start, opts)
+    bell, cup, opts = so.bell(), so.cup(), PlannerOptions()
+    start = next(starts(hand, bell, "power", opts)).u
+    forget_warm_starts(get_backend("native"), bell)
+    r = run_attempt(hand, bell, "power", start, opts)
     assert r.outcome is Outcome.PENETRATION and r.surface is None
     depth = float(r.reason.split("(")[1].split(" mm")[0])
     assert depth > opts.max_penetration
@@ -687,6 +709,9 @@ def test_options_come_as_an_object_or_as_keywords(ellipsoid):
     np.testing.assert_allclose(a.trajectory, b.trajectory, atol=1e-6)  # the LP warm starts differ at round-off
     np.testing.assert_allclose(a.trajectory, c.trajectory, atol=1e-6)
     assert a.options == b.options == c.options and a.options["max_iter"] == 5
+    # the plan's own budget ran out, not the attempt's cap of 120 iterations; the grasp type in any case
+    assert a.attempts[-1]["outcome"] == "budget" and "the plan's iterations or time ran out" in a.reason
+    assert plan(ellipsoid, "Precision", max_iter=5, restarts=1).grasp == "precision"
 
 
 def test_the_stall_window_pair_comes_as_any_sequence_of_two():
@@ -697,6 +722,15 @@ def test_the_stall_window_pair_comes_as_any_sequence_of_two():
     for bad in (np.array([5, 6, 7]), np.array([[5, 6]]), (5, 0), 2.5):
         with pytest.raises(ValueError, match=r"stall_window must be an integer in \[1, inf\) or a \(precision, power\) pair"):
             PlannerOptions(stall_window=bad)
+
+
+@pytest.mark.parametrize("field", ["mu", "max_iter", "seed", "time_limit"])
+def test_an_integer_too_large_for_a_float_is_refused_by_name(field):
+    """10**400 has no float: an OverflowError from inside float() is not the error to give."""
+    with pytest.raises(ValueError, match=rf"PlannerOptions.{field} must be an? (number|integer) in"):
+        PlannerOptions(**{field: 10**400})
+    with pytest.raises(ValueError, match=r"AnnealingOptions.t0 must be a number in"):
+        AnnealingOptions(t0=10**400)
 
 
 def test_a_plan_stops_at_its_time_limit(ellipsoid):

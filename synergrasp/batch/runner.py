@@ -12,6 +12,7 @@ only the plans in flight, and a rerun of the same call plans only what is missin
 from __future__ import annotations
 
 import logging
+import math
 import os
 import signal
 import threading
@@ -22,7 +23,7 @@ from pathlib import Path
 
 from .._checks import positive_scalar
 from ..lp import get_backend
-from ..objects import ellipsoid
+from ..objects import BUILTINS, ellipsoid
 from ..planner import METHODS, PlanResult, plan
 from .store import ResultStore, TaskFailure, grasp_summary
 from .tasks import expand
@@ -163,7 +164,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         Bad objects or grasps (see `synergrasp.batch.tasks.expand`), an unknown
         backend or validation preset, planner options the planner rejects, a
         bad ``time_limit``, ``scale`` or ``workers``; an ``out`` that cannot
-        be created or written, or that another run is writing to (all before
+        be created or written, or that another run is writing to; objects
+        whose plans in ``out`` were made at another ``scale`` (all before
         anything is planned).
     ImportError
         With ``validate``, if MuJoCo is not installed.
@@ -190,6 +192,7 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         rows, unreadable = store.scan()
         for path in unreadable:
             os.replace(path, path.with_name(path.name + ".unreadable"))
+        _check_same_scale(store, rows, tasks, scale)
         done = {(r["object"], r["grasp"]): r for r in rows if r["status"] == "planned" or not retry_failed}
         todo, to_validate = [], {}
         for task in tasks:
@@ -250,6 +253,24 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
             plan(probe, grasp, backend=backend, **{**options, cap: 1})
     except (ValueError, TypeError) as exc:
         raise ValueError(f"the planner rejects the options {options!r}: {exc}") from None
+
+
+def _check_same_scale(store, rows, tasks, scale):
+    """Refuse a run whose objects already have plans in ``store`` made at another scale.
+
+    Their plans would be kept beside new ones at this scale, and ``object.json``
+    (which `synergrasp report` loads the object by) would name only one of them.
+    The built-ins take no scale.
+    """
+    planned = {r["object"] for r in rows if r["status"] == "planned"}
+    for task in tasks:
+        key = task.key
+        recorded = store.object_source(key) if key in planned and task.source.lower() not in BUILTINS else None
+        if recorded is not None and not math.isclose(recorded[1], scale, rel_tol=1e-9):
+            raise ValueError(
+                f"the plans of '{key}' in '{store.out}' were made at scale {recorded[1]:g}, and this run's scale is "
+                f"{scale:g}: pass the same scale (--scale {recorded[1]:g}) to go on with them, or write to another "
+                f"output folder (or delete '{store.results / key}' to plan it again)")
 
 
 def local_cluster(workers=None):

@@ -115,6 +115,8 @@ class PieceIndex:
         The vertices of all pieces, piece by piece.
     facet_vertices : (F, 3) int64
         Each facet's vertices as rows of ``vertices``.
+    edges : (E, 2) int64
+        The facets' edges, each once, as pairs of rows of ``vertices``.
     facet_q : (F, 4) float
         ``n_f . q_k`` for each facet's outward normal and simplex vertex.
     facet_nq : (F,) float
@@ -149,6 +151,8 @@ class PieceIndex:
         offsets = np.cumsum([0] + [len(p.vertices) for p in self.pieces[:-1]])
         self.facet_vertices = np.ascontiguousarray(np.vstack([p.facets + o for p, o in zip(self.pieces, offsets)]),
                                                    dtype=np.int64)
+        pairs = self.facet_vertices[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+        self.edges = np.ascontiguousarray(np.unique(np.sort(pairs, axis=1), axis=0))
         self.facet_q = np.ascontiguousarray(self.planes[:, :3] @ SIMPLEX.T)
         self.facet_nq = self.facet_q.min(axis=1)
         self.facet_reach = 1.0 / -self.facet_nq
@@ -162,8 +166,8 @@ class PieceIndex:
         self._members = np.ascontiguousarray(members)
         self._cluster_support = np.ascontiguousarray(members.max(axis=1))  # (C, 4)
         self.memory = BasisMemory()
-        for a in (self.planes, self.plane_start, self.facet_counts, self.vertices, self.facet_vertices, self.facet_q, self.facet_nq,
-                  self.facet_reach, self.facet_mq, self.support, self.boxes):
+        for a in (self.planes, self.plane_start, self.facet_counts, self.vertices, self.facet_vertices, self.edges,
+                  self.facet_q, self.facet_nq, self.facet_reach, self.facet_mq, self.support, self.boxes):
             a.setflags(write=False)
 
     def forget(self) -> None:

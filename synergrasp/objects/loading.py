@@ -248,7 +248,10 @@ def _scaled(pieces, scale):
     return [np.asarray(p, dtype=float) * scale for p in pieces]
 
 
-def _options(max_parts, max_vertices):
+def _options(max_parts, max_vertices, cache=True):
+    """The loaders' shared options, checked: (max_parts, max_vertices)."""
+    if not isinstance(cache, (bool, np.bool_)):  # cache="no" would be true
+        raise TypeError(f"cache must be True or False, got {cache!r}")
     return integer(max_parts, "max_parts"), integer(max_vertices, "max_vertices", 4)
 
 
@@ -313,7 +316,7 @@ def _from_mesh(
 ) -> GraspObject:
     """Implementation of `from_mesh` (``_content``: the bytes hashed for the cache)."""
     scale = positive_scalar(scale, "scale")
-    max_parts, max_vertices = _options(max_parts, max_vertices)
+    max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     what = name or _source or "mesh"
     if isinstance(mesh, trimesh.Scene):
         mesh = _scene_mesh(mesh, what)
@@ -609,7 +612,7 @@ def _from_points(
     """Implementation of `from_points` (``_source``: the file, for messages)."""
     what = name or _source or "point cloud"
     scale = positive_scalar(scale, "scale")
-    max_parts, max_vertices = _options(max_parts, max_vertices)
+    max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
     pts = _without_strays(pts, what)
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
@@ -674,6 +677,8 @@ def from_mesh(
 
     Raises
     ------
+    TypeError
+        If ``mesh`` is not a trimesh.Trimesh or Scene, or ``cache`` is not a bool.
     ValueError
         If the mesh is empty, has no faces or no volume (all vertices on a plane),
         or has a NaN or inf vertex.
@@ -738,6 +743,8 @@ def from_points(
 
     Raises
     ------
+    TypeError
+        If ``points`` are not numbers, or ``cache`` is not a bool.
     ValueError
         If the cloud is empty, not (n, 3), non-finite, or flat (no volume).
 
@@ -779,7 +786,8 @@ def _read_array_file(path: Path, ext: str):
                 data = np.loadtxt(path, ndmin=2, comments="#", delimiter=",")
             except ValueError:
                 # the first reading's reason (a row of another length, a word), without numpy's advice on usecols
-                raise ValueError(str(whitespace).split("; use `usecols`")[0] + " (expected x y z per line)") from None
+                raise ValueError(str(whitespace).split("; use `usecols`")[0] + " (expected x y z per line; "
+                                 "start a header or comment line with #)") from None
         if data.ndim != 2 or data.shape[1] < 3:
             raise ValueError(f"expected at least 3 columns x y z per line, got shape {data.shape}")
         return "points", data[:, :3]
@@ -867,6 +875,9 @@ def load(
 
     Raises
     ------
+    TypeError
+        If ``path`` is not a str or os.PathLike (a mesh or points already in
+        memory go to `from_mesh` or `from_points`), or ``cache`` is not a bool.
     FileNotFoundError
         If the file does not exist.
     ValueError
@@ -901,7 +912,7 @@ def load(
     A file in metres needs ``scale=1000``; without it the object is 1000 times too
     small and a ``UserWarning`` says so.
     """
-    path = Path(path).expanduser()
+    path = _object_path(path).expanduser()
     if not path.is_file():
         raise FileNotFoundError(f"object file not found: '{path}'")
     ext = path.suffix.lower()
@@ -951,6 +962,20 @@ def load(
     return _from_mesh(data, scale, _content=content, **options)
 
 
+def _object_path(value) -> Path:
+    """``load``'s path as a Path; a mesh, a point cloud or anything else that is not a path is refused with
+    the function that takes it."""
+    if isinstance(value, (str, os.PathLike)):
+        return Path(value)
+    if isinstance(value, (trimesh.Trimesh, trimesh.Scene)):
+        hint = ": for a trimesh mesh already in memory use sg.objects.from_mesh(mesh)"
+    elif isinstance(value, (np.ndarray, list, tuple, trimesh.PointCloud)):
+        hint = ": for points already in memory use sg.objects.from_points(points)"
+    else:
+        hint = ""
+    raise TypeError(f"path must be a file path (str or os.PathLike), got {type(value).__name__}{hint}")
+
+
 def get(name_or_path, **kwargs) -> GraspObject:
     """A built-in object by name, or an object loaded from a file.
 
@@ -972,7 +997,7 @@ def get(name_or_path, **kwargs) -> GraspObject:
         If it is neither a string nor a path.
     ValueError
         If it is neither a built-in name nor an existing file (the message
-        lists the built-ins).
+        lists the built-ins), or is empty.
 
     Examples
     --------
@@ -991,6 +1016,8 @@ def get(name_or_path, **kwargs) -> GraspObject:
                         f"got {type(name_or_path).__name__}")
     if isinstance(name_or_path, str) and name_or_path.lower() in BUILTINS:
         return BUILTINS[name_or_path.lower()](**kwargs)
+    if not str(name_or_path).strip():  # Path("") is the current folder
+        raise ValueError(f"the object name is empty: give a built-in ({', '.join(BUILTINS)}) or a file path")
     path = Path(name_or_path).expanduser()
     if path.is_file():
         return load(path, **kwargs)

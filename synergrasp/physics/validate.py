@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -55,6 +56,18 @@ def check_match(result, obj, hand, tolerance):
                 f"scale (an object file in metres or centimetres is loaded with scale=1000 or 10, as it was for the plan)")
 
 
+def _check_arguments(result_or_u, obj) -> None:
+    """Refuse, with what to do instead, a file path or a name where `validate` takes objects in memory."""
+    if isinstance(result_or_u, (str, os.PathLike)):
+        raise TypeError(f"result_or_u must be a PlanResult or a configuration u, got the {type(result_or_u).__name__} "
+                        f"{str(result_or_u)!r}: read a saved result first, sg.PlanResult.load(path)")
+    if isinstance(obj, (str, os.PathLike)):
+        raise TypeError(f"obj must be a GraspObject, got the {type(obj).__name__} {str(obj)!r}: load the object first, "
+                        f"sg.objects.get({str(obj)!r}) (with the scale it was planned at)")
+    if isinstance(obj, PlanResult):
+        raise TypeError("obj must be a GraspObject, got a PlanResult: the result comes first, validate(result, obj)")
+
+
 class NoContact(ValueError):
     """A configuration with no hand point near enough to the object to squeeze it: not a grasp of it."""
 
@@ -74,9 +87,11 @@ def retreat_distance(value) -> float:
     Raises
     ------
     ValueError
-        If it is not a finite number.
+        If it is not a finite number (text and booleans are not numbers).
     """
     try:
+        if isinstance(value, (str, bytes, bool, np.bool_)):  # "40" or True would read as a distance
+            raise TypeError(type(value).__name__)
         retreat = float(value)
     except (TypeError, ValueError):
         raise ValueError(f"retreat must be a finite number of mm, got {value!r}") from None
@@ -210,7 +225,9 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     ImportError
         If MuJoCo is not installed (``pip install "synergrasp[sim]"``).
     TypeError
-        If ``obj`` is not a GraspObject or ``hand`` not a SynergyHand.
+        If ``obj`` is not a GraspObject (a name or a file path: load it
+        first) or ``hand`` not a SynergyHand, or ``result_or_u`` is a file
+        path (read it with `PlanResult.load`).
     ValueError
         A result from another object or hand, a configuration that touches
         nothing, an unknown or out-of-range protocol setting, or a bad
@@ -234,6 +251,7 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     """
     start = time.process_time()
     mujoco = mujoco_module()
+    _check_arguments(result_or_u, obj)
     hand = hand_and_object(hand, obj)
     settings = make_protocol(preset, **protocol)
     retreat = retreat_distance(retreat)

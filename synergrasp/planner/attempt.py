@@ -211,7 +211,9 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     backend : str
         LP backend.
     budget : int, optional
-        Most iterations (default ``options.iterations_per_attempt``).
+        Most iterations (default ``options.iterations_per_attempt``); a
+        smaller one is what is left of the plan's ``max_iter``, and reaching it
+        ends the attempt with `Outcome.BUDGET`, not `Outcome.CAP`.
     deadline : float, optional
         `clock` value after which the attempt stops (`Outcome.BUDGET`): seconds
         of ``time.perf_counter()`` less those numba spent compiling.
@@ -229,7 +231,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
     >>> r = run_attempt(hand, obj, "precision", start_configuration(hand, obj), PlannerOptions(), budget=3)
     >>> r.outcome, r.iterations
-    (<Outcome.CAP: 'iteration cap of the attempt reached'>, 3)
+    (<Outcome.BUDGET: "the plan's iterations or time ran out">, 3)
     """
     opts = options
     budget = opts.iterations_per_attempt if budget is None else int(budget)
@@ -268,7 +270,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     radius, stalled, best = opts.radius, 0, np.inf
     traj, statuses, qs = [u.copy()], [st.g.copy()], [chk.q]
     solves = st.lp_solves + chk.lp_solves
-    outcome, bests, touched = Outcome.CAP, [], False
+    outcome, bests, touched = Outcome.CAP if budget >= opts.iterations_per_attempt else Outcome.BUDGET, [], False
     kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
     judged, deep = None, 0.0  # while refining: the last grasp judged on the true surface; the hand's depth otherwise
     for _ in range(budget):

@@ -70,7 +70,10 @@ def _check_object(obj, hand):
     if isinstance(obj, (str, os.PathLike)):
         obj = objects.get(obj)
     elif not isinstance(obj, objects.GraspObject):
-        raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}")
+        hint = ("; a mesh in memory becomes one with sg.objects.from_mesh(mesh)" if hasattr(obj, "vertices") else
+                "; a point cloud becomes one with sg.objects.from_points(points)" if isinstance(obj, (np.ndarray, list, tuple))
+                else "")
+        raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}{hint}")
     width, opening = float(np.min(obj.extents)), hand_opening(hand)
     if width < MIN_WIDTH:
         if obj.size < objects.loading.SIZE_RANGE[0]:  # small every way: most likely in metres
@@ -180,6 +183,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     >>> result.success, len(result.contact_labels) >= 3, result.final_q < 0
     (True, True, True)
     """
+    if isinstance(grasp, str) and grasp.lower() in GRASPS:
+        grasp = grasp.lower()  # "Power" as objects.get("Cup") takes any case
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
     opts = _options(method, options, option_values)

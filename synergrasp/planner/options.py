@@ -25,12 +25,20 @@ def _number(value, name, low=None, high=None, *, integer=False, open_low=False, 
     hi = "inf" if high is None else f"{owner}.{high_from} = {high}" if high_from else high
     span = f"{'(' if open_low or low is None else '['}{lo}, {hi}{')' if high is None else ']'}"
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
-    if isinstance(value, (bool, np.bool_)) or not ok_type or not math.isfinite(float(value)):
+    if isinstance(value, (bool, np.bool_)) or not ok_type or not _finite(value):
         none = " or None" if allow_none else ""
         raise ValueError(f"{owner}.{name} must be {kind} in {span}{none}, got {value!r}")
     if (low is not None and (value < low or (open_low and value == low))) or (high is not None and value > high):
         raise ValueError(f"{owner}.{name} must be in {span}, got {value!r}")
     return int(value) if integer else float(value)
+
+
+def _finite(value) -> bool:
+    """Whether a number is finite as a float (an int too large for a float is not)."""
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
 
 
 def _flag(value, name, owner="PlannerOptions"):

@@ -330,21 +330,20 @@ def _require(hand, obj):
 
 
 def palm_face_point(hand, obj, u):
-    """The point of the palm box's front face over the object's vertex nearest to it.
+    """The point of the palm box's front face over the object's part nearest to it.
 
     The palm's skin points sample its front face at the centre, the corners
     and the edge midpoints, 42-48 mm apart on the paper's hand: a smaller
-    object, or a corner of one, can touch the face between them while every
-    sample reads it 20-40 mm away, and a wrap then lifts the palm off an
-    object it touches. Among the vertices of the object's convex pieces
-    (``obj.index.vertices``) that lie over the face (within its extent in the
-    palm frame's x and y) and in front of the box's back face, the one
-    nearest the face's plane (the deepest, when some are behind it) is
-    projected onto the face: where a convex piece comes nearest a flat face.
-    The point is fixed to the palm, like the other skin points. (An edge of a
-    piece that crosses the face with both its ends beyond the face's extent
-    is not seen this way: a bar lying across the palm between the samples is
-    read by the samples alone.)
+    object, a corner of one, or a bar lying across the palm can touch the
+    face between them while every sample reads it 20-40 mm away, and a wrap
+    then lifts the palm off an object it touches. Where a convex piece comes
+    nearest a flat face, at a vertex or along an edge, one of its edges
+    does. So every edge of the object's convex pieces (``obj.index.edges``)
+    is clipped to the prism over the face (its extent in the palm frame's x
+    and y, in front of the box's back face); of the clipped edges' ends, the
+    one nearest the face's plane (the deepest, when some are behind it) is
+    projected onto the face. The point is fixed to the palm, like the other
+    skin points.
 
     Parameters
     ----------
@@ -354,7 +353,7 @@ def palm_face_point(hand, obj, u):
 
     Returns
     -------
-    (1, 3) float, or (0, 3) when no vertex lies over the face
+    (1, 3) float, or (0, 3) when no part of the object lies over the face
         World point (mm).
 
     Examples
@@ -379,10 +378,22 @@ def palm_face_point(hand, obj, u):
     center, axes = hand.palm_box(u)
     half = hand.palm_half_extents
     local = (obj.index.vertices - center) @ axes  # every piece's vertices, stacked once per object
-    over = np.flatnonzero((np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1]) & (local[:, 2] > -half[2]))
+    a = local[obj.index.edges[:, 0]]
+    d = local[obj.index.edges[:, 1]] - a
+    lo, hi = np.zeros(len(a)), np.ones(len(a))  # the part of each edge a + t d over the face, t in [lo, hi]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k, low, high in ((0, -half[0], half[0]), (1, -half[1], half[1]), (2, -half[2], np.inf)):
+            t0, t1 = (low - a[:, k]) / d[:, k], (high - a[:, k]) / d[:, k]
+            flat = d[:, k] == 0.0  # parallel to the slab: inside it or not at all
+            inside = (a[:, k] >= low) & (a[:, k] <= high)
+            lo = np.where(flat, np.where(inside, lo, np.inf), np.maximum(lo, np.fmin(t0, t1)))
+            hi = np.where(flat, hi, np.minimum(hi, np.fmax(t0, t1)))
+    over = np.flatnonzero(lo <= hi)
     if not len(over):
         return np.zeros((0, 3))
-    x, y, _ = local[over[np.argmin(local[over, 2])]]
+    ends = np.where((d[over, 2] > 0.0)[:, None], lo[over, None], hi[over, None])  # z is linear: its least end
+    points = a[over] + ends * d[over]
+    x, y, _ = points[np.argmin(points[:, 2])]
     return (center + axes @ np.array([x, y, half[2]]))[None]
 
 
