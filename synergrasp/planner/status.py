@@ -376,25 +376,56 @@ def palm_face_point(hand, obj, u):
     (15.9, 2.0)
     """
     center, axes = hand.palm_box(u)
-    half = hand.palm_half_extents
-    local = (obj.index.vertices - center) @ axes  # every piece's vertices, stacked once per object
-    a = local[obj.index.edges[:, 0]]
-    d = local[obj.index.edges[:, 1]] - a
-    lo, hi = np.zeros(len(a)), np.ones(len(a))  # the part of each edge a + t d over the face, t in [lo, hi]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for k, low, high in ((0, -half[0], half[0]), (1, -half[1], half[1]), (2, -half[2], np.inf)):
-            t0, t1 = (low - a[:, k]) / d[:, k], (high - a[:, k]) / d[:, k]
-            flat = d[:, k] == 0.0  # parallel to the slab: inside it or not at all
-            inside = (a[:, k] >= low) & (a[:, k] <= high)
-            lo = np.where(flat, np.where(inside, lo, np.inf), np.maximum(lo, np.fmin(t0, t1)))
-            hi = np.where(flat, hi, np.minimum(hi, np.fmax(t0, t1)))
-    over = np.flatnonzero(lo <= hi)
-    if not len(over):
+    half = np.asarray(hand.palm_half_extents, dtype=float)
+    point = np.empty(3)
+    if not _deepest_over_face(obj.index.vertices, obj.index.edges, center, axes, half, point):
         return np.zeros((0, 3))
-    ends = np.where((d[over, 2] > 0.0)[:, None], lo[over, None], hi[over, None])  # z is linear: its least end
-    points = a[over] + ends * d[over]
-    x, y, _ = points[np.argmin(points[:, 2])]
-    return (center + axes @ np.array([x, y, half[2]]))[None]
+    return (center + axes @ np.array([point[0], point[1], half[2]]))[None]
+
+
+#: Depths (mm) within which two points over the palm's face count as equally deep (`palm_face_point`).
+TIE = 1e-9
+
+
+@kernel
+def _deepest_over_face(vertices, edges, center, axes, half, out):
+    """The deepest point (palm frame) of the edges clipped to the prism over the palm's face, into ``out``.
+
+    The prism: ``|x| <= half[0]``, ``|y| <= half[1]``, ``z >= -half[2]``
+    (in front of the box's back face). Each edge ``a + t d``, ``t`` in
+    [0, 1], is clipped slab by slab; ``z`` is linear along it, so its least
+    value over the clipped part is at one of the part's ends. Of ends as deep
+    as the deepest within `TIE` (a piece's facet parallel to the face), the
+    one nearest the face's centre: the choice does not hang on round-off.
+    Returns whether any edge crosses the prism.
+    """
+    best = np.inf
+    for e in range(len(edges)):
+        i, j = edges[e, 0], edges[e, 1]
+        p0, p1, p2 = vertices[i, 0] - center[0], vertices[i, 1] - center[1], vertices[i, 2] - center[2]
+        q0, q1, q2 = vertices[j, 0] - center[0], vertices[j, 1] - center[1], vertices[j, 2] - center[2]
+        a = (p0 * axes[0, 0] + p1 * axes[1, 0] + p2 * axes[2, 0],
+             p0 * axes[0, 1] + p1 * axes[1, 1] + p2 * axes[2, 1],
+             p0 * axes[0, 2] + p1 * axes[1, 2] + p2 * axes[2, 2])
+        d = (q0 * axes[0, 0] + q1 * axes[1, 0] + q2 * axes[2, 0] - a[0],
+             q0 * axes[0, 1] + q1 * axes[1, 1] + q2 * axes[2, 1] - a[1],
+             q0 * axes[0, 2] + q1 * axes[1, 2] + q2 * axes[2, 2] - a[2])
+        lo, hi = 0.0, 1.0
+        for k in range(3):
+            low, high = -half[k], (half[k] if k < 2 else np.inf)
+            if d[k] == 0.0:
+                if a[k] < low or a[k] > high:
+                    lo = np.inf  # parallel to the slab and outside it
+            else:
+                t0, t1 = (low - a[k]) / d[k], (high - a[k]) / d[k]
+                lo, hi = max(lo, min(t0, t1)), min(hi, max(t0, t1))
+        if lo <= hi:
+            t = lo if d[2] > 0.0 else hi
+            x, y, z = a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]
+            if z < best - TIE or (z <= best + TIE and x * x + y * y < out[0] * out[0] + out[1] * out[1]):
+                best = min(best, z)
+                out[0], out[1], out[2] = x, y, z
+    return best < np.inf
 
 
 def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None) -> Status:
