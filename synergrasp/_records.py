@@ -70,7 +70,7 @@ def load_record(cls, path, tag, arrays) -> dict:
     Raises
     ------
     FileNotFoundError
-        If there is no such file.
+        If there is no such file (or it is a folder).
     ValueError
         If the file cannot be read, is not JSON, has another format tag, lacks
         fields, or an array field is not numbers of its shape; the message names
@@ -78,6 +78,8 @@ def load_record(cls, path, tag, arrays) -> dict:
     """
     path = as_path(path, f"the {cls.__name__} file")
     name = cls.__name__
+    if path.is_dir():
+        raise FileNotFoundError(f"'{path}' is a folder, not a {name} file: give the .json file a {name} was saved to")
     if not path.is_file():
         raise FileNotFoundError(f"{name} file not found: '{path}'")
     try:

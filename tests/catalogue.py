@@ -219,6 +219,7 @@ API = [
     Case("sg.PlanResult.load", "None as the path", lambda tmp: sg.PlanResult.load(None), TypeError,
          "the PlanResult file must be a str or os.PathLike, got NoneType"),
     Case("sg.PlanResult.load", "a missing file", lambda tmp: sg.PlanResult.load(Path(tmp) / "none.json"), FileNotFoundError, "PlanResult file not found"),
+    Case("sg.PlanResult.load", "a folder", lambda tmp: sg.PlanResult.load(tmp), FileNotFoundError, "is a folder, not a PlanResult file"),
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
     Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be an array of numbers of shape (n,)"),
