@@ -193,6 +193,20 @@ def test_the_palm_row_sees_a_bar_across_the_palm_between_its_skin_samples(hand):
     assert st.g[-2] == pytest.approx(bar.contact_distance(face).value[0]) and st.g[-2] < sampled - 10.0
 
 
+def test_of_equally_deep_points_the_face_point_is_the_one_nearest_the_palms_centre(hand):
+    """A cube's face parallel to the palm, 2 mm off: every corner over the face is as deep; the nearest to the centre."""
+    u = np.r_[np.zeros(6), 0.1, -0.2]
+    center, axes = hand.palm_box(u)
+    h = hand.palm_half_extents
+    for turn in (0.0, 0.5 * np.pi, np.pi):  # the cube's vertices in other orders
+        pose = np.eye(4)
+        pose[:3, :3] = axes @ trimesh.transformations.rotation_matrix(turn, [0.0, 0.0, 1.0])[:3, :3]
+        pose[:3, 3] = center + axes @ [10.0, -5.0, h[2] + 2.0 + 10.0]  # its face spans x 0..20, y -15..5 over the palm
+        cube = so.from_mesh(trimesh.creation.box((20.0, 20.0, 20.0)), cache=False).transformed(pose)
+        local = (palm_face_point(hand, cube, u)[0] - center) @ axes
+        np.testing.assert_allclose(local, [0.0, 5.0, h[2]], atol=1e-9)
+
+
 def test_no_face_point_when_nothing_lies_over_the_palm(hand):
     ball, u = small_ball_under_the_palm(hand, gap=2.0)
     u[:3] += 200.0 * hand.palm_box(u)[1][:, 0]  # slid 200 mm sideways: the ball is beside the palm
