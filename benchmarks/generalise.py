@@ -4,7 +4,7 @@ Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
                                     [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
-                                    [--rows] [--urdf-sizes MM ...]
+                                    [--rows] [--urdf-sizes MM ...] [--cloud N]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (269 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -21,7 +21,9 @@ figures pool the runs' plans. Rows go to ``DIR/<split>_<grasp>.jsonl`` (default
 ``bench-out/generalise``, ``bench-out/generalise-sizes`` for a sweep of sizes); ``--docs`` also writes ``docs/generalisation.md``, its figure and the
 README summary; ``--rows`` plans nothing and summarises (and documents) the rows already there.
 ``--urdf-sizes 60 150 --only urdf/`` plans the random_urdfs shapes at sizes the benchmark does not
-hold (each shape in its split), for a sweep of sizes on train.
+hold (each shape in its split), for a sweep of sizes on train. ``--cloud 3000`` plans every object from
+3000 points sampled on its mesh (``sg.objects.from_points``: a point cloud, no mesh) and verifies the
+grasp on the mesh (rows in ``bench-out/generalise-cloud``).
 """
 
 from __future__ import annotations
@@ -54,7 +56,7 @@ README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
 QUICK = ("household/can", "procedural/box_0")
 
 
-def fidelity(obj, samples=2000):
+def fidelity(obj, samples=2000, mesh=None):
     """How far the convex pieces' outer surface is from the true surface (a one-sided Hausdorff-type distance).
 
     Points are sampled on the pieces' surfaces; those whose point 1 mm outwards lies in another piece
@@ -64,30 +66,46 @@ def fidelity(obj, samples=2000):
     ----------
     obj : GraspObject
     samples : int
+    mesh : trimesh.Trimesh, optional
+        The true surface (default the object's mesh; for an object made from a cloud, the mesh it was
+        sampled from).
 
     Returns
     -------
     (float, float)
         The largest and the 95th-percentile distance (mm); 0 for an object without a mesh.
     """
-    if obj.mesh is None:
+    mesh = obj.mesh if mesh is None else mesh
+    if mesh is None:
         return 0.0, 0.0
     pieces = trimesh.util.concatenate(obj.piece_meshes())
     points, faces = trimesh.sample.sample_surface(pieces, samples, seed=0)
     outer = points[~obj.contains(points + 1.0 * pieces.face_normals[faces])]
-    gap = trimesh.proximity.closest_point(obj.mesh, outer)[1]
+    gap = trimesh.proximity.closest_point(mesh, outer)[1]
     return float(gap.max()), float(np.percentile(gap, 95))
 
 
-def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES):
-    """Plan and verify one object: a JSON-able row."""
+def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None):
+    """Plan and verify one object (or a cloud of ``cloud`` points sampled on it): a JSON-able row."""
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
-    return plan_row(entry.make(), grasp, options, name=entry.name, source=entry.source, split=entry.split)
+    obj = entry.make()
+    labels = dict(name=entry.name, source=entry.source, split=entry.split)
+    if cloud is None:
+        return plan_row(obj, grasp, options, **labels)
+    mesh = true_surface(obj)
+    points = trimesh.sample.sample_surface(mesh, cloud, seed=0)[0]
+    return plan_row(sg.objects.from_points(points, name=f"{entry.name} ({cloud} points)"), grasp, options,
+                    truth=obj, **labels)
 
 
-def plan_row(obj, grasp, options, **labels):
-    """Plan a grasp of ``obj`` and verify it: a JSON-able row, starting with ``labels`` (name, source, split)."""
+def plan_row(obj, grasp, options, truth=None, **labels):
+    """Plan a grasp of ``obj`` and verify it: a JSON-able row, starting with ``labels`` (name, source, split).
+
+    ``truth``: the object whose true surface the grasp is verified on (default ``obj``; the mesh a
+    point cloud ``obj`` was sampled from).
+    """
+    truth = obj if truth is None else truth
     start = time.perf_counter()
     try:
         result = sg.plan(obj, grasp, **options)
@@ -100,8 +118,8 @@ def plan_row(obj, grasp, options, **labels):
                contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,
                attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
                          for a in result.attempts])
-    row.update(verify(result, obj))
-    row["overhang"], row["overhang95"] = fidelity(obj)
+    row.update(verify(result, truth))
+    row["overhang"], row["overhang95"] = fidelity(obj, mesh=true_surface(truth))
     return row
 
 
@@ -196,6 +214,9 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help=f"only {', '.join(QUICK)}")
     parser.add_argument("--rows", action="store_true",
                         help="plan nothing: summarise (and with --docs, write the docs from) the rows already in --out")
+    parser.add_argument("--cloud", type=int, default=None, metavar="N",
+                        help="plan each object from N points sampled on its surface (sg.objects.from_points), and "
+                             "verify on its mesh")
     parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
                         help="sizes of the random_urdfs shapes (default: the benchmark's); with --only urdf/, a sweep "
                              "of sizes, split by shape as the benchmark")
@@ -206,10 +227,13 @@ def main(argv=None):
         parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
     args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
     sweep = tuple(args.urdf_sizes) != URDF_SIZES
-    if args.docs and sweep:
-        parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes only")
+    if args.docs and (sweep or args.cloud is not None):
+        parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes and meshes only")
+    if args.cloud is not None and args.cloud < 100:
+        parser.error(f"--cloud must be at least 100 points, got {args.cloud}")
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
-        args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise")
+        args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise-cloud" if args.cloud else
+                                        "generalise")
     options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
@@ -225,7 +249,7 @@ def _plan_all(args, options):
     tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        futures = [(k, pool.submit(run, name, grasp, options, sizes)) for k, name, grasp in tasks]
+        futures = [(k, pool.submit(run, name, grasp, options, sizes, args.cloud)) for k, name, grasp in tasks]
         for k, future in futures:
             rows.append({**future.result(), "run": k})
             print_row(rows[-1], f"run {k} " if args.runs > 1 else "")

@@ -110,6 +110,19 @@ def test_a_sweep_of_urdf_sizes_keeps_each_shape_in_its_split(tmp_path, capsys):
         assert message in capsys.readouterr().err
 
 
+def test_generalise_plans_clouds_sampled_on_the_objects_and_verifies_them_on_the_meshes(tmp_path, capsys):
+    generalise.main(["--quick", "--grasp", "power", "--cloud", "2000", "--out", str(tmp_path)])
+    rows = [json.loads(line) for line in (tmp_path / "test_power.jsonl").read_text().splitlines()]
+    assert [r["name"] for r in rows] == list(generalise.QUICK) and all(r["success"] for r in rows)
+    assert all(r["verified"] == (r["gap"] <= verification.GAP and r["closed"] and r["depth"] <= verification.DEPTH
+                                 and r["palm_depth"] <= verification.DEPTH) for r in rows)
+    assert all(r["overhang"] > 0.0 for r in rows)  # the clouds' pieces measured against the meshes
+    for argv, message in ((["--cloud", "50"], "at least 100"), (["--cloud", "2000", "--docs"], "--docs writes")):
+        with pytest.raises(SystemExit):
+            generalise.main([*argv, "--out", str(tmp_path)])
+        assert message in capsys.readouterr().err
+
+
 def test_procedural_objects_are_seeded():
     a, b = objectset.select("all", ["procedural/blob_2"])[0].make(), objectset.select("all", ["procedural/blob_2"])[0].make()
     np.testing.assert_array_equal(a.mesh.vertices, b.mesh.vertices)

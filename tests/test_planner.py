@@ -328,11 +328,7 @@ def test_power_stop_criterion_needs_the_palm(hand, ellipsoid):
 
 
 def test_the_surface_check_judges_on_the_mesh_not_on_the_pieces():
-    bowl_mesh = trimesh.creation.icosphere(subdivisions=3, radius=50.0).difference(
-        trimesh.creation.icosphere(subdivisions=3, radius=45.0), engine="manifold")
-    lid = trimesh.creation.box((150.0, 150.0, 100.0))
-    lid.apply_translation((0.0, 0.0, 50.0))
-    surface = bowl_mesh.difference(lid, engine="manifold")
+    surface = _bowl_mesh()
     bowl = so.GraspObject([surface.vertices], mesh=surface, name="bowl")  # one piece, the hull: it covers the hollow
     over_the_hollow = [[0.0, 0.0, 0.0]]  # on the hull's top face, over the bowl's inside
     assert surface_check(bowl, over_the_hollow, [[0.0, 0.0, -1.0]]).gap > 40.0
@@ -366,6 +362,82 @@ def test_mesh_excess_is_how_far_the_mesh_sticks_out_of_a_coarse_hull():
     outside = -trimesh.proximity.signed_distance(coarse, fine.vertices)  # trimesh: positive inside
     assert 0.95 * outside.max() <= ball.mesh_excess <= outside.max() + 1e-9
     assert sg.objects.GraspObject([coarse.vertices]).mesh_excess == 0.0
+
+
+def _bowl_mesh():
+    """A hemispherical bowl, 100 mm across and 5 mm thick, open at the top (z > 0)."""
+    shell = trimesh.creation.icosphere(subdivisions=3, radius=50.0).difference(
+        trimesh.creation.icosphere(subdivisions=3, radius=45.0), engine="manifold")
+    lid = trimesh.creation.box((150.0, 150.0, 100.0))
+    lid.apply_translation((0.0, 0.0, 50.0))
+    return shell.difference(lid, engine="manifold")
+
+
+def test_the_surface_check_of_a_point_cloud_judges_on_its_points():
+    surface = _bowl_mesh()
+    points = trimesh.sample.sample_surface(surface, 20000, seed=0)[0]
+    bowl = so.GraspObject([points], points=points, name="bowl cloud")  # one piece, the hull: it covers the hollow
+    assert surface_check(bowl, [[0.0, 0.0, 0.0]], [[0.0, 0.0, -1.0]]).gap > 40.0  # over the hollow: no surface
+    t = 2 * np.pi * np.arange(5) / 5
+    side = np.c_[50.0 * np.cos(t), 50.0 * np.sin(t), np.full(5, -10.0)]
+    side *= (51.0 / np.linalg.norm(side, axis=1))[:, None]  # 1 mm outside the bowl's outer sphere
+    s = surface_check(bowl, side, -side / 51.0)
+    _, gap, face = trimesh.proximity.closest_point(surface, side)
+    np.testing.assert_allclose(s.gap, gap.max(), atol=0.1)
+    truth = -surface.face_normals[face]
+    assert np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", s.normals, truth), -1, 1))).max() < 3.0
+    # the plain pieces (no points) would take the hull's contacts and normals as they are
+    assert surface_check(so.GraspObject([points]), [[0.0, 0.0, 0.0]], [[0.0, 0.0, -1.0]]).gap == 0.0
+
+
+def test_mesh_depth_in_a_point_cloud_box_closed_form():
+    box = trimesh.creation.box((100.0, 100.0, 100.0))  # top face at z = 50
+    points = trimesh.sample.sample_surface_even(box, 20000, seed=0)[0]
+    cloud = so.GraspObject([points], points=points)
+    along = lambda z: [[-20.0, 5.0, z], [20.0, 5.0, z]]  # noqa: E731
+    axes = np.array([along(55.0), along(70.0), along(49.0), [[0.0, 0.0, 43.0], [0.0, 0.0, 80.0]]])
+    np.testing.assert_allclose(mesh_depth(cloud, axes, 8.0), [3.0, 0.0, 9.0, 15.0], atol=0.05)
+
+
+def test_an_object_from_a_cloud_keeps_its_points_and_moves_them():
+    rng = np.random.default_rng(1)
+    points = rng.normal(size=(600, 3))
+    points *= 30.0 / np.linalg.norm(points, axis=1, keepdims=True)
+    ball = so.from_points(points, cache=False)
+    np.testing.assert_allclose(np.sort(ball.points, axis=0), np.sort(points, axis=0))
+    assert ball.point_surface is not None and so.ellipsoid().point_surface is None
+    moved = ball.transformed(np.r_[np.c_[np.eye(3), [5.0, 0.0, 0.0]], [[0.0, 0.0, 0.0, 1.0]]])
+    np.testing.assert_allclose(moved.points, ball.points + [5.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="not both"):
+        so.GraspObject([points], points=points, mesh=trimesh.convex.convex_hull(points))
+    with pytest.raises(ValueError, match="points"):
+        so.GraspObject([points], points=points[:, :2])
+
+
+def test_a_point_surface_refuses_bad_input():
+    from synergrasp.objects.point_surface import PointSurface
+
+    with pytest.raises(ValueError, match="at least 16 points"):
+        PointSurface(np.zeros((10, 3)))
+    with pytest.raises(ValueError, match="neighbours"):
+        PointSurface(np.eye(3), neighbours=2)
+    with pytest.raises(ValueError, match="NaN"):
+        PointSurface(np.full((20, 3), np.nan))
+    with pytest.raises(ValueError, match="one direction per point"):
+        PointSurface(np.random.default_rng(0).normal(size=(20, 3))).closest(np.zeros((2, 3)), np.zeros((1, 3)))
+
+
+def test_a_grasp_planned_on_a_cloud_holds_on_the_surface_it_samples():
+    """The grasp of a cloud sampled on a box is force-closed at the box's own faces, its contacts on them."""
+    box = trimesh.creation.box((60.0, 50.0, 90.0))
+    points = trimesh.sample.sample_surface(box, 3000, seed=0)[0]
+    result = sg.plan(so.from_points(points, cache=False), "precision")
+    assert result.success
+    closest, gap, face = trimesh.proximity.closest_point(box, result.contact_points)
+    assert gap.max() <= 5.0
+    wrenches = sg.quality.contact_wrenches(closest, -box.face_normals[face], mu=0.3, edges=8, center=np.zeros(3),
+                                           torque_scale=float(np.linalg.norm(box.extents)) / 2.0)
+    assert origin_strictly_inside(wrenches)
 
 
 def _ball_on_the_middle_fingertip(hand, depth, mesh):
@@ -914,6 +986,25 @@ def test_a_failed_plan_on_a_thin_wall_says_the_pinch_cannot_close_on_it(hand):
             "far apart to touch both within the contact threshold of 5 mm") in r.reason
     short = plan(so.ellipsoid(), "precision", max_iter=3)
     assert not short.success and "fingertips close to" not in short.reason
+
+
+def test_a_failed_precision_plan_says_when_the_object_is_too_wide_for_a_pinch(hand):
+    """A 150 mm cube's opposed faces are farther apart than the hand's widest pinch (145 mm) less the seeds' spare:
+    no pinch seed, and the failure says why with both widths; a 60 mm tetrahedron has no opposed faces at all."""
+    from synergrasp.planner import widest_pinch
+
+    cube = so.from_mesh(trimesh.creation.box((150.0, 150.0, 150.0)), name="cube", cache=False)
+    r = plan(cube, "precision", restarts=2, executable_reach=False)
+    assert not r.success and all(a["kind"] == "direction" for a in r.attempts)
+    assert 140.0 < widest_pinch(hand) < 150.0
+    assert (f"its opposed surfaces are at least 150 mm apart, and the thumb and the index and middle fingertips open "
+            f"at most {widest_pinch(hand):.0f} mm apart") in r.reason
+    corners = 60.0 * np.array([[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]) / np.sqrt(8)
+    tetra = so.from_mesh(trimesh.convex.convex_hull(corners), name="tetrahedron", cache=False)
+    r = plan(tetra, "precision", restarts=2, executable_reach=False)
+    assert not r.success and "no two points of its surface face each other" in r.reason
+    given = plan(cube, "precision", executable_reach=False, u0=plan(cube, "precision", restarts=1).attempts[0]["start"])
+    assert not given.success and "too wide" not in given.reason  # a given start: no seeds were drawn
 
 
 def test_a_failed_power_plan_says_when_the_fingers_did_not_close_around_the_object():

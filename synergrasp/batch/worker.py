@@ -210,7 +210,7 @@ def plan_task(source: str, grasp: str, backend: str = "native", options=None, ti
 def _fresh(loaded):
     """A new GraspObject over a loaded object's convex pieces: the same object, without the warm starts of earlier queries."""
     return objects.GraspObject(list(loaded.convex), center=loaded.center, torque_scale=loaded.torque_scale,
-                               name=loaded.name, mesh=loaded.mesh, info=loaded.info)
+                               name=loaded.name, mesh=loaded.mesh, points=loaded.points, info=loaded.info)
 
 
 def _plan(obj, grasp, backend, options, time_limit, messages):

@@ -9,12 +9,13 @@ import fcl
 import numpy as np
 import trimesh
 
-from .._checks import as_vector, positive_scalar
+from .._checks import as_points, as_vector, positive_scalar
 from .broad_phase import PieceIndex
 from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
+from .point_surface import PointSurface
 from .repair import TURNED_OUTWARD, orient_outward, simplify
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
@@ -53,6 +54,10 @@ class GraspObject:
         precision seeds and used to judge a grasp on the true surface. A
         watertight mesh wound inward is replaced by a copy turned outward
         (`synergrasp.objects.repair.orient_outward`), with a warning.
+    points : (n, 3) array_like, optional
+        Points on the surface the pieces approximate, for an object without
+        a mesh (a point cloud, `synergrasp.objects.from_points`): a grasp is
+        judged on the surface they sample (`point_surface`).
     info : dict, optional
         Provenance (source file, method, cache use...).
 
@@ -66,13 +71,18 @@ class GraspObject:
     torque_scale : float
     name : str
     mesh : trimesh.Trimesh or None
+    points : (n, 3) float or None
+    point_surface : PointSurface or None
+        The surface ``points`` sample.
     info : dict
 
     Raises
     ------
     ValueError
         If there are no pieces, or a piece is non-finite or has no volume; a
-        ``center`` outside the object, or a ``torque_scale`` far from its size.
+        ``center`` outside the object, or a ``torque_scale`` far from its size;
+        ``points`` that are not a finite (n, 3) array of at least 16 rows
+        (`PointSurface`), or given with a mesh.
 
     Examples
     --------
@@ -89,7 +99,8 @@ class GraspObject:
     [True, False]
     """
 
-    def __init__(self, pieces, *, center=None, torque_scale=None, name: str = "object", mesh=None, info=None):
+    def __init__(self, pieces, *, center=None, torque_scale=None, name: str = "object", mesh=None, points=None,
+                 info=None):
         if isinstance(pieces, np.ndarray) and pieces.ndim == 2:
             pieces = [pieces]
         pieces = list(pieces)
@@ -104,6 +115,11 @@ class GraspObject:
             if turned:
                 warnings.warn(f"{self.name}: {TURNED_OUTWARD} (in a copy)", UserWarning, stacklevel=2)
         self.mesh = mesh
+        if points is not None and mesh is not None:
+            raise ValueError("give an object a mesh or surface points, not both: the mesh is its true surface")
+        #: The surface ``points`` sample (`PointSurface`), None without points.
+        self.point_surface = None if points is None else PointSurface(np.array(as_points(points, "points", dim=3)))
+        self.points = None if points is None else self.point_surface.points
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")
         self.info = dict(info or {})
@@ -278,7 +294,7 @@ class GraspObject:
         Returns
         -------
         GraspObject
-            Pieces, centre and mesh moved; same torque scale and name.
+            Pieces, centre, mesh and points moved; same torque scale and name.
 
         Raises
         ------
@@ -307,6 +323,7 @@ class GraspObject:
             torque_scale=self.torque_scale,
             name=self.name,
             mesh=mesh,
+            points=None if self.points is None else self.points @ R.T + t,
             info=self.info,
         )
 

@@ -627,6 +627,7 @@ def _from_points(
         name=what,
         center=center,
         torque_scale=torque_scale,
+        points=pts * scale if len(pts) >= SMALL_CLOUD else None,  # a few points are corners, not samples
         info={"source": _source or "points", "method": meta["method"], "cache": status,
               "concavity": meta.get("concavity"), "scale": scale},
     )
@@ -739,7 +740,11 @@ def from_points(
     Returns
     -------
     GraspObject
-        ``info["method"]`` is ``"hull"`` or ``"kmeans (k clusters)"``; no ``mesh``.
+        ``info["method"]`` is ``"hull"`` or ``"kmeans (k clusters)"``; no
+        ``mesh``: its ``points`` are the cloud (strays dropped), the surface a
+        grasp is judged on (`GraspObject.point_surface`), unless the cloud
+        is small (fewer than 64 points: corners, not samples of a surface;
+        its hull is then its surface).
 
     Raises
     ------

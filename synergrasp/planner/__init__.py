@@ -8,8 +8,9 @@ from .core import METHODS, forget_warm_starts, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
-from .starts import (Start, direction_starts, pinch_fingertips, pinch_seeds, power_schedule, principal_directions,
-                     recess, roll_frames, smallest_pinch, start_configuration, starts, surface_samples, wrap_seeds)
+from .starts import (Start, direction_starts, opposed_widths, pinch_fingertips, pinch_seeds, power_schedule,
+                     principal_directions, recess, roll_frames, smallest_pinch, start_configuration, starts,
+                     surface_samples, widest_pinch, wrap_seeds)
 from .status import Status, grasp_status, smoothed_normals, status_rows
 from .stop import CRITERION, GraspCheck, check_grasp
 
@@ -46,6 +47,7 @@ __all__ = [
     "open_synergies",
     "path_clearance",
     "pinch_fingertips",
+    "opposed_widths",
     "pinch_seeds",
     "plan",
     "power_schedule",
@@ -63,4 +65,5 @@ __all__ = [
     "wrap_seeds",
     "status_rows",
     "widest_opening",
+    "widest_pinch",
 ]

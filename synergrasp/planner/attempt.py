@@ -27,7 +27,8 @@ wraps once the palm touches.
 
 A grasp is accepted when the criterion holds, no phalanx capsule and not the
 palm box is deeper than ``max_penetration`` (in the convex pieces, and the
-capsules also in the object's true mesh, `mesh_depth`), and its contacts, moved to the object's true surface
+capsules also in the object's true surface, its mesh or points,
+`mesh_depth`), and its contacts, moved to the object's true surface
 (`surface_check`), are within ``eps_c`` of it and force-closed there with a
 Q distance below ``q_accept``. Once the criterion holds, the attempt refines
 the grasp for up to ``refine_iterations`` more iterations, until its Q on
@@ -149,9 +150,10 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
 
     The paper's criterion (``check.done``), then no phalanx capsule and not
     the palm box deeper than ``options.max_penetration`` (python-fcl,
-    `hand_penetration`), nor a capsule in the object's true mesh (`mesh_depth`,
+    `hand_penetration`), nor a capsule in the object's true surface (`mesh_depth`,
     for the capsules whose depth in the pieces is within
-    `GraspObject.mesh_excess` of the limit), then the contacts moved to
+    `GraspObject.mesh_excess` of the limit, every capsule in the pieces for
+    a point cloud), then the contacts moved to
     the object's true surface (`surface_check`) within ``options.eps_c`` of
     it with a Q distance below ``options.q_accept``; each test only when the
     previous holds. Both planners accept grasps with it.
@@ -176,7 +178,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
     accepted : bool
     penetration : Penetration or None
         None when the criterion does not hold (not computed); its ``depth``
-        raised to the depth in the true mesh when a capsule is deeper than
+        raised to the depth in the true surface when a capsule is deeper than
         the limit there.
     surface : SurfaceCheck or None
         None unless the first two tests hold.
@@ -186,9 +188,11 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
     pen = penetration if penetration is not None else hand_penetration(hand, obj, u)
     if pen.depth > options.max_penetration:
         return False, pen, None
-    if obj.mesh is not None:  # the capsules that may be deeper in the mesh than in the pieces, measured there
+    if obj.mesh is not None or obj.points is not None:  # the capsules that may be deeper in the true surface than
+        # in the pieces, measured there: a cloud's surface between its points is not known, so every capsule in it
         geo = hand.segments(u)
-        near = np.flatnonzero(pen.depths[:len(geo.capsules)] > options.max_penetration - obj.mesh_excess)
+        excess = obj.mesh_excess if obj.mesh is not None else options.max_penetration
+        near = np.flatnonzero(pen.depths[:len(geo.capsules)] > options.max_penetration - excess)
         depth = float(mesh_depth(obj, geo.capsules[near], geo.radius).max()) if len(near) else 0.0
         if depth > options.max_penetration:
             return False, replace(pen, depth=depth), None

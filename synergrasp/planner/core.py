@@ -41,7 +41,7 @@ from .attempt import Outcome, run_attempt
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import executable_reach, widest_opening
 from .result import PlanResult
-from .starts import Start, preshape, smallest_pinch, start_configuration, starts
+from .starts import Start, opposed_widths, preshape, smallest_pinch, start_configuration, starts, widest_pinch
 from .stop import CRITERION
 
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
@@ -251,7 +251,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, grasp, smallest_pinch(hand), opts.eps_c)
+    failure = None if result.success else _failure(attempts, grasp, hand, obj, opts)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -335,13 +335,16 @@ def _validator(validate, obj, hand, backend):
     return check
 
 
-def _failure(attempts, grasp, pinch, eps_c):
+def _failure(attempts, grasp, hand, obj, opts):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
-    pinch (``pinch``, mm) less the contact threshold ``eps_c`` on either
-    side, it says so: the object's opposed surfaces are a wall too thin for
-    the pads to touch both. When most power attempts ended with every phalanx
+    pinch (`smallest_pinch`) less the contact threshold ``opts.eps_c`` on
+    either side, it says so: the object's opposed surfaces are a wall too
+    thin for the pads to touch both. When a precision plan had no pinch seed
+    at all, it says why: no two surface points face each other, or those
+    that do are too far apart for the hand's widest pinch (`widest_pinch`)
+    less ``opts.seed_opening`` on either side. When most power attempts ended with every phalanx
     more than ``eps_c`` from the object, it says that and how far they
     stopped: the fingers did not close around it. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
@@ -357,7 +360,18 @@ def _failure(attempts, grasp, pinch, eps_c):
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
     reason = f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
+    eps_c, pinch = opts.eps_c, smallest_pinch(hand)
     widths = [a["width"] for a in attempts if a["kind"] == "pinch"]
+    if grasp == "precision" and not widths and all(a["kind"] == "direction" for a in attempts):
+        opposed, widest = opposed_widths(obj, opts.seed), widest_pinch(hand)
+        if not len(opposed):
+            reason += ("; no two points of its surface face each other, so no pinch seed was tried (the pads "
+                       "press on opposed surfaces)")
+        elif opposed.min() + 2.0 * opts.seed_opening > widest:
+            reason += (f"; its opposed surfaces are at least {opposed.min():.0f} mm apart, and the thumb and the "
+                       f"index and middle fingertips open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
+                       "to spare on either side for a pinch seed): it is too wide for this hand's pinch (a power "
+                       "grasp may hold it)")
     if widths and max(widths) < pinch - 2.0 * eps_c:
         reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
                    f"the thumb and the index and middle fingertips close to no less than {pinch:.0f} mm, too far "

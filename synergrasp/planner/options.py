@@ -147,7 +147,7 @@ class PlannerOptions(_Fields):
     max_penetration : float
         Deepest penetration (mm) of a phalanx capsule or the palm box into the
         object allowed in a final grasp, in the convex pieces and, for the
-        capsules, in the object's true mesh. A power attempt watches the
+        capsules, in the object's true surface (its mesh or points). A power attempt watches the
         capsules and the palm box from its start, a precision attempt once it
         meets the criterion with a deeper shape
         (`synergrasp.planner.status.capsule_rows`), so that a deep shape is

@@ -300,6 +300,29 @@ def smallest_pinch(hand):
     return float(_apertures(hand).width.min())
 
 
+def widest_pinch(hand):
+    """The farthest the thumb tip and the index/middle fingertips' centroid open apart (mm), over the synergy box.
+
+    As `smallest_pinch`, the largest instead: a pinch pair wider than this
+    less twice `PlannerOptions.seed_opening` is not a pinch seed.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand
+    >>> widest_pinch(SynergyHand.default()) > 100.0
+    True
+    """
+    return float(_apertures(hand).width.max())
+
+
 def pinch_fingertips(hand, obj):
     """The fingertips a precision attempt steers into contact with ``obj``.
 
@@ -364,9 +387,8 @@ def pinch_seeds(hand, obj, options):
     if not len(p1):  # no inward ray leaves the surface (an open sheet): no pairs
         return
     width = np.linalg.norm(p2 - p1, axis=1)
-    opposed = np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))
     spare = 2.0 * options.seed_opening
-    usable = opposed & (width > 1.0) & (width + spare <= apertures.width.max())
+    usable = _opposed(n1, n2) & (width > 1.0) & (width + spare <= apertures.width.max())
     axis = (p2 - p1) / np.maximum(width, 1e-9)[:, None]
     offset = obj.center - p1
     off_axis = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, axis)[:, None] * axis, axis=1)
@@ -387,6 +409,40 @@ def pinch_seeds(hand, obj, options):
         u = _clear(hand, obj, u, back, options.start_clearance)
         yield Start(u, "pinch", {"thumb": a.round(3).tolist(), "finger": b.round(3).tolist(),
                                  "width": round(float(width[i]), 3), "off_axis": round(float(off_axis[i]), 3)})
+
+
+def opposed_widths(obj, seed=0):
+    """How far apart the object's opposed surface points are: the widths the pinch seeds are drawn from.
+
+    The samples of `surface_samples` (`PAIR_SAMPLES` of them) whose inward
+    ray leaves the object within `PAIR_ANGLE` of the opposed normal.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    seed : int
+        Of the surface samples (`PlannerOptions.seed`).
+
+    Returns
+    -------
+    (k,) float
+        mm; empty when no two surface points face each other.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> box = objects.from_mesh(trimesh.creation.box((40.0, 160.0, 160.0)), cache=False)
+    >>> bool(abs(opposed_widths(box).min() - 40.0) < 1e-6)
+    True
+    """
+    p1, n1, p2, n2 = surface_samples(obj, PAIR_SAMPLES, seed)
+    return np.linalg.norm(p2 - p1, axis=1)[_opposed(n1, n2)]
+
+
+def _opposed(n1, n2):
+    """(m,) bool: outward normals opposed within `PAIR_ANGLE`."""
+    return np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))
 
 
 def recess(obj, points, normals):

@@ -1,9 +1,10 @@
-"""The stop criteria of the paper (Fig. 6), the grasp quality of the real contacts, and the grasp on the true mesh.
+"""The stop criteria of the paper (Fig. 6), the grasp quality of the real contacts, and the grasp on the true surface.
 
 `check_grasp` is the paper's criterion on the convex pieces; `surface_check`
-moves the contacts to the object's true mesh and judges them there, and
+moves the contacts to the object's true surface and judges them there, and
 `mesh_depth` measures how deep the phalanx capsules are in it (both on
-`GraspObject.surface`: the mesh, simplified within 0.1 mm when it is large).
+`GraspObject.surface`: the mesh, simplified within 0.1 mm when it is large;
+for a point cloud, `GraspObject.point_surface`: planes fitted to the cloud).
 """
 
 from __future__ import annotations
@@ -44,9 +45,11 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     The convex pieces the planner works on cover the object's concavities and
     facet its curves; a grasp is judged on the surface they approximate: the
     object's mesh (`GraspObject.surface`; trimesh's closest points and their
-    face normals). An
-    object without a mesh (a point cloud) is its pieces: the contacts and
-    ``normals`` stay as they are.
+    face normals), or the surface its points sample (a point cloud,
+    `GraspObject.point_surface`: the feet on planes fitted to the nearest
+    points, a contact over a gap of the cloud as far as its nearest point).
+    An object with neither is its pieces: the contacts and ``normals`` stay
+    as they are.
 
     Parameters
     ----------
@@ -76,7 +79,9 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     """
     points = np.asarray(points, dtype=float).reshape(-1, 3)
     normals = np.asarray(normals, dtype=float).reshape(-1, 3)
-    if obj.mesh is None or not len(points):
+    if obj.point_surface is not None and len(points):
+        closest, gap, inward = obj.point_surface.closest(points, normals)
+    elif obj.mesh is None or not len(points):
         closest, gap, inward = points, np.zeros(len(points)), normals
     else:
         import trimesh
@@ -91,19 +96,21 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
 
 
 def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
-    """Penetration depth of capsules in the object's true mesh (mm, >= 0).
+    """Penetration depth of capsules in the object's true surface (mm, >= 0).
 
     A capsule's depth is its radius plus the largest signed distance into the
-    mesh (trimesh, positive inside) over points along its axis at most
+    mesh (trimesh, positive inside), or below the planes fitted to a point
+    cloud (`PointSurface.signed_distance`), over points along its axis at most
     ``spacing`` apart, floored at 0: the depth of its deepest point, within
     ``spacing / 2``. The convex pieces' depth (python-fcl,
-    `GraspObject.penetration`) can be smaller where the mesh sticks out of
-    them (`GraspObject.mesh_excess`).
+    `GraspObject.penetration`) can be smaller where the true surface sticks
+    out of them (`GraspObject.mesh_excess`).
 
     Parameters
     ----------
     obj : GraspObject
-        An object with a mesh (a watertight one for the inside test).
+        An object with a mesh (a watertight one for the inside test) or
+        surface points.
     capsules : (k, 2, 3) float
         Each capsule's axis end points (mm).
     radius : float
@@ -118,8 +125,9 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     Raises
     ------
     ValueError
-        If the object has no mesh (its pieces are then its surface: use
-        `GraspObject.penetration`), or ``capsules`` is not (k, 2, 3) finite.
+        If the object has neither a mesh nor points (its pieces are then its
+        surface: use `GraspObject.penetration`), or ``capsules`` is not
+        (k, 2, 3) finite.
 
     Examples
     --------
@@ -132,8 +140,8 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     >>> mesh_depth(box, axes, 8.0).round(3).tolist()
     [3.0, 0.0]
     """
-    if obj.mesh is None:
-        raise ValueError(f"{obj.name} has no mesh: its convex pieces are its surface, whose penetration "
+    if obj.mesh is None and obj.points is None:
+        raise ValueError(f"{obj.name} has no mesh nor points: its convex pieces are its surface, whose penetration "
                          "GraspObject.penetration measures")
     capsules = np.asarray(capsules, dtype=float)
     if capsules.ndim != 3 or capsules.shape[1:] != (2, 3) or not np.isfinite(capsules).all():
@@ -146,7 +154,9 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     counts = np.maximum(2, np.ceil(np.linalg.norm(capsules[:, 1] - capsules[:, 0], axis=1) / spacing).astype(int) + 1)
     t = np.concatenate([np.linspace(0.0, 1.0, n) for n in counts])[:, None]
     a, b = np.repeat(capsules[:, 0], counts, axis=0), np.repeat(capsules[:, 1], counts, axis=0)
-    inside = trimesh.proximity.signed_distance(obj.surface, a + t * (b - a))
+    samples = a + t * (b - a)
+    inside = trimesh.proximity.signed_distance(obj.surface, samples) if obj.mesh is not None else \
+        obj.point_surface.signed_distance(samples, obj.contains)
     return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 
 

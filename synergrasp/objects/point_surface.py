@@ -1,0 +1,159 @@
+"""The true surface of an object given as a point cloud: nearest points, and planes fitted to their neighbours.
+
+An object loaded from a point cloud has no mesh; its convex pieces cover
+the cloud, and bridge its concavities. `PointSurface` stands for the
+surface the cloud samples, where the planner judges a grasp
+(`synergrasp.planner.stop.surface_check`, `synergrasp.planner.stop.mesh_depth`):
+near a cloud point the surface is the plane fitted to its `NEIGHBOURS`
+nearest points (their least-variance direction is the normal, as in Hoppe
+et al., "Surface reconstruction from unorganized points", SIGGRAPH 1992),
+within the disc those neighbours span; farther away there is no surface,
+and the distance is to the nearest point itself. Near a sharp edge the
+neighbours straddle it, and their plane is tilted between the faces.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from .._checks import as_points
+
+__all__ = ["NEIGHBOURS", "PointSurface"]
+
+#: Points of the cloud a local plane is fitted to (the point itself included).
+NEIGHBOURS = 16
+
+
+class PointSurface:
+    """A point cloud as a surface: nearest points, local planes and signed distances.
+
+    Parameters
+    ----------
+    points : (n, 3) array_like
+        Points on the surface (mm), at least `NEIGHBOURS` of them.
+    neighbours : int
+        Points per fitted plane.
+
+    Raises
+    ------
+    ValueError
+        If ``points`` is not a finite (n, 3) array with at least
+        ``neighbours`` rows, or ``neighbours`` is below 3.
+
+    Examples
+    --------
+    The faces of a 60 mm cube sampled on a 31 x 31 grid each; a contact
+    2 mm above the middle of its top face:
+
+    >>> import numpy as np
+    >>> g = np.linspace(-30.0, 30.0, 31)
+    >>> a, b = (x.ravel() for x in np.meshgrid(g, g))
+    >>> c = np.full_like(a, 30.0)
+    >>> cube = np.vstack([np.c_[a, b, s * c] for s in (1, -1)] + [np.c_[a, s * c, b] for s in (1, -1)]
+    ...                  + [np.c_[s * c, a, b] for s in (1, -1)])
+    >>> surface = PointSurface(cube)
+    >>> closest, gap, inward = surface.closest([[1.0, 1.0, 32.0]], toward=[[0.0, 0.0, -1.0]])
+    >>> closest.round(6).tolist(), gap.round(6).tolist(), (inward.round(6) + 0.0).tolist()
+    ([[1.0, 1.0, 30.0]], [2.0], [[0.0, 0.0, -1.0]])
+
+    A point 40 mm beside the cube's top face is over no plane: its distance is
+    to the nearest point (the face's edge), and 5 mm below the face it is 5 mm
+    inside:
+
+    >>> float(surface.closest([[70.0, 0.0, 30.0]], toward=[[-1.0, 0.0, 0.0]])[1][0])
+    40.0
+    >>> surface.signed_distance([[0.0, 0.0, 25.0]], lambda p: np.abs(p).max(axis=1) < 30.0).round(6).tolist()
+    [5.0]
+    """
+
+    def __init__(self, points, neighbours: int = NEIGHBOURS):
+        if isinstance(neighbours, bool) or not isinstance(neighbours, (int, np.integer)) or neighbours < 3:
+            raise ValueError(f"neighbours must be an integer >= 3 (points per fitted plane), got {neighbours!r}")
+        self.points = as_points(points, "points", dim=3)
+        if len(self.points) < neighbours:
+            raise ValueError(f"a point surface needs at least {neighbours} points to fit planes to, got "
+                             f"{len(self.points)}")
+        self.neighbours = int(neighbours)
+        self.tree = cKDTree(self.points)
+
+    def _planes(self, points):
+        """The plane fitted around each query point's nearest cloud point: that point's row, the plane's unit normal
+        (either sign) and its radius (the distance to the farthest of the neighbours)."""
+        _, nearest = self.tree.query(points)
+        distance, near = self.tree.query(self.points[nearest], k=self.neighbours)
+        around = self.points[near] - self.points[near].mean(axis=1, keepdims=True)  # (m, k, 3)
+        _, vectors = np.linalg.eigh(np.einsum("mki,mkj->mij", around, around))
+        return nearest, vectors[:, :, 0], distance[:, -1]
+
+    def closest(self, points, toward) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each point's foot on the surface, its distance to it and the surface's inward normal there.
+
+        The foot is on the plane fitted around the nearest cloud point, and
+        the distance is to that plane, when the point lies over the plane's
+        disc (as far from the cloud point as its farthest neighbour); else
+        the foot is the nearest cloud point itself (a point over a gap of the
+        cloud, such as a hull face spanning a concavity, is as far from the
+        surface as from its nearest sample).
+
+        Parameters
+        ----------
+        points : (c, 3) array_like
+        toward : (c, 3) array_like
+            Directions into the object at the points (e.g. the convex
+            pieces' inward normals): each normal is given their sign.
+
+        Returns
+        -------
+        closest : (c, 3) float
+        gap : (c,) float
+            mm, >= 0.
+        inward : (c, 3) float
+            Unit normals into the object.
+        """
+        points = as_points(points, "points", dim=3)
+        toward = as_points(toward, "toward", dim=3)
+        if toward.shape != points.shape:
+            raise ValueError(f"closest needs one direction per point: points {points.shape}, toward {toward.shape}")
+        if not len(points):
+            return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
+        nearest, normals, radius = self._planes(points)
+        normals *= np.where(np.einsum("ij,ij->i", normals, toward) < 0.0, -1.0, 1.0)[:, None]
+        offset = points - self.points[nearest]
+        height = np.einsum("ij,ij->i", offset, normals)
+        foot = points - height[:, None] * normals
+        over = np.linalg.norm(foot - self.points[nearest], axis=1) <= radius
+        closest = np.where(over[:, None], foot, self.points[nearest])
+        gap = np.where(over, np.abs(height), np.linalg.norm(offset, axis=1))
+        return closest, gap, normals
+
+    def signed_distance(self, points, contains) -> np.ndarray:
+        """Distance of each point to the plane fitted around its nearest cloud point, positive inside.
+
+        The sign of each plane's normal is the one whose side of the cloud
+        point ``contains`` finds inside the object (half the plane's radius
+        away; if both or neither side is, the one facing away from the
+        cloud's centroid is outward).
+
+        Parameters
+        ----------
+        points : (m, 3) array_like
+        contains : callable
+            ``contains(points) -> (k,) bool``, e.g. `GraspObject.contains`.
+
+        Returns
+        -------
+        (m,) float
+            mm (trimesh's convention: positive inside).
+        """
+        points = as_points(points, "points", dim=3)
+        if not len(points):
+            return np.zeros(0)
+        nearest, normals, radius = self._planes(points)
+        base = self.points[nearest]
+        step = 0.5 * radius[:, None] * normals
+        plus, minus = np.asarray(contains(base + step), bool), np.asarray(contains(base - step), bool)
+        away = np.einsum("ij,ij->i", normals, base - self.points.mean(axis=0)) >= 0.0
+        outward = np.where(plus != minus, minus, away)
+        normals *= np.where(outward, 1.0, -1.0)[:, None]
+        return -np.einsum("ij,ij->i", points - base, normals)
