@@ -150,7 +150,7 @@ def object_from_args(args):
         raise ValueError(f"{option} applies to object files; the built-in {args.object!r} is in millimetres already")
     talk = not builtin and Path(args.object).expanduser().is_file() and not getattr(args, "quiet", False)
     if talk:  # a mesh seen for the first time is decomposed, which can take a minute
-        print(f"loading {args.object} (a mesh new to the cache is cut into convex pieces first)", file=sys.stderr,
+        print(f"loading {args.object} (a mesh or cloud new to the cache is cut into convex pieces first)", file=sys.stderr,
               flush=True)
     start = time.perf_counter()
     obj = objects.get(args.object) if scale is None else objects.get(args.object, scale=scale)

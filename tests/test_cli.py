@@ -101,7 +101,7 @@ def test_loading_a_file_says_what_it_is_doing(tmp_path, capsys):
     argv = ["plan", "--object", str(path), "--max-iter", "2", "--out", str(tmp_path / "out"), "--no-animation"]
     assert main(argv) == 1
     err = capsys.readouterr().err
-    assert f"loading {path} (a mesh new to the cache is cut into convex pieces first)" in err
+    assert f"loading {path} (a mesh or cloud new to the cache is cut into convex pieces first)" in err
     assert "capsule.npy: 1 convex piece(s) (hull, cache " in err
     assert main([*argv, "--quiet"]) == 1 and "loading" not in capsys.readouterr().err
     assert main(["plan", "--object", "cup", "--max-iter", "2", "--out", str(tmp_path / "out"), "--no-animation"]) == 1
