@@ -4,7 +4,7 @@ Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
                                     [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
-                                    [--rows] [--urdf-sizes MM ...] [--cloud N]
+                                    [--rows] [--urdf-sizes MM ...] [--cloud N [--noise MM]]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (269 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -23,7 +23,8 @@ README summary; ``--rows`` plans nothing and summarises (and documents) the rows
 ``--urdf-sizes 60 150 --only urdf/`` plans the random_urdfs shapes at sizes the benchmark does not
 hold (each shape in its split), for a sweep of sizes on train. ``--cloud 3000`` plans every object from
 3000 points sampled on its mesh (``sg.objects.from_points``: a point cloud, no mesh) and verifies the
-grasp on the mesh (rows in ``bench-out/generalise-cloud``).
+grasp on the mesh (rows in ``bench-out/generalise-cloud``); ``--noise 0.5`` adds Gaussian noise of
+0.5 mm to every coordinate, as a scanner would.
 """
 
 from __future__ import annotations
@@ -85,8 +86,9 @@ def fidelity(obj, samples=2000, mesh=None):
     return float(gap.max()), float(np.percentile(gap, 95))
 
 
-def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None):
-    """Plan and verify one object (or a cloud of ``cloud`` points sampled on it): a JSON-able row."""
+def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0):
+    """Plan and verify one object (or a cloud of ``cloud`` points sampled on it, each moved by Gaussian noise of
+    standard deviation ``noise`` mm along each axis): a JSON-able row."""
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
     obj = entry.make()
@@ -95,6 +97,7 @@ def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None):
         return plan_row(obj, grasp, options, **labels)
     mesh = true_surface(obj)
     points = trimesh.sample.sample_surface(mesh, cloud, seed=0)[0]
+    points = points + np.random.default_rng(0).normal(scale=noise, size=points.shape) if noise else points
     return plan_row(sg.objects.from_points(points, name=f"{entry.name} ({cloud} points)"), grasp, options,
                     truth=obj, **labels)
 
@@ -217,6 +220,8 @@ def main(argv=None):
     parser.add_argument("--cloud", type=int, default=None, metavar="N",
                         help="plan each object from N points sampled on its surface (sg.objects.from_points), and "
                              "verify on its mesh")
+    parser.add_argument("--noise", type=float, default=0.0, metavar="MM",
+                        help="with --cloud: Gaussian noise of this standard deviation (mm) added to every coordinate")
     parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
                         help="sizes of the random_urdfs shapes (default: the benchmark's); with --only urdf/, a sweep "
                              "of sizes, split by shape as the benchmark")
@@ -231,6 +236,8 @@ def main(argv=None):
         parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes and meshes only")
     if args.cloud is not None and args.cloud < 100:
         parser.error(f"--cloud must be at least 100 points, got {args.cloud}")
+    if args.noise < 0 or (args.noise and args.cloud is None):
+        parser.error(f"--noise must be >= 0 mm and needs --cloud, got {args.noise}")
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise-cloud" if args.cloud else
                                         "generalise")
@@ -249,7 +256,7 @@ def _plan_all(args, options):
     tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        futures = [(k, pool.submit(run, name, grasp, options, sizes, args.cloud)) for k, name, grasp in tasks]
+        futures = [(k, pool.submit(run, name, grasp, options, sizes, args.cloud, args.noise)) for k, name, grasp in tasks]
         for k, future in futures:
             rows.append({**future.result(), "run": k})
             print_row(rows[-1], f"run {k} " if args.runs > 1 else "")

@@ -117,7 +117,8 @@ def test_generalise_plans_clouds_sampled_on_the_objects_and_verifies_them_on_the
     assert all(r["verified"] == (r["gap"] <= verification.GAP and r["closed"] and r["depth"] <= verification.DEPTH
                                  and r["palm_depth"] <= verification.DEPTH) for r in rows)
     assert all(r["overhang"] > 0.0 for r in rows)  # the clouds' pieces measured against the meshes
-    for argv, message in ((["--cloud", "50"], "at least 100"), (["--cloud", "2000", "--docs"], "--docs writes")):
+    for argv, message in ((["--cloud", "50"], "at least 100"), (["--cloud", "2000", "--docs"], "--docs writes"),
+                          (["--noise", "0.5"], "needs --cloud"), (["--cloud", "2000", "--noise", "-1"], "must be >= 0")):
         with pytest.raises(SystemExit):
             generalise.main([*argv, "--out", str(tmp_path)])
         assert message in capsys.readouterr().err

@@ -189,7 +189,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
     if pen.depth > options.max_penetration:
         return False, pen, None
     if obj.mesh is not None or obj.points is not None:  # the capsules that may be deeper in the true surface than
-        # in the pieces, measured there: a cloud's surface between its points is not known, so every capsule in it
+        # in the pieces, measured there (every capsule in the pieces for a cloud: its surface between points is unknown)
         geo = hand.segments(u)
         excess = obj.mesh_excess if obj.mesh is not None else options.max_penetration
         near = np.flatnonzero(pen.depths[:len(geo.capsules)] > options.max_penetration - excess)

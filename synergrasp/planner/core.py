@@ -344,9 +344,9 @@ def _failure(attempts, grasp, hand, obj, opts):
     thin for the pads to touch both. When a precision plan had no pinch seed
     at all, it says why: no two surface points face each other, or those
     that do are too far apart for the hand's widest pinch (`widest_pinch`)
-    less ``opts.seed_opening`` on either side. When most power attempts ended with every phalanx
-    more than ``eps_c`` from the object, it says that and how far they
-    stopped: the fingers did not close around it. When no wrap seed it
+    less ``opts.seed_opening`` on either side. When most power attempts
+    ended with every phalanx more than ``eps_c`` from the object, it says
+    that and how far they stopped: the fingers did not close around it. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
