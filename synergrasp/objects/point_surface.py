@@ -99,6 +99,7 @@ class PointSurface:
         Parameters
         ----------
         points : (c, 3) array_like
+            At least one point.
         toward : (c, 3) array_like
             Directions into the object at the points (e.g. the convex
             pieces' inward normals): each normal is given their sign.
@@ -115,8 +116,6 @@ class PointSurface:
         toward = as_points(toward, "toward", dim=3)
         if toward.shape != points.shape:
             raise ValueError(f"closest needs one direction per point: points {points.shape}, toward {toward.shape}")
-        if not len(points):
-            return np.zeros((0, 3)), np.zeros(0), np.zeros((0, 3))
         nearest, normals, radius = self._planes(points)
         normals *= np.where(np.einsum("ij,ij->i", normals, toward) < 0.0, -1.0, 1.0)[:, None]
         offset = points - self.points[nearest]
@@ -138,6 +137,7 @@ class PointSurface:
         Parameters
         ----------
         points : (m, 3) array_like
+            At least one point.
         contains : callable
             ``contains(points) -> (k,) bool``, e.g. `GraspObject.contains`.
 
@@ -147,8 +147,6 @@ class PointSurface:
             mm (trimesh's convention: positive inside).
         """
         points = as_points(points, "points", dim=3)
-        if not len(points):
-            return np.zeros(0)
         nearest, normals, radius = self._planes(points)
         base = self.points[nearest]
         step = 0.5 * radius[:, None] * normals
