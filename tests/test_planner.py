@@ -406,19 +406,51 @@ def test_an_object_from_a_cloud_keeps_its_points_and_moves_them():
     ball = so.from_points(points, cache=False)
     np.testing.assert_allclose(np.sort(ball.points, axis=0), np.sort(points, axis=0))
     assert ball.point_surface is not None and so.ellipsoid().point_surface is None
-    moved = ball.transformed(np.r_[np.c_[np.eye(3), [5.0, 0.0, 0.0]], [[0.0, 0.0, 0.0, 1.0]]])
-    np.testing.assert_allclose(moved.points, ball.points + [5.0, 0.0, 0.0])
+    turn = rotation_xyz([0.3, -0.2, 1.1])
+    moved = ball.transformed(np.r_[np.c_[turn, [5.0, 0.0, 0.0]], [[0.0, 0.0, 0.0, 1.0]]])
+    np.testing.assert_allclose(np.sort(moved.points, axis=0), np.sort(ball.points @ turn.T + [5.0, 0.0, 0.0], axis=0))
+    # the points the moved object's surface is judged on are where its pieces went
+    np.testing.assert_allclose(moved.point_surface.closest(moved.points[:5], np.ones((5, 3)))[1], 0.0, atol=1e-9)
     with pytest.raises(ValueError, match="not both"):
         so.GraspObject([points], points=points, mesh=trimesh.convex.convex_hull(points))
+    with pytest.raises(ValueError, match="give the points in the pieces' units"):
+        so.GraspObject([points], points=points / 1000.0)  # metres against pieces in mm
+    with pytest.raises(ValueError, match="give the points in the pieces' units"):
+        so.GraspObject([points], points=points + [100.0, 0.0, 0.0])  # another frame
     with pytest.raises(ValueError, match="points"):
         so.GraspObject([points], points=points[:, :2])
+
+
+def test_a_point_surface_ignores_repeated_points_and_counts_a_covered_hollow_as_outside():
+    """Points given many times fit the same planes as once; in a bowl's hollow, which the hull covers, the side that
+    is inside is not known: no depth there, while a point below the outer wall is inside by its depth."""
+    from synergrasp.objects.point_surface import PointSurface
+
+    box = trimesh.creation.box((60.0, 60.0, 60.0))
+    points = trimesh.sample.sample_surface_even(box, 3000, seed=0)[0]
+    once, repeated = PointSurface(points), PointSurface(np.repeat(points, 16, axis=0))
+    assert len(repeated.points) == len(once.points)
+    probe = [[5.0, 5.0, 32.0], [0.0, 31.0, 3.0]]
+    for a, b in zip(once.closest(probe, [[0.0, 0.0, -1.0], [0.0, -1.0, 0.0]]),
+                    repeated.closest(probe, [[0.0, 0.0, -1.0], [0.0, -1.0, 0.0]])):
+        np.testing.assert_allclose(a, b)
+    surface = _bowl_mesh()
+    cloud = trimesh.sample.sample_surface(surface, 20000, seed=0)[0]
+    bowl = so.GraspObject([cloud], points=cloud)
+    hollow, in_the_wall = [[0.0, 0.0, -20.0], [0.0, 0.0, -35.0]], [[0.0, 0.0, -48.0]]
+    assert (bowl.point_surface.signed_distance(hollow, bowl.contains) <= 0.0).all()
+    assert trimesh.proximity.signed_distance(surface, in_the_wall)[0] > 0.0  # inside the wall (trimesh: + inside)
+    np.testing.assert_allclose(bowl.point_surface.signed_distance(in_the_wall, bowl.contains),
+                               trimesh.proximity.signed_distance(surface, in_the_wall), atol=0.5)
 
 
 def test_a_point_surface_refuses_bad_input():
     from synergrasp.objects.point_surface import PointSurface
 
-    with pytest.raises(ValueError, match="at least 16 points"):
+    with pytest.raises(ValueError, match="at least 16 distinct points"):
         PointSurface(np.zeros((10, 3)))
+    with pytest.raises(ValueError, match="to fit planes to, got 1"):
+        PointSurface(np.zeros((40, 3)))
     with pytest.raises(ValueError, match="neighbours"):
         PointSurface(np.eye(3), neighbours=2)
     with pytest.raises(ValueError, match="NaN"):

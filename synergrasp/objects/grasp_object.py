@@ -9,7 +9,7 @@ import fcl
 import numpy as np
 import trimesh
 
-from .._checks import as_points, as_vector, positive_scalar
+from .._checks import as_vector, positive_scalar
 from .broad_phase import PieceIndex
 from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
@@ -81,8 +81,11 @@ class GraspObject:
     ValueError
         If there are no pieces, or a piece is non-finite or has no volume; a
         ``center`` outside the object, or a ``torque_scale`` far from its size;
-        ``points`` that are not a finite (n, 3) array of at least 16 rows
-        (`PointSurface`), or given with a mesh.
+        ``points`` that are not a finite (n, 3) array of at least 16 distinct
+        rows (`PointSurface`), that do not lie on the pieces' outline (their
+        extent not within a factor of 2 of the pieces', or farther than a
+        tenth of it outside them: other units or another frame), or given
+        with a mesh.
 
     Examples
     --------
@@ -118,12 +121,14 @@ class GraspObject:
         if points is not None and mesh is not None:
             raise ValueError("give an object a mesh or surface points, not both: the mesh is its true surface")
         #: The surface ``points`` sample (`PointSurface`), None without points.
-        self.point_surface = None if points is None else PointSurface(np.array(as_points(points, "points", dim=3)))
+        self.point_surface = None if points is None else PointSurface(points)
         self.points = None if points is None else self.point_surface.points
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")
         self.info = dict(info or {})
         self.index = PieceIndex(self.convex)
+        if self.points is not None:
+            self._check_points()
         if center is None:
             self.center = self._default_center()
         else:
@@ -220,6 +225,17 @@ class GraspObject:
     def extents(self) -> np.ndarray:
         """(3,) float: bounding-box side lengths (mm)."""
         return self.bounds[1] - self.bounds[0]
+
+    def _check_points(self):
+        """Refuse surface points that do not lie on the pieces' outline (other units, another frame)."""
+        spread = float(np.ptp(self.points, axis=0).max())
+        outside = float(self.index.min_plane_bound(self.points).max())
+        if not 0.5 * self.size <= spread <= 2.0 * self.size or outside > 0.1 * self.size:
+            raise ValueError(
+                f"the surface points of {self.name} span {spread:.3g} mm and lie up to {max(outside, 0.0):.3g} mm "
+                f"outside its pieces, which span {self.size:.3g} mm: give the points in the pieces' units (mm) and "
+                "frame"
+            )
 
     @property
     def size(self) -> float:

@@ -35,11 +35,21 @@ class PointSurface:
     neighbours : int
         Points per fitted plane.
 
+    Attributes
+    ----------
+    points : (n, 3) float
+        The distinct points, read-only.
+    neighbours : int
+    tree : scipy.spatial.cKDTree
+        Over ``points``.
+
     Raises
     ------
+    TypeError
+        If ``points`` are not numbers.
     ValueError
         If ``points`` is not a finite (n, 3) array with at least
-        ``neighbours`` rows, or ``neighbours`` is below 3.
+        ``neighbours`` distinct rows, or ``neighbours`` is below 3.
 
     Examples
     --------
@@ -70,9 +80,10 @@ class PointSurface:
     def __init__(self, points, neighbours: int = NEIGHBOURS):
         if isinstance(neighbours, bool) or not isinstance(neighbours, (int, np.integer)) or neighbours < 3:
             raise ValueError(f"neighbours must be an integer >= 3 (points per fitted plane), got {neighbours!r}")
-        self.points = as_points(points, "points", dim=3)
+        self.points = np.unique(as_points(points, "points", dim=3), axis=0)  # a repeated point fits no plane
+        self.points.setflags(write=False)
         if len(self.points) < neighbours:
-            raise ValueError(f"a point surface needs at least {neighbours} points to fit planes to, got "
+            raise ValueError(f"a point surface needs at least {neighbours} distinct points to fit planes to, got "
                              f"{len(self.points)}")
         self.neighbours = int(neighbours)
         self.tree = cKDTree(self.points)
@@ -131,8 +142,10 @@ class PointSurface:
 
         The sign of each plane's normal is the one whose side of the cloud
         point ``contains`` finds inside the object (half the plane's radius
-        away; if both or neither side is, the one facing away from the
-        cloud's centroid is outward).
+        away). Where it finds both sides inside or neither (a concavity that
+        the convex pieces cover, or a thin wall), which side is inside is not
+        known, and the point counts as outside (the distance to the plane,
+        negated): the pieces' own depth judges it there.
 
         Parameters
         ----------
@@ -151,7 +164,6 @@ class PointSurface:
         base = self.points[nearest]
         step = 0.5 * radius[:, None] * normals
         plus, minus = np.asarray(contains(base + step), bool), np.asarray(contains(base - step), bool)
-        away = np.einsum("ij,ij->i", normals, base - self.points.mean(axis=0)) >= 0.0
-        outward = np.where(plus != minus, minus, away)
-        normals *= np.where(outward, 1.0, -1.0)[:, None]
-        return -np.einsum("ij,ij->i", points - base, normals)
+        normals *= np.where(minus, 1.0, -1.0)[:, None]  # outward, where plus != minus
+        inside = -np.einsum("ij,ij->i", points - base, normals)
+        return np.where(plus != minus, inside, -np.abs(inside))

@@ -415,7 +415,8 @@ def opposed_widths(obj, seed=0):
     """How far apart the object's opposed surface points are: the widths the pinch seeds are drawn from.
 
     The samples of `surface_samples` (`PAIR_SAMPLES` of them) whose inward
-    ray leaves the object within `PAIR_ANGLE` of the opposed normal.
+    ray leaves the object within `PAIR_ANGLE` of the opposed normal, more
+    than 1 mm further on.
 
     Parameters
     ----------
@@ -437,7 +438,8 @@ def opposed_widths(obj, seed=0):
     True
     """
     p1, n1, p2, n2 = surface_samples(obj, PAIR_SAMPLES, seed)
-    return np.linalg.norm(p2 - p1, axis=1)[_opposed(n1, n2)]
+    width = np.linalg.norm(p2 - p1, axis=1)
+    return width[_opposed(n1, n2) & (width > 1.0)]
 
 
 def _opposed(n1, n2):
