@@ -444,6 +444,21 @@ def test_a_point_surface_ignores_repeated_points_and_counts_a_covered_hollow_as_
                                trimesh.proximity.signed_distance(surface, in_the_wall), atol=0.5)
 
 
+def test_a_point_surface_signs_a_normal_by_the_inside_where_the_given_direction_runs_along_the_surface():
+    """A contact on a cube's top face whose pieces' normal runs nearly along the face (87 degrees from it, pointing
+    slightly up): its sign alone turns the face's normal outward; the inside test turns it into the cube."""
+    from synergrasp.objects.point_surface import PointSurface
+
+    box = trimesh.creation.box((60.0, 60.0, 60.0))
+    points = trimesh.sample.sample_surface_even(box, 3000, seed=0)[0]
+    surface, inside = PointSurface(points), (lambda p: np.abs(p).max(axis=1) < 30.0)  # noqa: E731
+    contact, along = [[5.0, 5.0, 30.5]], [[1.0, 0.0, 0.05]]
+    np.testing.assert_allclose(surface.closest(contact, along)[2], [[0.0, 0.0, 1.0]], atol=1e-6)  # outward: wrong
+    np.testing.assert_allclose(surface.closest(contact, along, inside)[2], [[0.0, 0.0, -1.0]], atol=1e-6)
+    clear = [[0.0, 0.0, -1.0]]  # a direction clearly into the object keeps its sign whatever the inside test says
+    np.testing.assert_allclose(surface.closest(contact, clear, lambda p: np.zeros(len(p), bool))[2], clear, atol=1e-6)
+
+
 def test_a_point_surface_refuses_bad_input():
     from synergrasp.objects.point_surface import PointSurface
 

@@ -97,7 +97,7 @@ class PointSurface:
         _, vectors = np.linalg.eigh(np.einsum("mki,mkj->mij", around, around))
         return nearest, vectors[:, :, 0], distance[:, -1]
 
-    def closest(self, points, toward) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def closest(self, points, toward, contains=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Each point's foot on the surface, its distance to it and the surface's inward normal there.
 
         The foot is on the plane fitted around the nearest cloud point, and
@@ -114,6 +114,11 @@ class PointSurface:
         toward : (c, 3) array_like
             Directions into the object at the points (e.g. the convex
             pieces' inward normals): each normal is given their sign.
+        contains : callable, optional
+            ``contains(points) -> (k,) bool``, e.g. `GraspObject.contains`:
+            where ``toward`` is more than 60 degrees from the fitted normal
+            (nearly along the surface, its sign unsure), the side of the
+            plane it finds inside, as in `signed_distance`, if it finds one.
 
         Returns
         -------
@@ -128,7 +133,12 @@ class PointSurface:
         if toward.shape != points.shape:
             raise ValueError(f"closest needs one direction per point: points {points.shape}, toward {toward.shape}")
         nearest, normals, radius = self._planes(points)
-        normals *= np.where(np.einsum("ij,ij->i", normals, toward) < 0.0, -1.0, 1.0)[:, None]
+        along = np.einsum("ij,ij->i", normals, toward) / np.maximum(np.linalg.norm(toward, axis=1), 1e-300)
+        normals *= np.where(along < 0.0, -1.0, 1.0)[:, None]
+        unsure = np.flatnonzero(np.abs(along) < 0.5)
+        if contains is not None and len(unsure):
+            outward, known = self._outward(nearest[unsure], normals[unsure], radius[unsure], contains)
+            normals[unsure[known]] = -outward[known]
         offset = points - self.points[nearest]
         height = np.einsum("ij,ij->i", offset, normals)
         foot = points - height[:, None] * normals
@@ -161,9 +171,14 @@ class PointSurface:
         """
         points = as_points(points, "points", dim=3)
         nearest, normals, radius = self._planes(points)
-        base = self.points[nearest]
+        outward, known = self._outward(nearest, normals, radius, contains)
+        inside = -np.einsum("ij,ij->i", points - self.points[nearest], outward)
+        return np.where(known, inside, -np.abs(inside))
+
+    def _outward(self, rows, normals, radius, contains):
+        """The normals of the planes at cloud points ``rows`` turned outward by ``contains`` half their radius to
+        either side, and whether it told the sides apart (one inside, the other not)."""
+        base = self.points[rows]
         step = 0.5 * radius[:, None] * normals
         plus, minus = np.asarray(contains(base + step), bool), np.asarray(contains(base - step), bool)
-        normals *= np.where(minus, 1.0, -1.0)[:, None]  # outward, where plus != minus
-        inside = -np.einsum("ij,ij->i", points - base, normals)
-        return np.where(plus != minus, inside, -np.abs(inside))
+        return normals * np.where(minus, 1.0, -1.0)[:, None], plus != minus

@@ -80,7 +80,7 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     points = np.asarray(points, dtype=float).reshape(-1, 3)
     normals = np.asarray(normals, dtype=float).reshape(-1, 3)
     if obj.point_surface is not None and len(points):
-        closest, gap, inward = obj.point_surface.closest(points, normals)
+        closest, gap, inward = obj.point_surface.closest(points, normals, obj.contains)
     elif obj.mesh is None or not len(points):
         closest, gap, inward = points, np.zeros(len(points)), normals
     else:
