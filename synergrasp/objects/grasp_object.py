@@ -122,7 +122,6 @@ class GraspObject:
             raise ValueError("give an object a mesh or surface points, not both: the mesh is its true surface")
         #: The surface ``points`` sample (`PointSurface`), None without points.
         self.point_surface = None if points is None else PointSurface(points)
-        self.points = None if points is None else self.point_surface.points
         if info is not None and not isinstance(info, dict):
             raise TypeError(f"info must be a dict (provenance of the object), got {type(info).__name__}")
         self.info = dict(info or {})
@@ -225,6 +224,11 @@ class GraspObject:
     def extents(self) -> np.ndarray:
         """(3,) float: bounding-box side lengths (mm)."""
         return self.bounds[1] - self.bounds[0]
+
+    @property
+    def points(self) -> np.ndarray | None:
+        """(n, 3) float: the distinct surface points (read-only), None without points."""
+        return None if self.point_surface is None else self.point_surface.points
 
     def _check_points(self):
         """Refuse surface points that do not lie on the pieces' outline (other units, another frame)."""

@@ -388,7 +388,7 @@ def pinch_seeds(hand, obj, options):
         return
     width = np.linalg.norm(p2 - p1, axis=1)
     spare = 2.0 * options.seed_opening
-    usable = _opposed(n1, n2) & (width > 1.0) & (width + spare <= apertures.width.max())
+    usable = _pairs(n1, n2, width) & (width + spare <= apertures.width.max())
     axis = (p2 - p1) / np.maximum(width, 1e-9)[:, None]
     offset = obj.center - p1
     off_axis = np.linalg.norm(offset - np.einsum("ij,ij->i", offset, axis)[:, None] * axis, axis=1)
@@ -439,12 +439,13 @@ def opposed_widths(obj, seed=0):
     """
     p1, n1, p2, n2 = surface_samples(obj, PAIR_SAMPLES, seed)
     width = np.linalg.norm(p2 - p1, axis=1)
-    return width[_opposed(n1, n2) & (width > 1.0)]
+    return width[_pairs(n1, n2, width)]
 
 
-def _opposed(n1, n2):
-    """(m,) bool: outward normals opposed within `PAIR_ANGLE`."""
-    return np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))
+def _pairs(n1, n2, width):
+    """(m,) bool: the samples and exits that make a pair: outward normals opposed within `PAIR_ANGLE`, more than
+    1 mm apart."""
+    return (np.einsum("ij,ij->i", n1, n2) < -np.cos(np.radians(PAIR_ANGLE))) & (width > 1.0)
 
 
 def recess(obj, points, normals):
