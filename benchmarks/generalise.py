@@ -194,7 +194,8 @@ def _largest(rows, key):
     return float(np.nanmax(values)) if values else float("nan")
 
 
-def _value(text):
+def option_value(text):
+    """A ``--option NAME=VALUE`` value: a Python literal (number, tuple, bool, None), else the text itself."""
     try:
         return ast.literal_eval(text)
     except (ValueError, SyntaxError):
@@ -241,7 +242,7 @@ def main(argv=None):
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise-cloud" if args.cloud else
                                         "generalise")
-    options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
     print("\n".join(summary))
@@ -328,7 +329,7 @@ def plot(rows, path):
     plt.close(fig)
 
 
-def _per_object(rows):
+def per_object(rows):
     """Per (object, grasp), in order: its first run's row, "yes"/"no" (or "k/R" when the runs differ), its median time."""
     groups = {}
     for r in rows:
@@ -359,7 +360,7 @@ def _write_docs(rows, split, options, summary):
         "| object | source | grasp | verified | time (s) | attempts | Q | Q on the true surface | gap (mm) | pieces' overhang (mm) | reason |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for r, verified, seconds in _per_object(rows):
+    for r, verified, seconds in per_object(rows):
         lines.append(f"| {r['name']} | {r['source']} | {r['grasp']} | {verified} | {seconds:.2f} "
                      f"| {r.get('n_attempts', '')} | {r.get('q', float('nan')):.3f} | {r.get('q_true', float('nan')):.3f} "
                      f"| {r.get('gap', float('nan')):.1f} | {r.get('overhang', float('nan')):.1f} | {r['reason'][:80]} |")

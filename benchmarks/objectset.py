@@ -98,10 +98,6 @@ def _mesh(mesh, name):
     return sg.objects.from_mesh(mesh, name=name)
 
 
-def _revolve(profile, name):
-    return sg.objects.revolve(np.asarray(profile, dtype=float), name=name)
-
-
 def _union(*meshes):
     return trimesh.boolean.union(list(meshes), engine="manifold")
 

@@ -31,7 +31,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import _value  # noqa: E402
+from generalise import option_value  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import PlannerOptions, run_attempt, starts  # noqa: E402
@@ -63,7 +63,7 @@ def main(argv=None):
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, help="write every attempt here (JSON lines)")
     args = parser.parse_args(argv)
-    options = {k: _value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
     PlannerOptions(**options)  # a bad option fails here, before any work
     names = [e.name for e in select(args.split, args.only)]
     start = time.perf_counter()

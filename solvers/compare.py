@@ -82,7 +82,6 @@ COMMITTED = ROOT / "solvers" / "results"
 #: Output folder of a run without --docs (relative to the working directory).
 DEFAULT_OUT = Path("bench-out") / "solver-comparison"
 REFERENCE = "highs"
-REFERENCE_BACKENDS = ("scipy-linprog", "cvxpy-plain")
 FIGURE = "solver_comparison.png"
 
 OBJECTS = ("ellipsoid", "cup", "bell", "goblet")

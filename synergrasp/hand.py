@@ -517,7 +517,24 @@ class SynergyHand:
         """list of str : names of the entries of ``u``."""
         return ["px", "py", "pz", "phi1", "phi2", "phi3"] + [f"z{i + 1}" for i in range(self.n_syn)]
 
-    def _check_u(self, u):
+    def check_u(self, u):
+        """``u`` as a finite float vector of this hand's size, or a clear error.
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) array_like
+
+        Returns
+        -------
+        (6 + n_syn,) float
+
+        Raises
+        ------
+        TypeError
+            If ``u`` is not numeric.
+        ValueError
+            If it has another shape, or a NaN or inf entry.
+        """
         try:
             if np.iscomplexobj(u):
                 raise TypeError("complex")
@@ -529,7 +546,7 @@ class SynergyHand:
             raise ValueError(f"u must have shape ({self.n_u},) = [p (3), phi (3), z ({self.n_syn})], "
                              f"got {u.shape}")
         if not np.all(np.isfinite(u)):
-            raise ValueError(f"u must be finite, got {u}")
+            raise ValueError(f"u contains NaN or inf, got {u}")
         return u
 
     def _check_kind(self, kind):
@@ -549,7 +566,7 @@ class SynergyHand:
         (n_act,) float
             In the order of ``actuated_names``.
         """
-        return self.mean_pose + self.synergies @ self._check_u(u)[6:]
+        return self.mean_pose + self.synergies @ self.check_u(u)[6:]
 
     def joint_angles(self, u):
         """Angles of every joint, the fixed ones included.
@@ -564,7 +581,7 @@ class SynergyHand:
             Keyed by ``joint_names``, in that order (chain by chain from the palm outwards:
             T_rot, T_abd, T_mcp, T_ip, I_mcp, I_pip, I_dip, ... for the paper's hand).
         """
-        q = self._q_z @ self._check_u(u)[6:] + self._q_0
+        q = self._q_z @ self.check_u(u)[6:] + self._q_0
         return dict(zip(self.joint_names, q[self._real].tolist()))
 
     def point_labels(self, kind):
@@ -601,7 +618,7 @@ class SynergyHand:
 
     def _world(self, u, kind, jacobian):
         """Hand points of a kind in the world frame and, if ``jacobian``, their Jacobian (else None)."""
-        u = self._check_u(u)
+        u = self.check_u(u)
         nodes, weights, _, upstream, frame, offset = self._check_kind(kind)
         rot, pos = self._chains(u[6:])
         n = len(nodes)
@@ -720,7 +737,20 @@ class SynergyHand:
         return self._world(u, kind, True)
 
     def points_jacobian(self, u, kind="precision"):
-        """Analytic Jacobian of `points`, ``(n, 3, 6 + n_syn)`` (see `points_and_jacobian`)."""
+        """Analytic Jacobian of `points` (see `points_and_jacobian`).
+
+        Parameters
+        ----------
+        u : (6 + n_syn,) float
+            Configuration ``[px, py, pz, phi1, phi2, phi3, z...]``.
+        kind : {"precision", "power"}
+            Which hand points (see `points`).
+
+        Returns
+        -------
+        (n, 3, 6 + n_syn) float
+            ``d points / d u``.
+        """
         return self.points_and_jacobian(u, kind)[1]
 
     def palm_jacobian(self, u, points):
@@ -760,7 +790,7 @@ class SynergyHand:
         >>> bool(np.allclose(jac[0], numeric, atol=1e-6))
         True
         """
-        u = self._check_u(u)
+        u = self.check_u(u)
         try:
             x = np.asarray(points, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -891,7 +921,7 @@ class SynergyHand:
             One capsule per segment of positive length (radius ``finger_radius``) and the
             palm as an oriented box (``palm.center`` and ``palm.size`` of the file).
         """
-        u = self._check_u(u)
+        u = self.check_u(u)
         center, rot = self.palm_box(u)
         nodes = u[:3] + np.vstack([self._chains(u[6:])[1].reshape(-1, 3), self.palm_point]) @ rot.T
         return HandGeometry(
@@ -927,7 +957,7 @@ class SynergyHand:
         >>> bool(np.array_equal(center, geo.palm_center) and np.array_equal(axes, geo.palm_axes))
         True
         """
-        u = self._check_u(u)
+        u = self.check_u(u)
         rot = rotation_xyz(u[3:6])
         return u[:3] + rot @ self._palm_center, rot
 

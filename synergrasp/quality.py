@@ -297,7 +297,7 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
 MAX_HULL_WRENCHES = 256
 
 
-def force_closure_by_hull(wrenches, tol=1e-9) -> bool:
+def force_closure_by_hull(wrenches, tol=FORCE_CLOSURE_TOL) -> bool:
     """Independent force-closure test: the origin strictly inside the convex hull of the wrenches.
 
     Uses qhull (``scipy.spatial.ConvexHull``), not an LP, so it can cross-check

@@ -333,7 +333,7 @@ API = [
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
-    Case("SynergyHand.points", "a NaN u", lambda tmp: HAND.points(np.full(8, np.nan)), ValueError, "u must be finite"),
+    Case("SynergyHand.points", "a NaN u", lambda tmp: HAND.points(np.full(8, np.nan)), ValueError, "u contains NaN or inf"),
     Case("SynergyHand.segments", "u is a word", lambda tmp: HAND.segments("open"), TypeError, "u must be a numeric vector of 8 numbers"),
     Case("SynergyHand.from_file", "None as the path", lambda tmp: sg.SynergyHand.from_file(None), TypeError,
          "the hand file must be a str or os.PathLike, got NoneType"),

@@ -238,7 +238,7 @@ def test_generalise_reports_the_median_of_several_runs(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "power: 2/4 verified (50.0%, median of 3 runs: 2, 2, 3), by source: urdf 2/4" in out
     assert "accepted 12 (the 3 runs pooled)" in out and "o3 in run 0" in out
-    table = {r["name"]: (verified, seconds) for r, verified, seconds in generalise._per_object(rows)}
+    table = {r["name"]: (verified, seconds) for r, verified, seconds in generalise.per_object(rows)}
     assert table == {"o0": ("yes", 2.0), "o1": ("2/3", 2.0), "o2": ("2/3", 2.0), "o3": ("no", 2.0)}
     with pytest.raises(SystemExit):
         generalise.main(["--runs", "0", "--out", str(tmp_path)])

@@ -24,6 +24,8 @@ import numpy as np
 
 #: The statuses an :class:`LPSolution` can carry.
 STATUSES = ("optimal", "infeasible", "unbounded", "failed")
+#: Last optimal bases a backend remembers (one per LP structure), for LPs solved without a given basis.
+BASIS_CACHE_SIZE = 64
 
 
 class LPError(RuntimeError):

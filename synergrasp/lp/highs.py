@@ -26,7 +26,7 @@ from collections import OrderedDict
 import highspy
 import numpy as np
 
-from .base import Backend, csc_arrays
+from .base import BASIS_CACHE_SIZE, Backend, csc_arrays
 
 _STATUS = {
     highspy.HighsModelStatus.kOptimal: "optimal",
@@ -41,8 +41,6 @@ _RESCUE = {"simplex_scale_strategy": 2, "presolve": "choose"}
 
 _STATUSES = np.array([highspy.HighsBasisStatus.kLower, highspy.HighsBasisStatus.kBasic], dtype=object)
 
-#: Number of LP column-count patterns and shapes whose last optimal basis is remembered.
-BASIS_CACHE_SIZE = 64
 #: Number of ``Highs`` objects kept, each holding the last LP of one structure (see the module docstring).
 MODEL_CACHE_SIZE = 8
 

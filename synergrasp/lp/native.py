@@ -41,7 +41,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import helper, kernel
-from .base import Backend, csc_arrays
+from .base import BASIS_CACHE_SIZE, STATUSES, Backend, csc_arrays
 
 #: Feasibility, optimality and pivot tolerances, relative to the LP's data (the largest |b|, |c|, |A|).
 TOL = 1e-9
@@ -53,11 +53,6 @@ PIVOTS_PER_SIZE = 50
 RESTARTS = 3
 #: Pivot tolerance (relative to the column's largest entry) of the second try of a block that failed with `TOL`.
 RESCUE_PIVOT_TOL = 1e-7
-#: Remembered last optimal bases (one per LP structure), for LPs solved without ``basic``.
-BASIS_CACHE_SIZE = 64
-
-#: The statuses by the kernels' codes (0-3; the worst block's is the LP's).
-_STATUS = ("optimal", "infeasible", "unbounded", "failed")
 
 
 class NativeBackend(Backend):
@@ -119,7 +114,7 @@ class NativeBackend(Backend):
                       np.empty(m, dtype=np.int64), np.empty((3, rows_max, width)), np.empty((7, width)),
                       np.empty((2, width), dtype=np.int64), np.empty(width, dtype=bool), xy, out)
         x, y = xy[:n], xy[n:]
-        status, pivots = _STATUS[int(out[0])], int(out[1])
+        status, pivots = STATUSES[int(out[0])], int(out[1])  # status codes 0-3; the worst block's is the LP's
         if status != "optimal":
             self._bases.pop(key or _structure(m, n, indptr, indices), None)
             return status, None, None, pivots, f"{status} (native dense simplex, {pivots} pivots)"

@@ -23,7 +23,7 @@ Every bound is valid, so pruning with them never changes a value.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from functools import cached_property
 
 import fcl
@@ -74,10 +74,6 @@ class Probe:
     S: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
-
-    def take(self, rows) -> "Probe":
-        """The probe of the points ``rows`` only."""
-        return Probe(*(getattr(self, f.name)[rows] for f in fields(self)))
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds of each point's cP: ``(min_j lower, upper)`` outside, ``(-inf, 0)`` inside a piece.
@@ -186,10 +182,6 @@ class PieceIndex:
     def n_pieces(self) -> int:
         """Number of pieces J."""
         return len(self.pieces)
-
-    def piece_planes(self, j: int) -> np.ndarray:
-        """(f, 4) float: the facet planes of piece j (a view of ``planes``)."""
-        return self.planes[self.plane_start[j]:self.plane_start[j + 1]]
 
     def plane_bounds(self, points) -> np.ndarray:
         """``max_f n_f . p + o_f`` over each piece's facets: <= 0 inside piece j, else a lower bound of the distance.

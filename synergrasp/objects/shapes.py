@@ -22,6 +22,8 @@ import trimesh
 from .._checks import as_points, positive_scalar
 from .grasp_object import GraspObject
 
+#: Default largest gap (mm) between a built-in shape's polytope pieces and its smooth surface.
+TOLERANCE = 0.5
 #: Share of ``tolerance`` given to the profile polyline (the rest goes to the ring polygons).
 _PROFILE_SHARE = 0.4
 
@@ -68,7 +70,7 @@ def _ring_sides(r_max: float, tol: float) -> int:
 
 
 def revolve(
-    profile, *, name: str = "solid of revolution", tolerance: float = 0.5, center=None, torque_scale=None
+    profile, *, name: str = "solid of revolution", tolerance: float = TOLERANCE, center=None, torque_scale=None
 ) -> GraspObject:
     """A solid of revolution about the z axis, cut into convex slabs.
 
@@ -157,7 +159,7 @@ def _sample(f, z0, z1, n=400):
     return np.column_stack([f(z), z])
 
 
-def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: float = 0.5) -> GraspObject:
+def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: float = TOLERANCE) -> GraspObject:
     """The paper's test object: an ellipsoid with semi-axes a, b, c along x, y, z (mm).
 
     One convex piece: an icosphere mapped onto the ellipsoid, subdivided until
@@ -214,11 +216,20 @@ def _ellipsoid_gap(vertices, faces, axes) -> float:
     return float(((1.0 - g) / np.linalg.norm(grad, axis=1)).max())
 
 
-def cup(*, tolerance: float = 0.5) -> GraspObject:
+def cup(*, tolerance: float = TOLERANCE) -> GraspObject:
     """A drinking cup: 80 mm tall, 75 mm across the rim, 54 mm at the base (solid).
 
     The body flares from the base to a rounded rim bead; the flare (r(z)
     convex) makes it non-convex, so it comes in several slabs.
+
+    Parameters
+    ----------
+    tolerance : float
+        Largest gap (mm) between the pieces and the smooth surface (see `revolve`).
+
+    Returns
+    -------
+    GraspObject
 
     Examples
     --------
@@ -232,11 +243,20 @@ def cup(*, tolerance: float = 0.5) -> GraspObject:
     return revolve(profile, name="cup", tolerance=tolerance)
 
 
-def bell(*, tolerance: float = 0.5) -> GraspObject:
+def bell(*, tolerance: float = TOLERANCE) -> GraspObject:
     """A hand bell: flared mouth 90 mm across, body 75 mm tall, handle with a 30 mm knob (solid).
 
     Total height 132 mm: a flared lip (non-convex), a domed crown, a 12 mm
     thick handle neck and a ball knob on top.
+
+    Parameters
+    ----------
+    tolerance : float
+        Largest gap (mm) between the pieces and the smooth surface (see `revolve`).
+
+    Returns
+    -------
+    GraspObject
 
     Examples
     --------
@@ -259,11 +279,20 @@ def bell(*, tolerance: float = 0.5) -> GraspObject:
     return revolve(profile, name="bell", tolerance=tolerance)
 
 
-def goblet(*, tolerance: float = 0.5) -> GraspObject:
+def goblet(*, tolerance: float = TOLERANCE) -> GraspObject:
     """A wine goblet: 160 mm tall, a 76 mm bowl on a 9 mm stem, a 68 mm foot (solid).
 
     Three convex pieces: a domed foot, the stem and the bowl (half an
     ellipsoid narrowing slightly to a 68 mm rim).
+
+    Parameters
+    ----------
+    tolerance : float
+        Largest gap (mm) between the pieces and the smooth surface (see `revolve`).
+
+    Returns
+    -------
+    GraspObject
 
     Examples
     --------

@@ -260,13 +260,9 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
         u = np.asarray(result_or_u.u, dtype=float)
     else:
         try:
-            u = np.asarray(result_or_u, dtype=float)
-        except (TypeError, ValueError):
+            u = hand.check_u(result_or_u)
+        except TypeError:
             raise TypeError(f"result_or_u must be a PlanResult or a configuration u, got {type(result_or_u).__name__}") from None
-        if u.shape != (hand.n_u,):
-            raise ValueError(f"u must have shape ({hand.n_u},) for hand {hand.name!r} ({hand.u_labels}), got {u.shape}")
-        if not np.isfinite(u).all():
-            raise ValueError("u contains NaN or inf")
     z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
     placed = u.copy()
     placed[:3] -= retreat * rotation_xyz(u[3:6])[:, 2]

@@ -263,7 +263,7 @@ class HandClearance:
         True
         """
         shapes, distances, on_shape, on_object = self.near(u, within)
-        ends, jac = self.hand.segments_and_jacobian(_configuration(self.hand, u))
+        ends, jac = self.hand.segments_and_jacobian(self.hand.check_u(u))
         keep, rows = [], []
         for i, (k, d, p_s, p_o) in enumerate(zip(shapes, distances, on_shape, on_object)):
             n = np.sign(d) * (p_s - p_o)  # the direction that frees it
@@ -330,7 +330,7 @@ class HandClearance:
 
     def _place(self, u):
         """Move the fcl shapes to configuration u; returns the capsule ends and palm corners, (m, 3)."""
-        geo = self.hand.segments(_configuration(self.hand, u))
+        geo = self.hand.segments(self.hand.check_u(u))
         a, b = geo.capsules[:, 0], geo.capsules[:, 1]
         for shape, rotation, centre in zip(self._shapes, _z_along(b - a), 0.5 * (a + b)):
             shape.setTransform(fcl.Transform(rotation, centre))
@@ -424,19 +424,6 @@ def hand_clearance(hand, obj, u):
     ((16,), 90.0)
     """
     return HandClearance(hand, obj).shapes(u)
-
-
-def _configuration(hand, u):
-    """u as a float vector of the hand's size, with a clear error."""
-    try:
-        arr = np.asarray(u, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"u must be a numeric vector, got {type(u).__name__}") from exc
-    if arr.shape != (hand.n_u,):
-        raise ValueError(f"u must have shape ({hand.n_u},) = {hand.u_labels}, got {arr.shape}")
-    if not np.isfinite(arr).all():
-        raise ValueError("u contains NaN or inf")
-    return arr
 
 
 @dataclass(frozen=True)

@@ -210,6 +210,12 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     kind : {"precision", "power"}
     eps_c : float
         Contact threshold (mm).
+    mu : float
+        Friction coefficient of the contacts' cones.
+    edges : int
+        Edges of each cone's polyhedral approximation.
+    backend : str or synergrasp.lp.Backend
+        LP backend of g_Q.
 
     Returns
     -------
