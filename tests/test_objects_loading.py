@@ -735,3 +735,55 @@ def test_a_cloud_of_shape_3_by_n_and_an_xyz_header_get_a_hint(tmp_path):
         so.load(tmp_path / "h.xyz")
     (tmp_path / "h.xyz").write_text("# x y z\n" + "\n".join(" ".join(map(str, p)) for p in cloud))
     assert so.load(tmp_path / "h.xyz", cache=False).n_pieces == 1
+
+
+# --------------------------------------------------------------------------- files as people write them
+
+
+def test_xyz_with_a_byte_order_mark(tmp_path):
+    """A spreadsheet's UTF-8 export starts with an invisible byte-order mark: read as if it were not there."""
+    points = ellipsoid_cloud(300)
+    for name, sep in (("space.xyz", " "), ("comma.xyz", ",")):
+        path = tmp_path / name
+        path.write_text("\n".join(sep.join(f"{v:.6f}" for v in p) for p in points), encoding="utf-8-sig")
+        assert path.read_bytes()[:3] == b"\xef\xbb\xbf"
+        assert so.load(path, cache=False).extents == pytest.approx(np.ptp(points, axis=0), abs=1e-5)
+
+
+def test_obj_whose_faces_do_not_share_corners_loads_quietly(tmp_path):
+    """Each face with its own corners (an export with per-corner texture coordinates): the same closed
+    surface once they are merged, so no repair warning."""
+    box = trimesh.creation.box((40.0, 50.0, 60.0))
+    corners = box.vertices[box.faces].reshape(-1, 3)
+    n = len(corners)
+    lines = ([f"v {x} {y} {z}" for x, y, z in corners] + [f"vt {i / n} {1 - i / n}" for i in range(n)]
+             + [f"f {k}/{k} {k + 1}/{k + 1} {k + 2}/{k + 2}" for k in range(1, n + 1, 3)])
+    path = tmp_path / "box_uv.obj"
+    path.write_text("\n".join(lines) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        obj = so.load(path, cache=False)
+    assert obj.info["repair"]["method"] == "cleaned" and obj.info["repair"]["removed_faces"] == 0
+    assert obj.n_pieces == 1 and obj.volume == pytest.approx(40.0 * 50.0 * 60.0)
+
+
+def test_an_object_of_a_few_centimetres_read_as_mm_is_warned_of():
+    """A 15 cm bottle written in cm loads 15 mm tall: inside 10-500 mm, but the warning names centimetres."""
+    bottle = trimesh.creation.cylinder(radius=3.5, height=15.0)
+    with pytest.warns(UserWarning, match=r"15 mm across, small for this hand.*centimetres pass scale=10"):
+        so.from_mesh(bottle, cache=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        so.from_mesh(bottle, scale=10.0, cache=False)
+
+
+def test_many_outliers_are_kept_with_a_warning_that_names_them():
+    """Up to 5 % of isolated points are dropped as a scan's outliers; more are kept, and the warning says so."""
+    rng = np.random.default_rng(1)
+    surface = ellipsoid_cloud(2000)
+    few, many = rng.uniform(-500.0, 500.0, (40, 3)), rng.uniform(-500.0, 500.0, (150, 3))
+    with pytest.warns(UserWarning, match="40 stray point"):
+        dropped = so.from_points(np.vstack([surface, few]), cache=False)
+    assert dropped.extents == pytest.approx(np.ptp(surface, axis=0), abs=1e-6)
+    with pytest.warns(UserWarning, match=r"1[45]\d points \([67]\.\d% of the cloud\) lie apart.*If they are a scan's outliers"):
+        so.from_points(np.vstack([surface, many]), max_parts=1, cache=False)

@@ -116,6 +116,10 @@ def test_separate_parts_and_the_widest_gap_that_joins_them():
     soup = trimesh.creation.icosphere(radius=20.0)  # every triangle with its own corners: one part
     assert separate_parts(trimesh.Trimesh(soup.triangles.reshape(-1, 3), np.arange(3 * len(soup.faces)).reshape(-1, 3),
                                           process=False)) == (1, 0.0)
+    # ... also when an exporter's round-off moved each copy of a corner by about 1e-5 mm (1280 triangles)
+    jittered = trimesh.creation.icosphere(3, radius=40.0).triangles.reshape(-1, 3)
+    jittered = jittered + np.random.default_rng(0).normal(scale=1e-5, size=jittered.shape)
+    assert separate_parts(trimesh.Trimesh(jittered, np.arange(len(jittered)).reshape(-1, 3), process=False)) == (1, 0.0)
     # joined by the shortest gaps first: 5 mm then 80 mm (not the 95 mm between the outer two)
     assert separate_parts(trimesh.util.concatenate([at(0.0), at(15.0), at(105.0)])) == (3, pytest.approx(80.0))
     # a handle that enters the body: parts that overlap are joined

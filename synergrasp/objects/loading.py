@@ -113,7 +113,7 @@ SMALL_CLOUD = 64
 #: most `STRAY_SHARE` of the cloud (more of them are a sparse part of the object, not strays).
 STRAY_NEIGHBOURS = 8
 STRAY_FACTOR = 10.0
-STRAY_SHARE = 0.01
+STRAY_SHARE = 0.05
 #: Parts of a mesh that no face joins and that lie farther apart than this (mm) are reported as separate objects.
 PART_GAP = 10.0
 #: A part of a mesh whose hull has at most this fraction of the largest part's hull volume, and that lies
@@ -124,6 +124,9 @@ DEBRIS_FRACTION = 1e-3
 UNION_WARNING = 0.01
 #: Object sizes (largest bounding-box side, mm) outside this range trigger a warning.
 SIZE_RANGE = (10.0, 500.0)
+#: Objects smaller than this (largest side, mm) but within `SIZE_RANGE` get a softer warning: small for the
+#: hand (plans of them often fail), and perhaps a file in centimetres.
+SMALL_SIZE = 30.0
 #: Widest remeshing voxel (mm) of the decomposition: the pieces stick out of the true surface by
 #: up to about a third of it, under the planner's 5 mm contact threshold. Objects up to 240 mm
 #: get the 20 voxels of ``COACD_PARAMS``.
@@ -236,6 +239,11 @@ def _check_size(obj: GraspObject, what: str) -> None:
         _warn(
             f"{what} is only {size:.3g} mm across (expected {lo:g}-{hi:g} mm for a hand): synergrasp works in mm; "
             "if the data are in metres pass scale=1000 (centimetres: scale=10, inches: scale=25.4)"
+        )
+    elif size < SMALL_SIZE:
+        _warn(
+            f"{what} is {size:.3g} mm across, small for this hand (plans of objects under about {SMALL_SIZE:g} mm "
+            "often fail): synergrasp works in mm; if the data are in centimetres pass scale=10"
         )
     elif size > hi:
         _warn(
@@ -429,10 +437,11 @@ def _from_mesh(
     shown.apply_scale(scale)
     if repair is not None:
         repair = {**repair, "cap_area": repair["cap_area"] * scale**2, "volume": repair["volume"] * scale**3}
-        opened = repair["holes_filled"] or repair["welded_vertices"]  # else only duplicate or degenerate faces
-        _warn(f"{what} {'is not watertight' if opened else 'needed repair'}: {_describe(repair)}. "
-              "Check the pieces (obj.piece_meshes())"
-              + ("; contacts on a filled hole are on surface the file does not have" if repair["holes_filled"] else ""))
+        opened = repair["holes_filled"] or repair["welded_vertices"]
+        if opened or repair["removed_faces"]:  # else only corners stored once per face, merged: the same surface
+            _warn(f"{what} {'is not watertight' if opened else 'needed repair'}: {_describe(repair)}. "
+                  "Check the pieces (obj.piece_meshes())"
+                  + ("; contacts on a filled hole are on surface the file does not have" if repair["holes_filled"] else ""))
     elif refusal is not None:
         repair = {"method": "voxel closing", "reason": refusal, "filled_volume": meta.get("filled_volume", 0.0) * scale**3}
         _warn(f"{what} is not watertight and cannot be capped ({refusal}); it is closed "
@@ -491,7 +500,13 @@ def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
     dist = cKDTree(points).query(points, k=STRAY_NEIGHBOURS + 1)[0][:, 1:]  # (n, STRAY_NEIGHBOURS): k = 1, 2, ...
     typical = np.median(dist, axis=0)
     stray = (dist > STRAY_FACTOR * typical).any(axis=1)
-    if not stray.any() or stray.sum() > STRAY_SHARE * len(points):
+    if not stray.any():
+        return points
+    if stray.sum() > STRAY_SHARE * len(points):
+        _warn(f"{what}: {int(stray.sum())} points ({stray.mean():.1%} of the cloud) lie apart from the rest (up to "
+              f"{dist[stray, 0].max():.2g} mm from the nearest other point, where the cloud's typical spacing is "
+              f"{typical[0]:.2g} mm); more than {STRAY_SHARE:.0%}, so they are kept as a sparsely sampled part of the "
+              "object. If they are a scan's outliers, remove them: they make the object larger than it is")
         return points
     _warn(f"{what}: {int(stray.sum())} stray point(s) dropped (up to {dist[stray, 0].max():.2g} mm from the nearest "
           f"other point, where the cloud's typical spacing is {typical[0]:.2g} mm): isolated points or groups of at "
@@ -756,10 +771,11 @@ def from_points(
     Warns
     -----
     UserWarning
-        If the object's size is outside 10-500 mm, or if stray points were dropped
-        (at most 1 % of the cloud, each with its k-th nearest neighbour, for some k
-        from 1 to `STRAY_NEIGHBOURS`, farther than `STRAY_FACTOR` times the cloud's
-        typical k-th neighbour distance: isolated points and groups of up to 8).
+        If the object's size is outside 10-500 mm (or under `SMALL_SIZE`), or if
+        stray points were dropped (at most `STRAY_SHARE` of the cloud, each with
+        its k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
+        farther than `STRAY_FACTOR` times the cloud's typical k-th neighbour
+        distance: isolated points and groups of up to 8), or kept (more of them).
 
     Examples
     --------
@@ -785,10 +801,10 @@ def _read_array_file(path: Path, ext: str):
     """(kind, data) from .npy/.npz/.xyz: ("points", array) or ("mesh", Trimesh, unprocessed)."""
     if ext == ".xyz":
         try:
-            data = np.loadtxt(path, ndmin=2, comments="#")
+            data = np.loadtxt(path, ndmin=2, comments="#", encoding="utf-8-sig")  # (a byte-order mark is skipped)
         except ValueError as whitespace:
             try:
-                data = np.loadtxt(path, ndmin=2, comments="#", delimiter=",")
+                data = np.loadtxt(path, ndmin=2, comments="#", delimiter=",", encoding="utf-8-sig")
             except ValueError:
                 # the first reading's reason (a row of another length, a word), without numpy's advice on usecols
                 raise ValueError(str(whitespace).split("; use `usecols`")[0] + " (expected x y z per line; "

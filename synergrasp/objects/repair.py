@@ -411,14 +411,19 @@ def union_of_bodies(mesh: trimesh.Trimesh):
 
 
 def _part_labels(mesh):
-    """The part of each face: connected components of the faces through shared vertex positions, (m,) int."""
+    """The part of each face, (m,) int: connected components of the faces through shared vertex positions
+    (corners within ``WELD_TOLERANCE`` of the mesh's size of each other coincide: exporter round-off)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
 
-    _, same = np.unique(np.asarray(mesh.vertices, dtype=float), axis=0, return_inverse=True)  # coinciding corners join
+    vertices = np.asarray(mesh.vertices, dtype=float)
+    unique, same = np.unique(vertices, axis=0, return_inverse=True)  # coinciding corners join
     faces = same.reshape(-1)[np.asarray(mesh.faces, dtype=np.int64)]
-    n = int(same.max()) + 1 if len(same) else 0
-    edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    n = len(unique)
+    size = float(np.ptp(unique, axis=0).max()) if n else 0.0
+    near = cKDTree(unique).query_pairs(WELD_TOLERANCE * size, output_type="ndarray") if n else np.empty((0, 2), int)
+    edges = np.vstack([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]], near])
     _, labels = connected_components(coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)),
                                      directed=False)
     return labels[faces[:, 0]]

@@ -269,7 +269,7 @@ class PlannerOptions(_Fields):
                           ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
         set_(self, "q_accept", _number(self.q_accept, "q_accept", -10.0, 0.0))
-        set_(self, "q_margin", _number(self.q_margin, "q_margin", -10.0, self.q_accept))
+        set_(self, "q_margin", _number(self.q_margin, "q_margin", -10.0, self.q_accept, high_from="q_accept"))
         set_(self, "crawl_fraction", _number(self.crawl_fraction, "crawl_fraction", 0, 1.0))
         set_(self, "time_limit", _number(self.time_limit, "time_limit", 0, None, open_low=True, allow_none=True))
         for name in ("max_penetration", "start_clearance", "seed_opening", "seed_retreat"):
