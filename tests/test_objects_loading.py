@@ -787,3 +787,20 @@ def test_many_outliers_are_kept_with_a_warning_that_names_them():
     assert dropped.extents == pytest.approx(np.ptp(surface, axis=0), abs=1e-6)
     with pytest.warns(UserWarning, match=r"1[45]\d points \([67]\.\d% of the cloud\) lie apart.*If they are a scan's outliers"):
         so.from_points(np.vstack([surface, many]), max_parts=1, cache=False)
+
+
+def test_a_cloud_of_two_objects_is_warned_of():
+    """Two balls 50 mm apart in one cloud: one rigid object, as for a mesh of two parts, with a warning
+    that measures the gap; the same balls touching, and a sparse cloud of one ball, give none."""
+    rng = np.random.default_rng(0)
+
+    def ball(x, n):
+        p = rng.normal(size=(n, 3))
+        return 30.0 * p / np.linalg.norm(p, axis=1, keepdims=True) + [x, 0.0, 0.0]
+
+    with pytest.warns(UserWarning, match=r"2 separate groups of points, some 5\d mm from the rest.*pass its points alone"):
+        so.from_points(np.vstack([ball(0.0, 1500), ball(110.0, 1500)]), cache=False)
+    for points in (np.vstack([ball(0.0, 1500), ball(60.0, 1500)]), ball(0.0, 80)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            so.from_points(points, cache=False)

@@ -516,6 +516,35 @@ def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
     return points[~stray]
 
 
+def _cloud_parts(points: np.ndarray):
+    """How many groups of points lie apart, and the widest gap that joins them (mm).
+
+    Points in the same or neighbouring cells of a grid of ``PART_GAP / 2`` (or
+    of 4 sampling spacings, for a sparse cloud) are one group; the groups are
+    joined by their shortest gaps first (a minimum spanning tree of the
+    nearest distances between their points) and the widest of those is
+    returned, 0 for one group.
+    """
+    from scipy import ndimage
+    from scipy.sparse.csgraph import minimum_spanning_tree
+    from scipy.spatial import cKDTree
+
+    cell = max(0.5 * PART_GAP, 4.0 * _spacing(points))
+    cells = np.floor((points - points.min(axis=0)) / cell).astype(np.int64)
+    grid = np.zeros(cells.max(axis=0) + 1, dtype=bool)
+    grid[tuple(cells.T)] = True
+    labels, count = ndimage.label(grid, structure=np.ones((3, 3, 3), dtype=bool))
+    if count < 2:
+        return 1, 0.0
+    label = labels[tuple(cells.T)] - 1
+    trees = [cKDTree(points[label == k]) for k in range(count)]
+    gaps = np.zeros((count, count))
+    for i in range(count):
+        for j in range(i + 1, count):
+            gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
+    return count, float(minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray().max())
+
+
 def _concavity(members: np.ndarray, name: str) -> float:
     """How far the hull of ``members`` bulges away from them: the largest distance
     from a hull facet's centroid to the nearest member (0 for points filling a convex set)."""
@@ -647,6 +676,10 @@ def _from_points(
               "concavity": meta.get("concavity"), "scale": scale},
     )
     _check_size(obj, what)
+    parts, gap = _cloud_parts(pts * scale) if len(pts) >= SMALL_CLOUD else (1, 0.0)
+    if gap > PART_GAP:
+        _warn(f"{what} is {parts} separate groups of points, some {gap:.0f} mm from the rest: they are planned as one "
+              "rigid object. To grasp one of them, pass its points alone")
     return obj
 
 
