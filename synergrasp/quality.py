@@ -18,6 +18,7 @@ normals follow from the LP duals through ``w_ij(p_i, n_i)``.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -280,6 +281,13 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
     if not np.isfinite(arm).all():
         raise ValueError("the contacts' lever arms (points - center) overflow the float range: bring the points and the "
                          "centre nearer (the Q distance does not depend on where the object is)")
+    if center is None and len(points) > 1:
+        middle = points.mean(axis=0)
+        spread = float(np.linalg.norm(points - middle, axis=1).max())
+        if np.linalg.norm(middle) > max(FAR_CENTER, FAR_RATIO * spread):
+            warnings.warn(f"the torques are taken about the origin, {np.linalg.norm(middle):.3g} from the contacts, which "
+                          f"lie within {spread:.3g} of each other: Q then measures little more than the forces. Pass "
+                          "center= (the object's centre, e.g. obj.center)", UserWarning, stacklevel=3)
     if torque_scale is None:
         top = float(np.abs(arm).max())  # the largest lever arm component
         if top <= 0:
@@ -293,6 +301,11 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
     return arm, nhat, length, mu, c, L
 
 
+#: Without a ``center``, the torques are taken about the origin; a warning says so when the contacts' centroid
+#: is farther from it than `FAR_CENTER` mm (no object a hand holds is larger: the origin is not its centre) and
+#: than ``FAR_RATIO`` times the contacts' largest distance from their centroid.
+FAR_CENTER = 500.0
+FAR_RATIO = 10.0
 #: Most wrenches `force_closure_by_hull` takes: qhull's 6-D hull of 160 takes about 0.7 s, of 320 about 8 s.
 MAX_HULL_WRENCHES = 256
 
@@ -418,6 +431,13 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
         ``center``/``torque_scale``, unknown backend.
     synergrasp.lp.LPError
         If the LP backend fails.
+
+    Warns
+    -----
+    UserWarning
+        Without ``center``, when the contacts lie farther than `FAR_CENTER` mm
+        from the origin (and far relative to their spread): the torques are
+        then taken about a point that cannot be the object's centre.
 
     Examples
     --------

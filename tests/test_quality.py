@@ -1,5 +1,7 @@
 """Friction cones, contact wrenches and the Q distance (paper Eqs. 4-10)."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -206,3 +208,17 @@ def test_the_q_distance_does_not_depend_on_the_units(scale, backend):
 def test_contacts_at_the_centre_need_a_torque_scale():
     with pytest.raises(ValueError, match="pass torque_scale"):
         sg.q_distance([[0, 0, 0.0]], [[0, 0, 1.0]])
+
+
+def test_contacts_far_from_the_default_centre_are_warned_of():
+    """Without ``center`` the torques are about the origin: contacts 17 m from it give a Q near the
+    forces-only value, with a warning; with the centre given, the value of the grasp at the origin."""
+    p = np.array([[0.0, 0.0, 40.0], [0.0, 0.0, -40.0], [40.0, 0.0, 0.0]])
+    n = -p / np.linalg.norm(p, axis=1, keepdims=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        near = sg.q_distance(p, n).value
+        centred = sg.q_distance(p + 1e4, n, center=[1e4] * 3).value
+    with pytest.warns(UserWarning, match=r"torques are taken about the origin.*Pass center="):
+        far = sg.q_distance(p + 1e4, n).value
+    assert centred == pytest.approx(near, abs=1e-9) and abs(far) < 0.01 * abs(near)
