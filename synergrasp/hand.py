@@ -262,9 +262,8 @@ class SynergyHand:
         self.n_syn = self.synergies.shape[1]
         if self.n_syn < 1:
             spec.fail("synergies", "must have at least one column")
-        still = np.flatnonzero(~self.synergies.any(axis=0))
-        if len(still):
-            spec.fail("synergies", f"column(s) {still.tolist()} are all zero: such a synergy moves no joint")
+        if not self.synergies.any():
+            spec.fail("synergies", "are all zero: no synergy moves a joint, so the hand cannot close")
         self.synergy_limits = spec.array(data, "synergy_limits", "synergy_limits", (self.n_syn, 2))
         if np.any(self.synergy_limits[:, 0] >= self.synergy_limits[:, 1]):
             spec.fail("synergy_limits", "must have lower < upper in every row")

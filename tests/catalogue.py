@@ -200,6 +200,8 @@ API = [
     Case("sg.plan", "an object 600 mm wide", lambda tmp: sg.plan(so.ellipsoid(300.0, 300.0, 300.0)), ValueError, "too large for the hand"),
     Case("sg.plan", "u0 of 3 numbers", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 1.0]), ValueError, "u0 must have shape (8,)"),
     Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),
+    Case("sg.plan", "a u0 a light-year away", lambda tmp: sg.plan("ellipsoid", u0=[1e12] + [0.0] * 7), ValueError,
+         "u0 places the palm 1e+12 mm from ellipsoid 30/40/50's centre, farther than 10000 mm"),
     Case("sg.plan", "a zero approach direction", lambda tmp: sg.plan("ellipsoid", approach=[0.0, 0.0, 0.0]), ValueError, "approach must be a non-zero direction"),
     Case("sg.plan", "an approach of 1e300 (its norm overflows)",
          lambda tmp: sg.plan("ellipsoid", approach=[1e300, 1e300, 0.0], max_iter=3, executable_reach=False), None,

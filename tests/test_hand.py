@@ -295,7 +295,7 @@ def test_missing_field_is_named(hand, tmp_path, field, path):
 @pytest.mark.parametrize("edit, field", [
     (lambda d: d.update(mean_pose=[0.0] * 5), "mean_pose"),
     (lambda d: d.update(synergy_limits=[[1.0, -1.0], [-1.0, 1.0]]), "synergy_limits"),
-    (lambda d: d.update(synergies=[[row[0], 0.0] for row in d["synergies"]]), "synergies"),  # a synergy moving nothing
+    (lambda d: d.update(synergies=[[0.0, 0.0] for _ in d["synergies"]]), "synergies"),  # a hand that cannot close
     (lambda d: d["fingers"][0]["joints"][0].update(axis=[0, 0, 0]), "fingers[0].joints[0].axis"),
     (lambda d: d["fingers"][1]["joints"][1].update(coupling={"X_mcp": 1.0}), "fingers[1].joints[1].coupling.X_mcp"),
     (lambda d: d["palm"].update(size="big"), "palm.size"),

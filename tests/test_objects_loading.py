@@ -804,3 +804,15 @@ def test_a_cloud_of_two_objects_is_warned_of():
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             so.from_points(points, cache=False)
+
+
+def test_xyz_with_a_point_number_column_is_refused(tmp_path):
+    """``id x y z`` lines would read the point number as x: refused, naming the column; x y z nx ny nz is read."""
+    points = ellipsoid_cloud(300)
+    numbered = tmp_path / "numbered.xyz"
+    numbered.write_text("\n".join(f"{i + 1} {x} {y} {z}" for i, (x, y, z) in enumerate(points)))
+    with pytest.raises(ValueError, match=r"first column counts the lines \(1, 2, 3, \.\.\.\): a point number, not x"):
+        so.load(numbered, cache=False)
+    with_normals = tmp_path / "normals.xyz"
+    with_normals.write_text("\n".join(f"{x} {y} {z} 0 0 1" for x, y, z in points))
+    assert so.load(with_normals, cache=False).extents == pytest.approx(np.ptp(points, axis=0), abs=1e-9)

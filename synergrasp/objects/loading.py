@@ -844,6 +844,10 @@ def _read_array_file(path: Path, ext: str):
                                  "start a header or comment line with #)") from None
         if data.ndim != 2 or data.shape[1] < 3:
             raise ValueError(f"expected at least 3 columns x y z per line, got shape {data.shape}")
+        counting = np.arange(len(data))
+        if data.shape[1] > 3 and len(data) > 3 and any((data[:, 0] == counting + k).all() for k in (0, 1)):
+            raise ValueError(f"its first column counts the lines ({data[0, 0]:g}, {data[1, 0]:g}, {data[2, 0]:g}, ...): "
+                             "a point number, not x. Remove that column (the first three are read as x y z)")
         return "points", data[:, :3]
     if ext == ".npy":
         return "points", np.load(path, allow_pickle=False)

@@ -38,7 +38,7 @@ from ..lp import get_backend
 from ..pseudo_distance import reset_regime_memory
 from .annealing import anneal, with_history
 from .attempt import Outcome, run_attempt
-from .options import GRASPS, AnnealingOptions, PlannerOptions
+from .options import GRASPS, MAX_START_DISTANCE, AnnealingOptions, PlannerOptions
 from .reach import executable_reach, widest_opening
 from .result import PlanResult
 from .starts import Start, opposed_widths, preshape, smallest_pinch, start_configuration, starts, widest_pinch
@@ -93,6 +93,16 @@ def _check_object(obj, hand):
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )
     return obj
+
+
+def _given_start(u0, hand, obj):
+    """``u0`` as a start configuration, refused when its palm is farther from the object than any start."""
+    u0 = as_vector(u0, "u0", hand.n_u)
+    far = float(np.linalg.norm(u0[:3] - obj.center))
+    if far > MAX_START_DISTANCE:
+        raise ValueError(f"u0 places the palm {far:.4g} mm from {obj.name}'s centre, farther than {MAX_START_DISTANCE:g} "
+                         "mm (the largest start_distance): start the hand near the object (coordinates in mm)")
+    return u0
 
 
 def _options(method, options, values):
@@ -207,7 +217,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     if not isinstance(validate, (bool, dict)):
         raise TypeError(f"validate must be True, False or a dict of protocol settings, got {type(validate).__name__}")
     if method == "annealing":
-        start = as_vector(u0, "u0", hand.n_u) if u0 is not None else start_configuration(
+        start = _given_start(u0, hand, obj) if u0 is not None else start_configuration(
             hand, obj, (0.0, 1.0, 0.0) if approach is None else as_vector(approach, "approach", 3), opts.start_distance,
             opts.start_clearance, palm_centred=grasp == "power")
         result, record, held = anneal(hand, obj, grasp, start, opts, backend=solver, deadline=deadline,
@@ -215,7 +225,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         attempts, solves = [record], result.lp_solves
         return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, result.reason)
     if u0 is not None:
-        queue = iter([Start(as_vector(u0, "u0", hand.n_u), "given", {})])
+        queue = iter([Start(_given_start(u0, hand, obj), "given", {})])
     else:
         queue = starts(hand, obj, grasp, opts, backend=solver)
         if approach is not None:

@@ -9,6 +9,8 @@ import numpy as np
 
 #: Grasp types the planner knows.
 GRASPS = ("precision", "power")
+#: Farthest start of the hand from the object's centre (mm): ``start_distance``'s bound, and a given ``u0``'s.
+MAX_START_DISTANCE = 10000.0
 
 
 def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions",
@@ -274,7 +276,7 @@ class PlannerOptions(_Fields):
         set_(self, "time_limit", _number(self.time_limit, "time_limit", 0, None, open_low=True, allow_none=True))
         for name in ("max_penetration", "start_clearance", "seed_opening", "seed_retreat"):
             set_(self, name, _number(getattr(self, name), name, 0, 1000.0))
-        set_(self, "start_distance", _number(self.start_distance, "start_distance", 0, 10000.0, open_low=True))
+        set_(self, "start_distance", _number(self.start_distance, "start_distance", 0, MAX_START_DISTANCE, open_low=True))
         for name in ("power_preshape", "power_wide_preshape"):
             set_(self, name, _values(getattr(self, name), name, "one finite value per synergy"))
         set_(self, "power_free_reach", _flag(self.power_free_reach, "power_free_reach"))
@@ -398,7 +400,7 @@ class AnnealingOptions(_Fields):
             number(name, 0, high, open_low=True)
         for name in ("alignment", "position_margin", "autograsp_spacing", "max_penetration", "start_clearance"):
             number(name, 0, 1000.0)
-        number("start_distance", 0, 10000.0, open_low=True)
+        number("start_distance", 0, MAX_START_DISTANCE, open_low=True)
         number("autograsp_energy", 0, 1e6, open_low=True, allow_none=True)
         number("mu", 0, 10.0, open_low=True)
         number("q_accept", -10.0, 0.0)
