@@ -390,6 +390,23 @@ def test_the_surface_check_of_a_point_cloud_judges_on_its_points():
     assert surface_check(so.GraspObject([points]), [[0.0, 0.0, 0.0]], [[0.0, 0.0, -1.0]]).gap == 0.0
 
 
+def test_a_cloud_grasp_must_be_force_closed_with_the_fitted_and_the_pieces_normals():
+    """Five contacts around a ball's cloud: force-closed with its fitted normals; with the pieces' normals given
+    all tilted 80 degrees the same way (a normal the cloud cannot confirm), the larger Q is the tilted one's."""
+    ball = trimesh.creation.icosphere(4, radius=40.0)
+    points = trimesh.sample.sample_surface(ball, 6000, seed=0)[0]
+    cloud = so.GraspObject([ball.vertices], points=points, name="ball cloud")
+    t = 2 * np.pi * np.arange(5) / 5
+    ring = np.c_[np.cos(t), np.sin(t), np.zeros(5)]
+    true = surface_check(cloud, 40.0 * ring, -ring)
+    tilted = -np.cos(np.radians(80.0)) * ring + [0.0, 0.0, np.sin(np.radians(80.0))]
+    q_tilted = sg.q_distance(true.points, tilted, center=cloud.center, torque_scale=cloud.torque_scale).value
+    unsure = surface_check(cloud, 40.0 * ring, tilted)
+    assert true.q < -0.05 and q_tilted > true.q
+    assert unsure.q == pytest.approx(q_tilted, abs=1e-9)
+    np.testing.assert_allclose(unsure.normals, true.normals, atol=1e-9)  # the feet's fitted normals either way
+
+
 def test_mesh_depth_in_a_point_cloud_box_closed_form():
     box = trimesh.creation.box((100.0, 100.0, 100.0))  # top face at z = 50
     points = trimesh.sample.sample_surface_even(box, 20000, seed=0)[0]

@@ -30,7 +30,8 @@ class SurfaceCheck:
     gap : float
         Largest distance from a claimed contact to the true surface (mm).
     q : float
-        Q distance of the contacts on the true surface (NaN with fewer than two).
+        Q distance of the contacts on the true surface (NaN with fewer than two); for a point cloud the larger
+        of those with the fitted normals and with the pieces' normals.
     """
 
     points: np.ndarray
@@ -49,7 +50,10 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     `GraspObject.point_surface`: the feet on planes fitted to the nearest
     points, a contact over a gap of the cloud as far as its nearest point).
     An object with neither is its pieces: the contacts and ``normals`` stay
-    as they are.
+    as they are. A cloud's fitted normals are estimates (near an edge the
+    plane blends two faces), so its Q is the larger of the Q distances of the
+    feet with the fitted normals and with the pieces' ``normals``: the grasp
+    must be force-closed under both.
 
     Parameters
     ----------
@@ -92,6 +96,9 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     if len(points) >= 2:
         q = q_distance(closest, inward, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
                        backend=backend).value
+        if obj.point_surface is not None:  # a cloud's normals are estimates: force-closed with the pieces' too
+            q = max(q, q_distance(closest, normals, mu=mu, edges=edges, center=obj.center,
+                                  torque_scale=obj.torque_scale, backend=backend).value)
     return SurfaceCheck(closest, inward, float(gap.max()) if len(gap) else 0.0, float(q))
 
 
