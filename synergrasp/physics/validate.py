@@ -87,7 +87,7 @@ def retreat_distance(value) -> float:
     Raises
     ------
     ValueError
-        If it is not a finite number (text and booleans are not numbers).
+        If it is not a finite number >= 0 (text and booleans are not numbers).
     """
     try:
         if isinstance(value, (str, bytes, bool, np.bool_)):  # "40" or True would read as a distance
@@ -97,6 +97,8 @@ def retreat_distance(value) -> float:
         raise ValueError(f"retreat must be a finite number of mm, got {value!r}") from None
     if not np.isfinite(retreat):
         raise ValueError(f"retreat must be a finite number of mm, got {value!r}")
+    if retreat < 0:
+        raise ValueError(f"retreat must be >= 0 mm (the palm is moved back, away from the object), got {value!r}")
     return retreat
 
 
