@@ -76,6 +76,7 @@ from .decompose import DecompositionTimeout, run_coacd
 from .grasp_object import GraspObject
 from .repair import (
     MAX_CAP_FRACTION,
+    MAX_PARTS,
     PLANARITY,
     TURNED_OUTWARD,
     WELD_TOLERANCE,
@@ -523,7 +524,8 @@ def _cloud_parts(points: np.ndarray):
     of 4 sampling spacings, for a sparse cloud) are one group; the groups are
     joined by their shortest gaps first (a minimum spanning tree of the
     nearest distances between their points) and the widest of those is
-    returned, 0 for one group.
+    returned, 0 for one group. Only the `MAX_PARTS` largest groups are
+    measured (a cloud with many outliers kept has one group for each).
     """
     from scipy import ndimage
     from scipy.sparse.csgraph import minimum_spanning_tree
@@ -537,10 +539,11 @@ def _cloud_parts(points: np.ndarray):
     if count < 2:
         return 1, 0.0
     label = labels[tuple(cells.T)] - 1
-    trees = [cKDTree(points[label == k]) for k in range(count)]
-    gaps = np.zeros((count, count))
-    for i in range(count):
-        for j in range(i + 1, count):
+    measured = np.argsort(-np.bincount(label, minlength=count), kind="stable")[:MAX_PARTS]
+    trees = [cKDTree(points[label == k]) for k in measured]
+    gaps = np.zeros((len(trees), len(trees)))
+    for i in range(len(trees)):
+        for j in range(i + 1, len(trees)):
             gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
     return count, float(minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray().max())
 
