@@ -816,3 +816,19 @@ def test_xyz_with_a_point_number_column_is_refused(tmp_path):
     with_normals = tmp_path / "normals.xyz"
     with_normals.write_text("\n".join(f"{x} {y} {z} 0 0 1" for x, y, z in points))
     assert so.load(with_normals, cache=False).extents == pytest.approx(np.ptp(points, axis=0), abs=1e-9)
+
+
+def test_a_thin_wall_of_boxes_merged_at_their_edges_is_closed_on_a_finer_grid(tmp_path):
+    """20 bricks of 20 x 10 x 10 mm in staggered rows, saved as STL (their corners merged, so edges are shared by
+    four faces): not closable by capping, and at the default grid (2.75 mm) the 10 mm wall has no inside; a finer
+    grid closes it, with the wall's extents and about its volume."""
+    bricks = [trimesh.creation.box((20.0, 10.0, 10.0)).apply_translation((10.0 * (row % 2) + 20.0 * k + 10.0, 5.0,
+                                                                            10.0 * row + 5.0))
+              for row in range(4) for k in range(5)]
+    path = tmp_path / "wall.stl"
+    trimesh.util.concatenate(bricks).export(path)
+    with pytest.warns(UserWarning, match=r"non-manifold.*closed on a voxel grid instead"):
+        wall = so.load(path, cache=False)
+    assert wall.extents == pytest.approx([110.0, 10.0, 40.0], abs=0.5)
+    assert wall.info["repair"]["filled_volume"] == pytest.approx(20 * 2000.0, rel=0.2)
+    assert not wall.contains([[5.0, 5.0, 15.0]])[0], "the notch of a staggered row stays empty"

@@ -593,6 +593,18 @@ def _filled_voxels(points: np.ndarray, pitch: float):
     return (cells - 2 + 0.5) * pitch + lo, ~closed[tuple(cells.T)]
 
 
+def _thick(solid: np.ndarray, interior: np.ndarray, pitch: float) -> bool:
+    """Whether some inner voxel of `_filled_voxels` has all six neighbours inner too (an inside, not stray voxels)."""
+    from scipy import ndimage
+
+    cells = np.round((solid[interior] - solid.min(axis=0)) / pitch).astype(np.int64) + 1
+    if not len(cells):
+        return False
+    grid = np.zeros(cells.max(axis=0) + 2, dtype=bool)
+    grid[tuple(cells.T)] = True
+    return bool(ndimage.binary_erosion(grid).any())
+
+
 def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: str, require_inside: str | None = None):
     """Convex pieces of a cloud: its hull when it is convex, else hulls of k-means clusters of its filled solid.
 
@@ -611,6 +623,12 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
         return [_reduce(points, max_vertices, name)], {**meta, "filled_volume": float(checked_hull(points, name).volume)}
     pitch = max(size / 40.0, 1.5 * spacing)
     solid, interior = _filled_voxels(points, pitch)
+    for finer in (pitch / 2, pitch / 4):  # a solid too thin for the grid to hold an inside (a 10 mm wall): finer
+        if require_inside is None or interior.any() or finer < 1.5 * spacing:
+            break
+        voxels = _filled_voxels(points, finer)
+        if _thick(*voxels, finer):  # (a sheet's samples leave stray inner voxels on a fine grid: not an inside)
+            pitch, (solid, interior) = finer, voxels
     if require_inside is not None and not interior.any():
         raise ValueError(
             f"{require_inside}, and its surface encloses no volume on a voxel grid either (pitch {pitch:.3g} mm): "
