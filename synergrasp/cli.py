@@ -260,8 +260,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-iter", type=positive(int), default=1500,
                    help="cap on the iterations over all attempts (default 1500)")
     p.add_argument("--time-limit", type=positive(float), default=None, metavar="SECONDS",
-                   help="cap on the plan's wall-clock time; an attempt running when it passes ends there "
-                        "(default: the planner's, PlannerOptions.time_limit)")
+                   help="cap on the wall-clock time of the plan's search; an attempt running when it passes ends "
+                        "there, and the returned grasp's reach (and, with the annealing method, the trajectory's "
+                        "history) is computed after it (default: the planner's, PlannerOptions.time_limit)")
     p.add_argument("--out", default="synergrasp-out", metavar="DIR", help="output folder (default ./synergrasp-out)")
     p.add_argument("--no-animation", action="store_true", help="skip the GIF and the HTML page")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
