@@ -829,7 +829,8 @@ def from_points(
         stray points were dropped (at most `STRAY_SHARE` of the cloud, each with
         its k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
         farther than `STRAY_FACTOR` times the cloud's typical k-th neighbour
-        distance: isolated points and groups of up to 8), or kept (more of them).
+        distance: isolated points and groups of up to 8), or kept (more of them),
+        or if groups of the points lie more than `PART_GAP` apart.
 
     Examples
     --------
