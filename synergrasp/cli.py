@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 import warnings
 
 import numpy as np
@@ -169,7 +170,7 @@ def _plan(args) -> int:
     from ._files import writable_folder
     from .hand import SynergyHand
     from .lp import get_backend
-    from .planner import plan
+    from .planner import clock, plan
 
     out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
     get_backend(args.backend)
@@ -184,11 +185,13 @@ def _plan(args) -> int:
         bar.set_postfix_str(f"contacts {check.n_contacts}  g_sQ {status.g[-1]:+.3f}  g_Q {q}")
 
     limit = {} if args.time_limit is None else {"time_limit": args.time_limit}
+    wall, search = time.perf_counter(), clock()
     try:
         result = plan(obj, args.grasp, backend=args.backend, approach=args.approach, max_iter=args.max_iter,
                       hand=hand, progress=progress, **limit)
     finally:
         bar.close()
+    compiling = (time.perf_counter() - wall) - (clock() - search)  # numba's, once after an install
     stem = output_stem(args.object, args.grasp)
     files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png"),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
@@ -203,6 +206,9 @@ def _plan(args) -> int:
         print(f"executable reach: {len(result.path)} poses, clearance {result.clearance[0]:.1f} mm at the pre-grasp, "
               f"smallest {result.clearance.min():+.1f} mm; {result.reach['reason']}")
     print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
+    if compiling > 0.5:
+        print(f"numba compiled the library's kernels for {compiling:.1f} s of this run (once after an install: "
+              "later runs load them from its cache)")
     if not result.success:
         print(f"attempts ({result.total_iterations} iterations in all; every attempt's status trace is in "
               f"{Path(files[1]).name}):")

@@ -34,6 +34,25 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
         assert (tmp_path / name).stat().st_size > 10_000
 
 
+def test_plan_says_how_long_the_kernels_compiled(tmp_path, capsys, monkeypatch):
+    """The first plan after an install spends seconds in numba's compilation: the output says how many (here a
+    clock, perf_counter less the compilation, that lost 5 s during the plan)."""
+    import time
+
+    import synergrasp.planner
+
+    calls = []
+
+    def clock():
+        calls.append(None)
+        return time.perf_counter() - (5.0 if len(calls) > 1 else 0.0)
+
+    monkeypatch.setattr(synergrasp.planner, "clock", clock)
+    assert main(["plan", "--object", "ellipsoid", "--out", str(tmp_path), "--quiet", "--no-animation"]) == 0
+    printed = re.search(r"numba compiled the library's kernels for ([\d.]+) s of this run", capsys.readouterr().out)
+    assert printed and float(printed.group(1)) == pytest.approx(5.0, abs=0.05)
+
+
 @pytest.mark.parametrize(
     "argv, message",
     [
