@@ -83,6 +83,7 @@ from .repair import (
     RepairError,
     close_mesh,
     drop_debris,
+    joining_gap,
     orient_outward,
     separate_parts,
     union_of_bodies,
@@ -521,15 +522,11 @@ def _cloud_parts(points: np.ndarray):
     """How many groups of points lie apart, and the widest gap that joins them (mm).
 
     Points in the same or neighbouring cells of a grid of ``PART_GAP / 2`` (or
-    of 4 sampling spacings, for a sparse cloud) are one group; the groups are
-    joined by their shortest gaps first (a minimum spanning tree of the
-    nearest distances between their points) and the widest of those is
-    returned, 0 for one group. Only the `MAX_PARTS` largest groups are
+    of 4 sampling spacings, for a sparse cloud) are one group; the gap is
+    `joining_gap`'s, 0 for one group. Only the `MAX_PARTS` largest groups are
     measured (a cloud with many outliers kept has one group for each).
     """
     from scipy import ndimage
-    from scipy.sparse.csgraph import minimum_spanning_tree
-    from scipy.spatial import cKDTree
 
     cell = max(0.5 * PART_GAP, 4.0 * _spacing(points))
     cells = np.floor((points - points.min(axis=0)) / cell).astype(np.int64)
@@ -540,12 +537,7 @@ def _cloud_parts(points: np.ndarray):
         return 1, 0.0
     label = labels[tuple(cells.T)] - 1
     measured = np.argsort(-np.bincount(label, minlength=count), kind="stable")[:MAX_PARTS]
-    trees = [cKDTree(points[label == k]) for k in measured]
-    gaps = np.zeros((len(trees), len(trees)))
-    for i in range(len(trees)):
-        for j in range(i + 1, len(trees)):
-            gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
-    return count, float(minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray().max())
+    return count, joining_gap([points[label == k] for k in measured])
 
 
 def _concavity(members: np.ndarray, name: str) -> float:

@@ -257,9 +257,6 @@ def separate_parts(mesh: trimesh.Trimesh):
     >>> parts, round(gap, 6)
     (2, 20.0)
     """
-    from scipy.sparse.csgraph import minimum_spanning_tree
-    from scipy.spatial import cKDTree
-
     vertices = np.asarray(mesh.vertices, dtype=float)
     face_label = _part_labels(mesh)
     parts = np.unique(face_label)
@@ -271,14 +268,41 @@ def separate_parts(mesh: trimesh.Trimesh):
     samples, sampled = trimesh.sample.sample_surface(mesh, count, seed=0)
     points = np.vstack([vertices[np.asarray(mesh.faces).reshape(-1)], samples])
     point_label = np.r_[np.repeat(face_label, 3), face_label[sampled]]
-    trees = [cKDTree(points[point_label == label]) for label in measured]
-    k = len(measured)
-    gaps = np.zeros((k, k))
-    for i in range(k):
-        for j in range(i + 1, k):
+    return int(len(parts)), joining_gap([points[point_label == label] for label in measured])
+
+
+def joining_gap(groups) -> float:
+    """The widest gap that must be bridged to join groups of points into one.
+
+    The groups are joined by their shortest gaps first (a minimum spanning
+    tree of the smallest distances between their points), and the widest of
+    those gaps is returned.
+
+    Parameters
+    ----------
+    groups : list of (n_i, 3) float
+        At least two groups, each of at least one point.
+
+    Returns
+    -------
+    float
+        0 when the groups touch or overlap.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> joining_gap([np.zeros((1, 3)), np.array([[5.0, 0, 0]]), np.array([[25.0, 0, 0]])])
+    20.0
+    """
+    from scipy.sparse.csgraph import minimum_spanning_tree
+    from scipy.spatial import cKDTree
+
+    trees = [cKDTree(group) for group in groups]
+    gaps = np.zeros((len(trees), len(trees)))
+    for i in range(len(trees)):
+        for j in range(i + 1, len(trees)):
             gaps[i, j] = trees[j].query(trees[i].data, k=1)[0].min()
-    tree = minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray()  # (a zero entry would be no edge)
-    return int(len(parts)), float(tree.max())
+    return float(minimum_spanning_tree(np.triu(np.maximum(gaps, 1e-300), 1)).toarray().max())  # (0 is no edge)
 
 
 def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
