@@ -252,7 +252,8 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     center : (3,) array_like, optional
         Torque reference point c; default the origin.
     torque_scale : float, optional
-        Torque scale L (mm); default the largest ``|p_i - c|``.
+        Torque scale L (mm); default the largest ``|p_i - c|``, and within a
+        factor `TORQUE_SCALE_RATIO` of it.
 
     Returns
     -------
@@ -298,6 +299,13 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
             L = top * float(np.sqrt(((arm / top) ** 2).sum(axis=1).max()))
     else:
         L = positive_scalar(torque_scale, "torque_scale")
+        with np.errstate(over="ignore", under="ignore"):
+            reach = float(np.linalg.norm(arm, axis=1).max())  # the default: the largest lever arm
+        if 0 < reach < np.inf and not reach / TORQUE_SCALE_RATIO <= L <= reach * TORQUE_SCALE_RATIO:
+            raise ValueError(f"torque_scale {L:g} is more than {TORQUE_SCALE_RATIO:g} times smaller or larger than the "
+                             f"contacts' largest lever arm |p_i - c|, {reach:.3g}: the wrenches' torques (or forces) "
+                             "would vanish beside the other part and the LPs lose their accuracy. It is a length in the "
+                             "points' units; omit it for that default")
     return arm, nhat, length, mu, c, L
 
 
@@ -306,6 +314,8 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
 #: than ``FAR_RATIO`` times the contacts' largest distance from their centroid.
 FAR_CENTER = 500.0
 FAR_RATIO = 10.0
+#: A given ``torque_scale`` must lie within this factor of the contacts' largest lever arm (its default).
+TORQUE_SCALE_RATIO = 1e4
 #: Most wrenches `force_closure_by_hull` takes: qhull's 6-D hull of 160 takes about 0.7 s, of 320 about 8 s.
 MAX_HULL_WRENCHES = 256
 
@@ -416,7 +426,8 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     center : (3,) array_like, optional
         Torque reference point; default the origin.
     torque_scale : float, optional
-        Torque scale L (mm); default the largest distance of a contact from ``center``.
+        Torque scale L (mm); default the largest distance of a contact from
+        ``center``, and within a factor `TORQUE_SCALE_RATIO` of it.
     backend : str or synergrasp.lp.Backend
         LP backend.
 

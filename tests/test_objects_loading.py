@@ -725,6 +725,23 @@ def test_an_empty_object_name_is_not_taken_for_the_current_folder(name):
         so.get(name)
 
 
+def test_a_cloud_with_normals_or_colours_reads_its_first_three_columns_and_a_few_points_are_warned_of(tmp_path):
+    """x y z nx ny nz as .npy is read like the same columns in .xyz; five points are a convex solid's corners, said
+    so (an OBJ of lines alone, which trimesh reads as its vertices, too)."""
+    cloud = ellipsoid_cloud(200)
+    rows = np.c_[cloud, cloud / np.linalg.norm(cloud, axis=1, keepdims=True)]
+    np.save(tmp_path / "n.npy", rows)
+    (tmp_path / "n.xyz").write_text("\n".join(" ".join(map(str, p)) for p in rows))
+    a, b = so.load(tmp_path / "n.npy", cache=False), so.load(tmp_path / "n.xyz", cache=False)
+    np.testing.assert_allclose(a.points, b.points, atol=1e-12)
+    assert a.points.shape[1] == 3
+    with pytest.warns(UserWarning, match="only 5 distinct points: they are taken as the corners of a convex solid"):
+        so.from_points(cloud[:5], cache=False)
+    (tmp_path / "lines.obj").write_text("v 0 0 0\nv 50 0 0\nv 0 50 0\nv 0 0 50\nl 1 2\nl 1 3\nl 1 4\n")
+    with pytest.warns(UserWarning, match="only 4 distinct points.*an OBJ of lines"):
+        so.load(tmp_path / "lines.obj", cache=False)
+
+
 def test_a_cloud_of_shape_3_by_n_and_an_xyz_header_get_a_hint(tmp_path):
     cloud = ellipsoid_cloud(200)
     np.save(tmp_path / "t.npy", cloud.T)

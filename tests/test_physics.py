@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -229,8 +230,14 @@ def test_result_of_another_object_or_hand_is_refused(pinch):
     result = pinch_result(u, box)
     assert validate(result, box).held  # the result itself is fine
     moved = box.transformed(np.r_[np.c_[np.eye(3), [50.0, 0, 0]], [[0, 0, 0, 1]]])
-    with pytest.raises(ValueError, match="planned for another object"):
+    with pytest.raises(ValueError, match="planned for another object") as refused:
         validate(result, moved)
+    # the distance it names is Euclidean, to the moved box (not the planner's cP, up to 2.8 times larger): here
+    # against 40 000 points spread on the box's faces (about 0.3 mm apart)
+    surface = trimesh.sample.sample_surface_even(moved.to_mesh(), 40000, seed=0)[0]
+    farthest = np.linalg.norm(np.asarray(result.contact_points)[:, None] - surface, axis=2).min(axis=1).max()
+    named = float(re.search(r"lie up to ([0-9.]+) mm from the surface", str(refused.value)).group(1))
+    assert named == pytest.approx(farthest, abs=0.3)
     with pytest.raises(ValueError, match="another hand"):
         validate(pinch_result(np.r_[u, 0.0], box), box)
     with pytest.raises(ValueError, match=r"another hand.*hand="):
@@ -245,6 +252,7 @@ def test_configuration_away_from_the_object_is_refused(pinch):
 
 @pytest.mark.parametrize("kwargs, error, match", [
     (dict(mu=-1.0), ValueError, "mu must be a finite number > 0"),
+    (dict(mu=1e9), ValueError, "mu must be at most 10 .as the planner.s., got 1000000000.0"),
     (dict(push_time=np.inf), ValueError, "push_time must be a finite number > 0"),
     (dict(squeeze=np.inf), ValueError, "squeeze must be a finite number > 0"),
     (dict(friction=0.5), ValueError, "unknown protocol settings"),

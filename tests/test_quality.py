@@ -184,6 +184,9 @@ def test_force_closure_agrees_with_convex_hull():
         ({"edges": 4.5}, ValueError, "edges must be an integer"),
         ({"center": [0, 0]}, ValueError, "center must have shape \\(3,\\)"),
         ({"torque_scale": 0.0}, ValueError, "torque_scale must be"),
+        ({"torque_scale": 1e-9}, ValueError, "torque_scale 1e-09 is more than 10000 times smaller or larger than the "
+                                             "contacts' largest lever arm .*, 10"),
+        ({"torque_scale": 2e5}, ValueError, "torque_scale 200000 is more than 10000 times"),
         ({"backend": "glpk"}, ValueError, "unknown LP backend"),
     ],
 )

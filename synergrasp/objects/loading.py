@@ -689,6 +689,10 @@ def _from_points(
               "concavity": meta.get("concavity"), "scale": scale},
     )
     _check_size(obj, what)
+    if len(pts) < SMALL_CLOUD:
+        _warn(f"{what} has only {len(pts)} distinct points: they are taken as the corners of a convex solid (their "
+              f"hull), not as samples of a surface; a scanned cloud needs at least {SMALL_CLOUD} points (a mesh file "
+              "without faces, such as an OBJ of lines, is read as its vertices)")
     parts, gap = _cloud_parts(pts * scale) if len(pts) >= SMALL_CLOUD else (1, 0.0)
     if gap > PART_GAP:
         _warn(f"{what} is {parts} separate groups of points, some {gap:.0f} mm from the rest: they are planned as one "
@@ -822,7 +826,8 @@ def from_points(
         its k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
         farther than `STRAY_FACTOR` times the cloud's typical k-th neighbour
         distance: isolated points and groups of up to 8), or kept (more of them),
-        or if groups of the points lie more than `PART_GAP` apart.
+        or if groups of the points lie more than `PART_GAP` apart, or if the
+        cloud has fewer than `SMALL_CLOUD` points (taken as corners).
 
     Examples
     --------
@@ -864,7 +869,9 @@ def _read_array_file(path: Path, ext: str):
                              "a point number, not x. Remove that column (the first three are read as x y z)")
         return "points", data[:, :3]
     if ext == ".npy":
-        return "points", np.load(path, allow_pickle=False)
+        data = np.load(path, allow_pickle=False)
+        extra = data.ndim == 2 and 3 < data.shape[1] <= 10 < data.shape[0]  # x y z, then normals or colours
+        return "points", data[:, :3] if extra else data
     with np.load(path, allow_pickle=False) as data:
         keys = list(data.keys())
         if "vertices" in keys and "faces" in keys:
@@ -926,7 +933,8 @@ def load(
     path : str or os.PathLike
         A mesh (.obj .stl .ply .off .glb .gltf) or a point cloud (.ply
         without faces, .xyz text ``x y z`` per line, .npy (n, 3), .npz with
-        ``points`` or ``vertices`` and ``faces``).
+        ``points`` or ``vertices`` and ``faces``). Further columns of .xyz
+        and .npy (normals, colours) are left out.
     scale : float
         Factor applied to the coordinates: synergrasp works in mm, so pass
         ``scale=1000`` for a file in metres.

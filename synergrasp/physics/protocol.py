@@ -10,6 +10,8 @@ import numbers
 import warnings
 from dataclasses import asdict, dataclass, fields, replace
 
+from ..planner.options import MAX_FRICTION
+
 __all__ = ["Protocol", "PRESETS", "protocol", "DIRECTIONS"]
 
 #: The six push directions, in the order of `Validation.displacement` (world axes).
@@ -127,6 +129,9 @@ class Protocol:
             if not _real(value) or not value >= 0 or (name not in unbounded and value == math.inf):
                 raise ValueError(f"protocol setting {name} must be a {'' if name in unbounded else 'finite '}number >= 0, "
                                  f"got {value!r}")
+        if self.mu > MAX_FRICTION:
+            raise ValueError(f"protocol setting mu must be at most {MAX_FRICTION:g} (as the planner's), got {self.mu!r}: "
+                             "friction coefficients of real materials are below about 1.5")
         if self.mass is not None and (not _real(self.mass) or not 0 < self.mass < math.inf):
             raise ValueError(f"protocol setting mass must be None or a finite number > 0 (kg), got {self.mass!r}")
         if self.measure_from not in _REFERENCES:

@@ -6,6 +6,7 @@ import os
 import time
 
 import numpy as np
+import trimesh
 
 from ..hand import rotation_xyz
 from ..lp import get_backend
@@ -29,8 +30,8 @@ def check_match(result, obj, hand, tolerance):
     obj : GraspObject
     hand : SynergyHand
     tolerance : float
-        Largest distance (mm, the planner's cP) of the result's contact points
-        from the object's surface.
+        Largest distance (mm) of the result's contact points from the surface
+        of the object's convex pieces, where the planner put them.
 
     Raises
     ------
@@ -48,7 +49,8 @@ def check_match(result, obj, hand, tolerance):
         raise ValueError(f"the result's contacts {foreign} are not {result.grasp} points of hand {hand.name!r} "
                          f"({sorted(labels)}): a result planned with another hand? Pass that hand as hand=")
     if len(result.contact_points):
-        gap = np.abs(obj.contact_distance(result.contact_points).value)
+        points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
+        gap = np.min([trimesh.proximity.closest_point(piece, points)[1] for piece in obj.piece_meshes()], axis=0)
         if gap.max() > tolerance:
             raise ValueError(
                 f"the result's contact points lie up to {gap.max():.1f} mm from the surface of {obj.name!r} (more than "

@@ -183,7 +183,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     ValueError
         Unknown object name, grasp type or method (the message lists the
         methods), an option of the other method (named), an option out of its range, bad
-        ``u0`` or ``approach``, unknown backend, or an object the hand cannot
+        ``u0`` or ``approach`` (or both given), unknown backend, or an object the hand cannot
         hold (too small, or wider than its opening).
 
     Examples
@@ -198,6 +198,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     if grasp not in GRASPS:
         raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
     opts = _options(method, options, option_values)
+    if u0 is not None and approach is not None:
+        raise ValueError("give u0 or approach, not both: u0 is the start itself, approach the direction a start is "
+                         "placed along")
     solver = get_backend(backend)
     hand = SynergyHand.default() if hand is None else hand
     if not isinstance(hand, SynergyHand):

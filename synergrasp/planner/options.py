@@ -11,6 +11,8 @@ import numpy as np
 GRASPS = ("precision", "power")
 #: Farthest start of the hand from the object's centre (mm): ``start_distance``'s bound, and a given ``u0``'s.
 MAX_START_DISTANCE = 10000.0
+#: Largest friction coefficient ``mu`` the planners (and the physics protocol) take.
+MAX_FRICTION = 10.0
 
 
 def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions",
@@ -240,7 +242,7 @@ class PlannerOptions(_Fields):
     def __post_init__(self):
         set_ = object.__setattr__
         set_(self, "eps_c", _number(self.eps_c, "eps_c", 0, 50.0, open_low=True))
-        set_(self, "mu", _number(self.mu, "mu", 0, 10.0, open_low=True))
+        set_(self, "mu", _number(self.mu, "mu", 0, MAX_FRICTION, open_low=True))
         set_(self, "edges", _number(self.edges, "edges", 3, 64, integer=True))
         set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, high_from="eps_c"))
         band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})", 2)
@@ -402,6 +404,6 @@ class AnnealingOptions(_Fields):
             number(name, 0, 1000.0)
         number("start_distance", 0, MAX_START_DISTANCE, open_low=True)
         number("autograsp_energy", 0, 1e6, open_low=True, allow_none=True)
-        number("mu", 0, 10.0, open_low=True)
+        number("mu", 0, MAX_FRICTION, open_low=True)
         number("q_accept", -10.0, 0.0)
         set_(self, "executable_reach", _flag(self.executable_reach, "executable_reach", own))
