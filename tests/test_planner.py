@@ -1018,6 +1018,22 @@ def test_bad_input(ellipsoid, kwargs, error, match):
         plan(ellipsoid, **kwargs)
 
 
+def test_synergies_beyond_their_limits_are_clipped_with_a_warning(ellipsoid):
+    """A pre-shape or a u0 whose synergies lie outside the hand's limits ([-1, 1]) is clipped, and says so: the
+    plan from u0 with its synergies at 1e6 and -1e6 is the plan from u0 with them at 1 and -1."""
+    from synergrasp.planner.starts import preshape
+
+    hand = SynergyHand.default()
+    with pytest.warns(UserWarning, match=r"pre-shape \[1000000.0, 0.5\] is outside the synergy limits.*clipped to "
+                                         r"\[1.0, 0.5\]"):
+        np.testing.assert_array_equal(preshape(hand, (1e6, 0.5)), [1.0, 0.5])
+    u0 = np.r_[near_start(hand, ellipsoid)[:6], 1e6, -1e6]
+    with pytest.warns(UserWarning, match=r"u0's synergies \[1000000.0, -1000000.0\] are outside their limits"):
+        wild = plan(ellipsoid, "precision", u0=u0, max_iter=15, executable_reach=False)
+    tame = plan(ellipsoid, "precision", u0=np.r_[u0[:6], 1.0, -1.0], max_iter=15, executable_reach=False)
+    np.testing.assert_array_equal(wild.trajectory, tame.trajectory)
+
+
 def test_an_object_in_metres_is_refused():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -711,6 +712,11 @@ def preshape(hand, value):
     ------
     ValueError
         If ``value`` does not have one value per synergy.
+
+    Warns
+    -----
+    UserWarning
+        If a value lies outside the synergy's limits (it is clipped).
     """
     if value is None:
         return np.zeros(hand.n_syn)
@@ -718,7 +724,12 @@ def preshape(hand, value):
         raise ValueError(f"a power pre-shape needs one value per synergy ({hand.n_syn} for {hand.name}), got {value!r}: "
                          f"give PlannerOptions' power_preshape and power_wide_preshape {hand.n_syn} values each, or "
                          "None (the mean pose, respectively cupped starts only); the defaults are for two synergies")
-    return np.clip(np.asarray(value, dtype=float), hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
+    value = np.asarray(value, dtype=float)
+    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
+    if ((value < lo) | (value > hi)).any():
+        warnings.warn(f"the power pre-shape {value.tolist()} is outside the synergy limits {hand.synergy_limits.tolist()} "
+                      f"of {hand.name}: clipped to {np.clip(value, lo, hi).tolist()}", UserWarning, stacklevel=3)
+    return np.clip(value, lo, hi)
 
 
 def starts(hand, obj, grasp, options, *, backend="native"):
