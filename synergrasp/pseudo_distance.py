@@ -336,6 +336,13 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     synergrasp.lp.LPError
         If the backend fails to solve an LP (its status is in the message).
 
+    Notes
+    -----
+    The LPs are solved to a tolerance relative to the data: a gap or an
+    overlap smaller than about 1e-9 times the sets' extent (their
+    coordinates' magnitude) is within round-off and reads as touching, a
+    value of 0 (segments 1e10 long whose ends are 2 apart touch).
+
     Examples
     --------
     Two points 3 apart, regular simplex in the plane: the gauge of x = b - a

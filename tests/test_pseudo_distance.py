@@ -249,3 +249,16 @@ def test_the_optimum_is_what_pseudo_distance_builds_its_result_from(backend, rng
             assert opt.beta[:, None] * opt.dual == pytest.approx(r.grad_b, abs=1e-7)
     with pytest.raises(ValueError, match="dimension"):
         optimum([[0.0, 0.0]], [[1.0, 0.0, 0.0]])
+
+
+@pytest.mark.parametrize("extent", [1e2, 1e6, 1e8, 1e10])
+def test_the_value_is_accurate_to_round_off_of_the_extent(extent, backend):
+    """Two segments of length ``extent`` on a line, their ends 1 apart: the value is sqrt(3) (the regular simplex's
+    gauge along the line) within about 1e-9 of the extent, the tolerance the docstring states (at 1e10, 0), or, from a
+    backend that cannot solve it, an LPError: never another number."""
+    try:
+        r = sg.pseudo_distance([[0.0, 0.0], [extent, 0.0]], [[-extent, 0.0], [-1.0, 0.0]], backend=backend)
+    except sg.lp.LPError:
+        assert extent > 1e8  # (cvxpy's Clarabel at 1e10)
+        return
+    assert abs(r.value - np.sqrt(3.0)) <= max(1e-9, 2e-9 * extent)
