@@ -377,6 +377,8 @@ CLI = [
     Case("synergrasp plan", "a NaN approach", argv=["plan", "--approach", "1,nan,0"], says="expected three finite numbers"),
     Case("synergrasp plan", "--scale 0", argv=["plan", "--scale", "0"], says="expected a finite number > 0"),
     Case("synergrasp plan", "--units inch", argv=["plan", "--units", "inch"], says="invalid choice: 'inch'"),
+    Case("synergrasp plan", "--scale 1e300", argv=["plan", "--object", "{tmp}/metres.npy", "--scale", "1e300"],
+         says="mm at scale 1e+300: beyond the 1e+06 mm that synergrasp works with"),
     Case("synergrasp plan", "--scale and --units together", argv=["plan", "--scale", "10", "--units", "m"], says="not allowed with argument"),
     Case("synergrasp plan", "--scale for a built-in", argv=["plan", "--object", "cup", "--scale", "2"], says="applies to object files"),
     Case("synergrasp plan", "--max-iter 0", argv=["plan", "--max-iter", "0"], says="expected an integer > 0"),

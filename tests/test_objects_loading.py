@@ -742,6 +742,19 @@ def test_a_cloud_with_normals_or_colours_reads_its_first_three_columns_and_a_few
         so.load(tmp_path / "lines.obj", cache=False)
 
 
+def test_a_scale_beyond_the_working_range_is_refused_before_anything_overflows(tmp_path):
+    """scale=1e300 used to print numpy's overflow warnings before the refusal; now only the refusal, naming the scale."""
+    ball = trimesh.creation.icosphere(2, radius=0.035)
+    ball.export(tmp_path / "m.stl")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning (nor any other) on the way
+        for load in (lambda: so.load(tmp_path / "m.stl", scale=1e300, cache=False),
+                     lambda: so.from_mesh(ball, scale=1e300, cache=False),
+                     lambda: so.from_points(ball.vertices, scale=1e300, cache=False)):
+            with pytest.raises(ValueError, match=r"0.07 across in its own units, 7e\+298 mm at scale 1e\+300: beyond"):
+                load()
+
+
 def test_a_cloud_of_shape_3_by_n_and_an_xyz_header_get_a_hint(tmp_path):
     cloud = ellipsoid_cloud(200)
     np.save(tmp_path / "t.npy", cloud.T)

@@ -71,7 +71,7 @@ import numpy as np
 import trimesh
 
 from .._checks import as_points, integer, positive_scalar
-from .convex import ConvexPiece, checked_hull
+from .convex import SIZE_LIMITS, ConvexPiece, checked_hull
 from .decompose import DecompositionTimeout, run_coacd
 from .grasp_object import GraspObject
 from .repair import (
@@ -254,6 +254,18 @@ def _check_size(obj: GraspObject, what: str) -> None:
         )
 
 
+def _check_scale(points, scale, what):
+    """Refuse, before anything is scaled (and overflows), a ``scale`` that makes ``points`` (n, 3) larger than
+    `SIZE_LIMITS` allows."""
+    extent = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
+    with np.errstate(over="ignore"):
+        size = extent * scale
+    if scale != 1.0 and size > SIZE_LIMITS[1]:  # (at scale 1 the pieces' own check says so)
+        raise ValueError(f"{what} is {extent:.3g} across in its own units, {size:.3g} mm at scale {scale:g}: beyond the "
+                         f"{SIZE_LIMITS[1]:g} mm that synergrasp works with (lengths in mm); give the scale that turns "
+                         "its units into mm (scale=1000 for metres, 10 for centimetres)")
+
+
 def _scaled(pieces, scale):
     return [np.asarray(p, dtype=float) * scale for p in pieces]
 
@@ -343,6 +355,7 @@ def _from_mesh(
         raise ValueError(f"{what} has faces that name vertices it does not have (indices {faces.min()} to {faces.max()}, "
                          f"{len(mesh.vertices)} vertices): the mesh is corrupt; repair or re-export it")
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
+    _check_scale(vertices, scale, what)
     if len(np.unique(faces)) < len(vertices):  # vertices no face uses are not the object's surface
         mesh = mesh.copy()
         mesh.remove_unreferenced_vertices()
@@ -671,6 +684,7 @@ def _from_points(
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
+    _check_scale(pts, scale, what)
     pts = _without_strays(pts, what)
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
