@@ -22,7 +22,9 @@ Plans a precision and a power grasp of every object of the chosen sets
 It prints, per set and grasp type, the LP rate next to the physical success
 rate; the precision and recall of the LP verdict as a predictor of holding;
 the Q threshold that best predicts holding (largest TPR - FPR, predicting
-"holds" for Q below it); and, for the paper's cases, why each grasp fails.
+"holds" for Q below it); per grasp type, how well the grip after settling
+over the object's weight predicts holding (ROC area, beside Q's, and its
+best threshold); and, for the paper's cases, why each grasp fails.
 On the paper set it also reruns the default protocol with one setting
 changed at a time (time step, squeeze, servo stiffness, contact model,
 friction): how far the verdicts depend on them.
@@ -162,23 +164,58 @@ def q_threshold(rows, variant):
         ``t``, ``tpr``, ``fpr``, ``accuracy``, ``n``; None if every grasp with a
         Q held or none did (no threshold separates anything).
     """
-    data = [(r["q"], held(r, variant)) for r in rows if np.isfinite(r.get("q", math.nan))]
+    return best_threshold([(r["q"], held(r, variant)) for r in rows], below=True)
+
+
+def grip_ratio(row, variant):
+    """The grip after settling over the object's weight (MuJoCo's normal forces / m g), NaN without a simulation."""
+    v = row.get(variant, {})
+    grip, mass = v.get("grip", math.nan), v.get("mass", math.nan)
+    return grip / (mass * 9.81) if v.get("outcome") not in (None, "penetration", "not a grasp") and mass > 0 else math.nan
+
+
+def grip_threshold(rows, variant):
+    """The threshold t on the grip over the weight that best predicts holding (ratio > t), as `best_threshold`."""
+    return best_threshold([(grip_ratio(r, variant), held(r, variant)) for r in rows], below=False)
+
+
+def best_threshold(data, below):
+    """The threshold t on a score that best predicts holding, by the largest TPR - FPR, and the ROC area.
+
+    Parameters
+    ----------
+    data : list of (float, bool)
+        Score and whether the grasp held; NaN scores are left out.
+    below : bool
+        Holding is predicted for scores below t (else above).
+
+    Returns
+    -------
+    dict or None
+        ``t``, ``tpr``, ``fpr``, ``accuracy``, ``n``, ``auc`` (the area under the
+        ROC curve: the chance that a grasp that held scores better than one that
+        did not, ties counted half); None if every grasp with a score held or
+        none did (no threshold separates anything).
+    """
+    data = [(x, ok) for x, ok in data if np.isfinite(x)]
     if not data:
         return None
-    q, ok = np.array(data).T
+    x, ok = np.array(data, dtype=float).T
     ok = ok.astype(bool)
     if ok.all() or not ok.any():
         return None
-    values = np.unique(q)
+    score = -x if below else x  # higher: predicted to hold
+    better = (score[ok][:, None] > score[~ok][None, :]).mean() + 0.5 * (score[ok][:, None] == score[~ok][None, :]).mean()
+    values = np.unique(x)
     candidates = np.r_[values[0] - 1e-9, (values[1:] + values[:-1]) / 2, values[-1] + 1e-9]
     best = None
     for t in candidates:
-        predicted = q < t
+        predicted = x < t if below else x > t
         tpr, fpr = (predicted & ok).sum() / ok.sum(), (predicted & ~ok).sum() / (~ok).sum()
-        score = (tpr - fpr, -abs(t))
-        if best is None or score > best[0]:
-            best = (score, dict(t=float(t), tpr=float(tpr), fpr=float(fpr),
-                                accuracy=float((predicted == ok).mean()), n=len(q)))
+        key = (tpr - fpr, -abs(t))
+        if best is None or key > best[0]:
+            best = (key, dict(t=float(t), tpr=float(tpr), fpr=float(fpr), accuracy=float((predicted == ok).mean()),
+                              n=len(x), auc=float(better)))
     return best[1]
 
 
@@ -235,7 +272,20 @@ def prediction(rows):
             else f"Q < {t['t']:+.3f} predicts holding (TPR {t['tpr']:.2f}, FPR {t['fpr']:.2f}, accuracy {t['accuracy']:.2f}, n = {t['n']})"
         lines.append(f"{variant}: LP verdict as a predictor of holding: precision {_fmt(r['precision'])} "
                      f"({r['both']}/{r['lp']}), recall {_fmt(r['recall'])} ({r['both']}/{r['held']}); {threshold}")
+        for grasp in GRASPS:
+            g = grip_threshold([row for row in rows if row["grasp"] == grasp], variant)
+            if g is not None:
+                lines.append(f"{variant}, {grasp}: the grip after settling over the weight predicts holding with a ROC "
+                             f"area of {g['auc']:.2f} (Q: {_fmt(_q_auc(rows, variant, grasp))}); above {g['t']:.1f} "
+                             f"(TPR {g['tpr']:.2f}, FPR {g['fpr']:.2f}, n = {g['n']})")
     return lines
+
+
+def _q_auc(rows, variant, grasp):
+    """The ROC area of Q (lower: holds) on the grasps of one type that the grip's line counts."""
+    t = best_threshold([(r["q"] if np.isfinite(grip_ratio(r, variant)) else math.nan, held(r, variant))
+                        for r in rows if r["grasp"] == grasp], below=True)
+    return math.nan if t is None else t["auc"]
 
 
 def _fmt(x):

@@ -1,6 +1,7 @@
 """The physics benchmark scripts run in their quick modes and say what they measure."""
 
 import csv
+import math
 import os
 import re
 import subprocess
@@ -70,3 +71,18 @@ def test_squeeze_sweep_quick(tmp_path):
     held = {float(kp): int(n) for kp, n in re.findall(r"ellipsoid +kp ([\d.]+): (\d+)/4 squeezes hold", out)}
     assert held[5.0] == 0 and held[25.0] >= 1
     assert not list(tmp_path.iterdir())  # it writes nothing
+
+
+def test_the_study_s_thresholds_and_roc_areas():
+    """best_threshold on scores whose order is known: a perfect separation, a tie, and a score that says nothing."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from physics_study import best_threshold, grip_ratio
+
+    perfect = best_threshold([(1.0, False), (2.0, False), (3.0, True), (4.0, True), (float("nan"), True)], below=False)
+    assert perfect == dict(t=2.5, tpr=1.0, fpr=0.0, accuracy=1.0, n=4, auc=1.0)
+    assert best_threshold([(1.0, True), (2.0, True), (3.0, False)], below=True)["t"] == 2.5
+    assert best_threshold([(1.0, True), (1.0, False)], below=False)["auc"] == 0.5  # a tie counts half
+    assert best_threshold([(1.0, True), (2.0, True)], below=False) is None  # every grasp held
+    row = {"synergrasp": dict(held=True, outcome="held", grip=9.81, mass=0.5)}
+    assert grip_ratio(row, "synergrasp") == pytest.approx(2.0)
+    assert math.isnan(grip_ratio({"synergrasp": dict(outcome="penetration", grip=0.0, mass=0.5)}, "synergrasp"))
