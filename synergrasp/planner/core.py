@@ -157,7 +157,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     backend : str
         LP backend.
     u0 : (n_u,) float, optional
-        Start configuration: one attempt from it.
+        Start configuration: one attempt from it (its synergies clipped to
+        their limits, with a warning, if they lie outside).
     approach : (3,) float, optional
         Direction from the object's centre to the start of the first attempt
         (`start_configuration`); the plan's own starts follow.
