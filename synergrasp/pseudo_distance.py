@@ -339,9 +339,10 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     Notes
     -----
     The LPs are solved to a tolerance relative to the data: a gap or an
-    overlap smaller than about 1e-9 times the sets' extent (their
-    coordinates' magnitude) is within round-off and reads as touching, a
-    value of 0 (segments 1e10 long whose ends are 2 apart touch).
+    overlap smaller than about 1e-8 times the sets' extent (their
+    coordinates' magnitude) is within round-off and can read as touching, a
+    value of 0 (segments 1e10 long whose ends are 1 apart touch), depending
+    on the backend and on its warm start.
 
     Examples
     --------

@@ -252,8 +252,8 @@ def contact_wrenches(points, normals, mu=0.3, edges=8, center=None, torque_scale
     center : (3,) array_like, optional
         Torque reference point c; default the origin.
     torque_scale : float, optional
-        Torque scale L (mm); default the largest ``|p_i - c|``, and within a
-        factor `TORQUE_SCALE_RATIO` of it.
+        Torque scale L (mm); default the largest ``|p_i - c|``, and at least
+        that over `TORQUE_SCALE_RATIO`.
 
     Returns
     -------
@@ -289,24 +289,30 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
             warnings.warn(f"the torques are taken about the origin, {np.linalg.norm(middle):.3g} from the contacts, which "
                           f"lie within {spread:.3g} of each other: Q then measures little more than the forces. Pass "
                           "center= (the object's centre, e.g. obj.center)", UserWarning, stacklevel=3)
+    reach = _largest_arm(arm)  # the default torque scale
     if torque_scale is None:
-        top = float(np.abs(arm).max())  # the largest lever arm component
-        if top <= 0:
+        if reach <= 0:
             raise ValueError("every contact lies at the centre, so the default torque_scale is 0; pass torque_scale")
-        with np.errstate(over="ignore", under="ignore"):
-            L = float(np.sqrt((arm * arm).sum(axis=1).max()))  # the largest |p_i - c|
-        if not 0 < L < np.inf:  # its square overflowed or underflowed: the same length, scaled
-            L = top * float(np.sqrt(((arm / top) ** 2).sum(axis=1).max()))
+        L = reach
     else:
         L = positive_scalar(torque_scale, "torque_scale")
-        with np.errstate(over="ignore", under="ignore"):
-            reach = float(np.linalg.norm(arm, axis=1).max())  # the default: the largest lever arm
-        if 0 < reach < np.inf and not reach / TORQUE_SCALE_RATIO <= L <= reach * TORQUE_SCALE_RATIO:
-            raise ValueError(f"torque_scale {L:g} is more than {TORQUE_SCALE_RATIO:g} times smaller or larger than the "
-                             f"contacts' largest lever arm |p_i - c|, {reach:.3g}: the wrenches' torques (or forces) "
-                             "would vanish beside the other part and the LPs lose their accuracy. It is a length in the "
-                             "points' units; omit it for that default")
+        if L < reach / TORQUE_SCALE_RATIO:
+            raise ValueError(f"torque_scale {L:g} is more than {TORQUE_SCALE_RATIO:g} times smaller than the contacts' "
+                             f"largest lever arm |p_i - c|, {reach:.3g}: the forces would vanish beside the torques and "
+                             "the LPs lose their accuracy. It is a length in the points' units; omit it for that default")
     return arm, nhat, length, mu, c, L
+
+
+def _largest_arm(arm):
+    """The largest ``|p_i - c|`` of lever arms ``arm`` (n, 3), also where its square would overflow or underflow."""
+    top = float(np.abs(arm).max())  # the largest lever arm component
+    if top <= 0:
+        return 0.0
+    with np.errstate(over="ignore", under="ignore"):
+        length = float(np.sqrt((arm * arm).sum(axis=1).max()))
+    if not 0 < length < np.inf:  # its square overflowed or underflowed: the same length, scaled
+        length = top * float(np.sqrt(((arm / top) ** 2).sum(axis=1).max()))
+    return length
 
 
 #: Without a ``center``, the torques are taken about the origin; a warning says so when the contacts' centroid
@@ -314,7 +320,7 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
 #: than ``FAR_RATIO`` times the contacts' largest distance from their centroid.
 FAR_CENTER = 500.0
 FAR_RATIO = 10.0
-#: A given ``torque_scale`` must lie within this factor of the contacts' largest lever arm (its default).
+#: A given ``torque_scale`` must be at least the contacts' largest lever arm (its default) over this factor.
 TORQUE_SCALE_RATIO = 1e4
 #: Most wrenches `force_closure_by_hull` takes: qhull's 6-D hull of 160 takes about 0.7 s, of 320 about 8 s.
 MAX_HULL_WRENCHES = 256
@@ -427,7 +433,7 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
         Torque reference point; default the origin.
     torque_scale : float, optional
         Torque scale L (mm); default the largest distance of a contact from
-        ``center``, and within a factor `TORQUE_SCALE_RATIO` of it.
+        ``center``, and at least that over `TORQUE_SCALE_RATIO`.
     backend : str or synergrasp.lp.Backend
         LP backend.
 

@@ -735,6 +735,12 @@ def test_a_cloud_with_normals_or_colours_reads_its_first_three_columns_and_a_few
     a, b = so.load(tmp_path / "n.npy", cache=False), so.load(tmp_path / "n.xyz", cache=False)
     np.testing.assert_allclose(a.points, b.points, atol=1e-12)
     assert a.points.shape[1] == 3
+    counted = np.c_[np.arange(len(cloud)), cloud]  # a point number first: refused from .npy as from .xyz
+    np.save(tmp_path / "i.npy", counted)
+    (tmp_path / "i.xyz").write_text("\n".join(" ".join(map(str, p)) for p in counted))
+    for name in ("i.npy", "i.xyz"):
+        with pytest.raises(ValueError, match="its first column counts the lines .0, 1, 2, ...."):
+            so.load(tmp_path / name, cache=False)
     with pytest.warns(UserWarning, match="only 5 distinct points: they are taken as the corners of a convex solid"):
         so.from_points(cloud[:5], cache=False)
     (tmp_path / "lines.obj").write_text("v 0 0 0\nv 50 0 0\nv 0 50 0\nv 0 0 50\nl 1 2\nl 1 3\nl 1 4\n")
@@ -753,6 +759,10 @@ def test_a_scale_beyond_the_working_range_is_refused_before_anything_overflows(t
                      lambda: so.from_points(ball.vertices, scale=1e300, cache=False)):
             with pytest.raises(ValueError, match=r"0.07 across in its own units, 7e\+298 mm at scale 1e\+300: beyond"):
                 load()
+    # measured after what the loaders drop: a stray point 2 km off a ball in metres is dropped, not the scale refused
+    cloud = np.r_[trimesh.sample.sample_surface(ball, 2000, seed=0)[0], [[2000.0, 0.0, 0.0]]]
+    with pytest.warns(UserWarning, match="stray"):
+        assert so.from_points(cloud, scale=1000.0, cache=False).size == pytest.approx(70.0, abs=2.0)
 
 
 def test_a_cloud_of_shape_3_by_n_and_an_xyz_header_get_a_hint(tmp_path):

@@ -73,9 +73,9 @@ def test_squeeze_sweep_quick(tmp_path):
     assert not list(tmp_path.iterdir())  # it writes nothing
 
 
-def test_the_study_s_thresholds_and_roc_areas():
+def test_the_study_s_thresholds_and_roc_areas(monkeypatch):
     """best_threshold on scores whose order is known: a perfect separation, a tie, and a score that says nothing."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
     from physics_study import best_threshold, grip_ratio
 
     perfect = best_threshold([(1.0, False), (2.0, False), (3.0, True), (4.0, True), (float("nan"), True)], below=False)

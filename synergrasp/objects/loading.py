@@ -257,8 +257,8 @@ def _check_size(obj: GraspObject, what: str) -> None:
 def _check_scale(points, scale, what):
     """Refuse, before anything is scaled (and overflows), a ``scale`` that makes ``points`` (n, 3) larger than
     `SIZE_LIMITS` allows."""
-    extent = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
     with np.errstate(over="ignore"):
+        extent = float(np.ptp(points, axis=0).max()) if len(points) else 0.0
         size = extent * scale
     if scale != 1.0 and size > SIZE_LIMITS[1]:  # (at scale 1 the pieces' own check says so)
         raise ValueError(f"{what} is {extent:.3g} across in its own units, {size:.3g} mm at scale {scale:g}: beyond the "
@@ -355,7 +355,6 @@ def _from_mesh(
         raise ValueError(f"{what} has faces that name vertices it does not have (indices {faces.min()} to {faces.max()}, "
                          f"{len(mesh.vertices)} vertices): the mesh is corrupt; repair or re-export it")
     vertices = as_points(mesh.vertices, f"{what} vertices", dim=3)
-    _check_scale(vertices, scale, what)
     if len(np.unique(faces)) < len(vertices):  # vertices no face uses are not the object's surface
         mesh = mesh.copy()
         mesh.remove_unreferenced_vertices()
@@ -363,6 +362,8 @@ def _from_mesh(
     mesh, debris = drop_debris(mesh, DEBRIS_FRACTION, PART_GAP / scale)
     if debris:
         vertices = np.asarray(mesh.vertices, dtype=float)
+    _check_scale(vertices, scale, what)
+    if debris:
         _warn(f"{what}: {len(debris)} loose fragment(s) dropped as debris ("
               + ", ".join(f"{d['faces']} faces {d['size'] * scale:.3g} mm across, {d['distance'] * scale:.3g} mm "
                           "from the rest" for d in debris[:3]) + (", ..." if len(debris) > 3 else "")
@@ -684,8 +685,8 @@ def _from_points(
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
-    _check_scale(pts, scale, what)
     pts = _without_strays(pts, what)
+    _check_scale(pts, scale, what)
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
               "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,
@@ -705,8 +706,8 @@ def _from_points(
     _check_size(obj, what)
     if len(pts) < SMALL_CLOUD:
         _warn(f"{what} has only {len(pts)} distinct points: they are taken as the corners of a convex solid (their "
-              f"hull), not as samples of a surface; a scanned cloud needs at least {SMALL_CLOUD} points (a mesh file "
-              "without faces, such as an OBJ of lines, is read as its vertices)")
+              f"hull), not as samples of a surface; a scanned cloud needs at least {SMALL_CLOUD} points"
+              + (" (a mesh file without faces, such as an OBJ of lines, is read as its vertices)" if _source else ""))
     parts, gap = _cloud_parts(pts * scale) if len(pts) >= SMALL_CLOUD else (1, 0.0)
     if gap > PART_GAP:
         _warn(f"{what} is {parts} separate groups of points, some {gap:.0f} mm from the rest: they are planned as one "
@@ -877,15 +878,9 @@ def _read_array_file(path: Path, ext: str):
                                  "start a header or comment line with #)") from None
         if data.ndim != 2 or data.shape[1] < 3:
             raise ValueError(f"expected at least 3 columns x y z per line, got shape {data.shape}")
-        counting = np.arange(len(data))
-        if data.shape[1] > 3 and len(data) > 3 and any((data[:, 0] == counting + k).all() for k in (0, 1)):
-            raise ValueError(f"its first column counts the lines ({data[0, 0]:g}, {data[1, 0]:g}, {data[2, 0]:g}, ...): "
-                             "a point number, not x. Remove that column (the first three are read as x y z)")
-        return "points", data[:, :3]
+        return "points", _xyz_columns(data, rows=True)
     if ext == ".npy":
-        data = np.load(path, allow_pickle=False)
-        extra = data.ndim == 2 and 3 < data.shape[1] <= 10 < data.shape[0]  # x y z, then normals or colours
-        return "points", data[:, :3] if extra else data
+        return "points", _xyz_columns(np.load(path, allow_pickle=False))
     with np.load(path, allow_pickle=False) as data:
         keys = list(data.keys())
         if "vertices" in keys and "faces" in keys:
@@ -898,10 +893,23 @@ def _read_array_file(path: Path, ext: str):
                                     else ""))
             return "mesh", trimesh.Trimesh(data["vertices"], faces, process=False)  # processed after the checks
         if "points" in keys:
-            return "points", data["points"]
+            return "points", _xyz_columns(data["points"])
         if len(keys) == 1:
             return "points", data[keys[0]]
     raise ValueError(f"an .npz object file needs an array 'points' (or 'vertices' and 'faces'), found keys {keys}")
+
+
+def _xyz_columns(data, rows=False):
+    """The x y z of rows with further columns (normals, colours), as .xyz and .npy files hold them. An array of
+    3 columns, or (unless ``rows``: a text file's lines are its points) of as many columns as rows or more (perhaps
+    (3, n)), comes back as it is. A first column that counts the rows is refused."""
+    if not (isinstance(data, np.ndarray) and data.ndim == 2 and data.shape[1] > 3 and (rows or data.shape[1] < len(data))):
+        return data
+    counting = np.arange(len(data))
+    if len(data) > 3 and any((data[:, 0] == counting + k).all() for k in (0, 1)):
+        raise ValueError(f"its first column counts the lines ({data[0, 0]:g}, {data[1, 0]:g}, {data[2, 0]:g}, ...): "
+                         "a point number, not x. Remove that column (the first three are read as x y z)")
+    return data[:, :3]
 
 
 def _scene_mesh(scene, what):
