@@ -30,6 +30,7 @@ import difflib
 import itertools
 import json
 import math
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -550,6 +551,33 @@ class SynergyHand:
         if not np.all(np.isfinite(u)):
             raise ValueError(f"u contains NaN or inf, got {u}")
         return u
+
+    def clip_synergies(self, z, what):
+        """Synergy values within their limits: ``z`` clipped, with a warning naming ``what`` if any lies outside.
+
+        Parameters
+        ----------
+        z : (n_syn,) float
+        what : str
+            What the values are, for the warning (e.g. "u0's synergies").
+
+        Returns
+        -------
+        (n_syn,) float
+            A new array.
+
+        Warns
+        -----
+        UserWarning
+            If a value lies outside its synergy's limits.
+        """
+        z = np.asarray(z, dtype=float)
+        lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
+        clipped = np.clip(z, lo, hi)
+        if ((z < lo) | (z > hi)).any():
+            warnings.warn(f"{what} {z.tolist()} are outside the synergy limits {self.synergy_limits.tolist()} of "
+                          f"{self.name}: clipped to {clipped.tolist()}", UserWarning, stacklevel=4)  # plan's caller
+        return clipped
 
     def _check_kind(self, kind):
         if kind not in self._kinds:

@@ -1024,11 +1024,12 @@ def test_synergies_beyond_their_limits_are_clipped_with_a_warning(ellipsoid):
     from synergrasp.planner.starts import preshape
 
     hand = SynergyHand.default()
-    with pytest.warns(UserWarning, match=r"pre-shape \[1000000.0, 0.5\] is outside the synergy limits.*clipped to "
-                                         r"\[1.0, 0.5\]"):
+    with pytest.warns(UserWarning, match=r"pre-shape's synergies \[1000000.0, 0.5\] are outside the synergy limits"
+                                         r".*clipped to \[1.0, 0.5\]"):
         np.testing.assert_array_equal(preshape(hand, (1e6, 0.5)), [1.0, 0.5])
     u0 = np.r_[near_start(hand, ellipsoid)[:6], 1e6, -1e6]
-    with pytest.warns(UserWarning, match=r"u0's synergies \[1000000.0, -1000000.0\] are outside their limits"):
+    with pytest.warns(UserWarning, match=r"u0's synergies \[1000000.0, -1000000.0\] are outside the synergy limits"
+                                         r".*clipped to \[1.0, -1.0\]"):
         wild = plan(ellipsoid, "precision", u0=u0, max_iter=15, executable_reach=False)
     tame = plan(ellipsoid, "precision", u0=np.r_[u0[:6], 1.0, -1.0], max_iter=15, executable_reach=False)
     np.testing.assert_array_equal(wild.trajectory, tame.trajectory)

@@ -25,7 +25,6 @@ from __future__ import annotations
 import itertools
 import os
 import time
-import warnings
 from dataclasses import replace
 from types import SimpleNamespace
 
@@ -103,13 +102,7 @@ def _given_start(u0, hand, obj):
     if far > MAX_START_DISTANCE:
         raise ValueError(f"u0 places the palm {far:.4g} mm from {obj.name}'s centre, farther than {MAX_START_DISTANCE:g} "
                          "mm (the largest start_distance): start the hand near the object (coordinates in mm)")
-    z, lo, hi = u0[6:], hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    if ((z < lo) | (z > hi)).any():
-        warnings.warn(f"u0's synergies {z.tolist()} are outside their limits {hand.synergy_limits.tolist()} of "
-                      f"{hand.name}: the plan starts from them clipped, {np.clip(z, lo, hi).tolist()}", UserWarning,
-                      stacklevel=3)
-        u0 = np.r_[u0[:6], np.clip(z, lo, hi)]
-    return u0
+    return np.r_[u0[:6], hand.clip_synergies(u0[6:], "u0's synergies")]
 
 
 def _options(method, options, values):

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -724,12 +723,7 @@ def preshape(hand, value):
         raise ValueError(f"a power pre-shape needs one value per synergy ({hand.n_syn} for {hand.name}), got {value!r}: "
                          f"give PlannerOptions' power_preshape and power_wide_preshape {hand.n_syn} values each, or "
                          "None (the mean pose, respectively cupped starts only); the defaults are for two synergies")
-    value = np.asarray(value, dtype=float)
-    lo, hi = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-    if ((value < lo) | (value > hi)).any():
-        warnings.warn(f"the power pre-shape {value.tolist()} is outside the synergy limits {hand.synergy_limits.tolist()} "
-                      f"of {hand.name}: clipped to {np.clip(value, lo, hi).tolist()}", UserWarning, stacklevel=3)
-    return np.clip(value, lo, hi)
+    return hand.clip_synergies(value, "the power pre-shape's synergies")
 
 
 def starts(hand, obj, grasp, options, *, backend="native"):
