@@ -89,7 +89,7 @@ def as_path(value, what: str) -> Path:
 def positive_scalar(value, name: str, maximum: float | None = None) -> float:
     """Validate a finite, strictly positive number (at most ``maximum`` if given)."""
     try:
-        if isinstance(value, (str, bytes, bool, np.bool_)):
+        if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
             raise TypeError(type(value).__name__)
         out = float(value)
     except (TypeError, ValueError) as exc:

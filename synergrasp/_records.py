@@ -51,7 +51,7 @@ def save_record(record, path, tag, arrays) -> Path:
     return Path(path)
 
 
-def load_record(cls, path, tag, arrays) -> dict:
+def load_record(cls, path, tag, arrays, optional=()) -> dict:
     """The fields of a dataclass saved by `save_record`.
 
     Parameters
@@ -61,6 +61,9 @@ def load_record(cls, path, tag, arrays) -> dict:
     tag : str
     arrays : dict of str to tuple
         The array fields and their shapes, as given to `save_record`.
+    optional : tuple of str
+        Fields a file may lack (written before they existed); they are left
+        out of the result, for their defaults.
 
     Returns
     -------
@@ -89,12 +92,12 @@ def load_record(cls, path, tag, arrays) -> dict:
     if not isinstance(data, dict) or data.pop("format", None) != tag:
         raise ValueError(f"{path} is not a saved synergrasp {name} (no \"format\": \"{tag}\")")
     names = [f.name for f in fields(cls)]
-    missing = [key for key in names if key not in data]
+    missing = [key for key in names if key not in data and key not in optional]
     if missing:
         raise ValueError(f"{path} lacks the fields {missing}")
     for key, shape in arrays.items():
         data[key] = _array(data[key], shape, f"{path}: field '{key}'")
-    return {k: data[k] for k in names}
+    return {k: data[k] for k in names if k in data}
 
 
 def _array(value, shape, where):

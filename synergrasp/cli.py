@@ -251,7 +251,8 @@ def build_parser() -> argparse.ArgumentParser:
         "Writes DIR/NAME_GRASP.json (the PlanResult, with its executable reach and the reach's clearance), the "
         "status figure, the poses figure, a GIF of the reach "
         "and an interactive 3-D page of the final grasp; NAME is the built-in's name or the file's stem and "
-        "extension (capsule.xyz: capsule_xyz), so inputs never share output files. Every file is written "
+        "extension (capsule.xyz: capsule_xyz), so inputs of different names never share output files (files of one "
+        "name in different folders do: give each its own --out). Every file is written "
         "to a temporary file first and then renamed. The output folder is checked before planning. "
         "A failed plan prints a table of its attempts and why each ended.",
         epilog=_epilog(),

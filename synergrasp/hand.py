@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import hashlib
 import itertools
 import json
 import math
@@ -43,6 +44,9 @@ from ._jit import kernel
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
 
 POINT_KINDS = ("precision", "power")
+#: Joint names a hand file may not use: the physics model (`synergrasp.physics`) names its palm and
+#: object bodies so.
+RESERVED_NAMES = ("palm", "object")
 #: Most points of a grid over the synergy box (`SynergyHand.synergy_grid`): the paper's hand's
 #: 41 x 41 grid fits, a hand with many synergies gets fewer values per synergy.
 SYNERGY_GRID_POINTS = 2000
@@ -193,6 +197,17 @@ class _Spec:
         return value
 
 
+def _plain(data):
+    """A deep copy of a hand definition with numpy arrays and numbers as JSON's lists and numbers."""
+    if isinstance(data, dict):
+        return {key: _plain(value) for key, value in data.items()}
+    if isinstance(data, (list, tuple)):
+        return [_plain(value) for value in data]
+    if isinstance(data, (np.ndarray, np.generic)):
+        return data.tolist()
+    return copy.deepcopy(data)
+
+
 class SynergyHand:
     """A synergy-controlled hand: kinematics, hand points and analytic Jacobians.
 
@@ -246,7 +261,7 @@ class SynergyHand:
     def __init__(self, data, source="<dict>"):
         """Build a hand from a parsed hand-file dictionary (see `from_file`)."""
         spec = _Spec(source)
-        self._data = copy.deepcopy(data)
+        self._data = _plain(data)
         self.source = str(source)
         if not isinstance(data, dict):
             spec.fail("<root>", "must be a JSON object")
@@ -336,6 +351,10 @@ class SynergyHand:
         for field, names in (("fingers[].name", self.finger_names), ("fingers[].joints[].name", self.joint_names)):
             if len(set(names)) != len(names):
                 spec.fail(field, "must be unique")
+        reserved = sorted(set(self.joint_names) & set(RESERVED_NAMES))
+        if reserved:
+            spec.fail("fingers[].joints[].name", f"must not be {' or '.join(map(repr, RESERVED_NAMES))} (the physics "
+                                                 f"model's palm and object bodies), got {reserved}: rename them")
 
         n_c, n_j = len(chains), max(len(c[3]) for c in chains)
         self._base_pos = np.array([c[1] for c in chains])                  # (n_c, 3)
@@ -497,6 +516,22 @@ class SynergyHand:
             raise ValueError(f"{path}: not valid JSON ({err})") from None
         return cls(data, source=path)
 
+    @property
+    def identity(self) -> str:
+        """str : The hand's name and a digest of its definition (``"name sha256:<16 hex digits>"``).
+
+        Two hands share it exactly when their definitions (`to_dict`) are equal; a `PlanResult`
+        records the identity of the hand it was planned with.
+
+        Examples
+        --------
+        >>> hand = SynergyHand.default()
+        >>> hand.identity.startswith(hand.name + " sha256:"), SynergyHand(hand.to_dict()).identity == hand.identity
+        (True, True)
+        """
+        text = json.dumps(self._data, sort_keys=True, separators=(",", ":"))
+        return f"{self.name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
+
     def to_dict(self):
         """A deep copy of the hand's definition, as read from its file (JSON-serialisable).
 
@@ -627,6 +662,28 @@ class SynergyHand:
             ``["T0", "I0", "M0", "R0", "L0"]`` or ``["T1", "T2", "T3", "I1", ..., "L3", "P"]``.
         """
         return list(self._check_kind(kind)[2])
+
+    def point_chains(self, kind):
+        """The finger (index into `finger_names`) of each hand point of a kind; -1 for the palm point.
+
+        Parameters
+        ----------
+        kind : {"precision", "power"}
+
+        Returns
+        -------
+        (n,) int
+            In the order of `point_labels`; labels are the finger's name and a
+            number, so a finger of any name is found by this, not by its label.
+
+        Examples
+        --------
+        >>> SynergyHand.default().point_chains("power")[[0, 3, -1]].tolist()
+        [0, 1, -1]
+        """
+        chains = self._check_kind(kind)[3][:, 0].copy()
+        chains[np.array(self._check_kind(kind)[2]) == "P"] = -1
+        return chains
 
     # ------------------------------------------------------------------ kinematics
 

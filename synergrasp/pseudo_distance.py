@@ -36,6 +36,9 @@ from .tolerances import DEGENERACY_TOL, VALUE_TOL
 
 #: Largest dimension d accepted (the penetration LP has (d+1)(d+2) rows).
 MAX_DIM = 1000
+#: Most nonzeros of the penetration LP (d+1 blocks of d + (na+nb)(d+1) entries each) that are built: about
+#: 0.2 GB with its indices, and tens of seconds to solve; larger sets are refused before anything is built.
+MAX_LP_ENTRIES = 10_000_000
 #: Point sets whose spread (half the largest side of their common bounding box) or offset (the
 #: largest coordinate of the box's centre) fall outside this range are solved translated to
 #: the box's centre and divided by their spread, so that the LPs' tolerances fit them; the
@@ -97,7 +100,8 @@ def check_simplex(simplex, d: int) -> np.ndarray:
     Q = as_points(simplex, "simplex", dim=d)
     if Q.shape[0] != d + 1:
         raise ValueError(f"simplex must have d+1 = {d + 1} vertices in R^{d}, got {Q.shape[0]}")
-    M = np.vstack([Q.T, np.ones(d + 1)])
+    top = float(np.abs(Q).max())
+    M = np.vstack([Q.T / (top if top > 0 else 1.0), np.ones(d + 1)])  # at unit size: the test does not depend on Q's
     if np.linalg.cond(M) > 1e12:
         raise ValueError("simplex is degenerate (its vertices lie in a hyperplane)")
     barycentric = np.linalg.solve(M, np.r_[np.zeros(d), 1.0])
@@ -180,11 +184,18 @@ class Optimum(NamedTuple):
     active: int
 
 
-def _degenerate(x, reduced, m) -> bool:
-    """Not a vertex optimum with exactly m positive primal and m zero reduced costs."""
-    positive = np.count_nonzero(x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max())))
+def _degenerate(x, reduced, m, columns=None) -> bool:
+    """Not a vertex optimum with exactly m positive primal and m zero reduced costs.
+
+    ``columns`` (m, n) float, optional: the LP's matrix, for a solution that need not be a vertex (an
+    interior-point solver's): its m positive columns must then also be independent (the weight of a point
+    repeated in A or B, split between its copies, is not a vertex either).
+    """
+    positive = x > DEGENERACY_TOL * max(1.0, float(np.abs(x).max()))
     tight = np.count_nonzero(np.abs(reduced) <= DEGENERACY_TOL)
-    return positive != m or tight != m
+    if np.count_nonzero(positive) != m or tight != m:
+        return True
+    return columns is not None and np.linalg.matrix_rank(columns[:, positive]) < m
 
 
 def _readonly(*arrays):
@@ -362,7 +373,10 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     if d > MAX_DIM:
         raise ValueError(f"A and B have points of dimension {d}; at most {MAX_DIM} is supported")
     Q = _regular_simplex(d) if simplex is None else check_simplex(simplex, d)
-    given = None if simplex is None else Q  # optimum's own default needs no check
+    # a given simplex is solved at about unit size, divided by a power of two (exactly), for the LPs' tolerances:
+    # the gauge of c Q is that of Q divided by c
+    size = 1.0 if simplex is None else 2.0 ** round(math.log2(float(np.abs(Q).max())))
+    given = None if simplex is None else Q / size  # optimum's own default needs no check
     lo, hi = np.minimum(A.min(axis=0), B.min(axis=0)), np.maximum(A.max(axis=0), B.max(axis=0))
     centre = 0.5 * lo + 0.5 * hi  # the bounding box's centre (no overflow near the largest floats)
     spread = float(np.max(0.5 * hi - 0.5 * lo))
@@ -371,14 +385,17 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
         unit = spread if spread > 0 else 1.0  # all points in one place: translated only
         opt = optimum((A - centre) / unit, (B - centre) / unit, simplex=given, backend=backend, checked=True)
         opt = opt._replace(value=opt.value * unit)
-        if not np.isfinite(opt.value):
-            raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
-                             f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}); rescale the data")
     else:
         opt = optimum(A, B, simplex=given, backend=backend, checked=True)
-    alpha, beta, dual = opt.alpha, opt.beta, opt.dual
+    with np.errstate(over="ignore"):
+        value = opt.value / size
+    if not np.isfinite(value):
+        raise ValueError(f"the pseudo-distance of A and B overflows the float range (coordinates up to "
+                         f"{max(np.abs(lo).max(), np.abs(hi).max()):.3g}"
+                         + ("" if simplex is None else f", simplex of size {size:.3g}") + "); rescale the data")
+    alpha, beta, dual = opt.alpha, opt.beta, opt.dual / size
     return PseudoDistance(
-        value=opt.value,
+        value=value,
         kind=opt.kind,
         grad_a=alpha[:, None] * -dual,
         grad_b=beta[:, None] * dual,
@@ -389,7 +406,7 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
         beta=beta,
         point_a=alpha @ A,
         point_b=beta @ B,
-        normal_b=_unit(dual),
+        normal_b=_unit(opt.dual),  # (the direction of the duals before the simplex's size divides them)
         active=opt.active,
     )
 
@@ -438,6 +455,11 @@ def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
         if A.shape[1] > MAX_DIM:
             raise ValueError(f"A and B have points of dimension {A.shape[1]}; at most {MAX_DIM} is supported")
     d = A.shape[1]
+    entries = (d + 1) * (d + (len(A) + len(B)) * (d + 1))
+    if entries > MAX_LP_ENTRIES:
+        raise ValueError(f"{len(A)} + {len(B)} points in {d} dimensions make a penetration LP of {entries:.3g} nonzeros, "
+                         f"more than the {MAX_LP_ENTRIES:.0e} synergrasp builds ({d + 1} blocks, each of all the points); "
+                         "use fewer points (their hulls' vertices are enough) or fewer dimensions")
     if simplex is None:
         Q, qmin = _regular_simplex(d), _min_vertex_norm(d)
     else:
@@ -483,7 +505,8 @@ def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
         return None
     x, y = sol.x, sol.y
     reduced = lay.sep_c - np.bincount(lay.sep_cols, weights=data * y[lay.sep_rows], minlength=len(lay.sep_c))
-    return Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2), solves, x[nq : nq + na],
+    columns = None if solver.vertex_solutions else G.toarray()
+    return Optimum(sol.objective, "separation", _degenerate(x, reduced, d + 2, columns), solves, x[nq : nq + na],
                     x[nq + na :], y[:d], -1)
 
 
@@ -508,5 +531,9 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     x, y = psol.x[k * nk : (k + 1) * nk], psol.y[k * mk : (k + 1) * mk]
     ties = np.count_nonzero(values >= values[k] - zero) > 1
     reduced = lay.block_c - np.bincount(lay.block_cols, weights=blocks[k] * y[lay.block_rows], minlength=nk)
-    return Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk), solves, x[1 : 1 + na],
+    columns = None
+    if not solver.vertex_solutions:
+        columns = np.zeros((mk, nk))
+        columns[lay.block_rows, lay.block_cols] = blocks[k]
+    return Optimum(float(values[k]), "penetration", ties or _degenerate(x, reduced, mk, columns), solves, x[1 : 1 + na],
                     x[1 + na :], -y[:d], k)

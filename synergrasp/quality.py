@@ -47,19 +47,22 @@ def _unit_normals(normals, n_points):
     normals = as_points(normals, "normals", dim=3)
     if len(normals) != n_points:
         raise ValueError(f"normals has {len(normals)} rows but points has {n_points}; give one normal per contact")
-    length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
-    huge = ~np.isfinite(length)  # the squares overflowed (entries beyond 1e154): divide by the largest first
-    if huge.any():
+    biggest = np.abs(normals).max(axis=1)
+    if not biggest.all():
+        raise ValueError(f"normals has zero-length rows {np.flatnonzero(biggest == 0).tolist()}; each contact needs a "
+                         "direction")
+    with np.errstate(over="ignore", under="ignore"):
+        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+    odd = ~(length >= 1e-150) | ~np.isfinite(length)  # the squares under- or overflowed: divide by the largest first
+    if odd.any():
         normals = normals.copy()
-        biggest = np.abs(normals[huge]).max(axis=1)
-        normals[huge] /= biggest[:, None]
-        length[huge] = np.sqrt(np.einsum("ij,ij->i", normals[huge], normals[huge]))
-        unit = normals / length[:, None]
+        normals[odd] /= biggest[odd, None]
+        scaled = np.sqrt(np.einsum("ij,ij->i", normals[odd], normals[odd]))
         with np.errstate(over="ignore"):
-            length[huge] *= biggest  # inf where beyond the float range: the gradient through it is 0
-        return unit, length
-    if length.min() < 1e-12:
-        raise ValueError(f"normals has zero-length rows {np.nonzero(length < 1e-12)[0].tolist()}; each contact needs a direction")
+            length[odd] = scaled * biggest[odd]  # inf beyond the float range: the gradient through it is 0
+        normals[odd] /= scaled[:, None]
+        normals[~odd] /= length[~odd, None]
+        return normals, length
     return normals / length[:, None], length
 
 
@@ -283,10 +286,11 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
         raise ValueError("the contacts' lever arms (points - center) overflow the float range: bring the points and the "
                          "centre nearer (the Q distance does not depend on where the object is)")
     if center is None and len(points) > 1:
-        middle = points.mean(axis=0)
-        spread = float(np.linalg.norm(points - middle, axis=1).max())
-        if np.linalg.norm(middle) > max(FAR_CENTER, FAR_RATIO * spread):
-            warnings.warn(f"the torques are taken about the origin, {np.linalg.norm(middle):.3g} from the contacts, which "
+        middle = points.mean(axis=0) if np.isfinite(points.sum()) else (points / len(points)).sum(axis=0)
+        with np.errstate(over="ignore"):
+            spread, far = _largest_arm(points - middle), _largest_arm(middle[None])  # (their squares may overflow)
+        if far > max(FAR_CENTER, FAR_RATIO * spread):
+            warnings.warn(f"the torques are taken about the origin, {far:.3g} from the contacts, which "
                           f"lie within {spread:.3g} of each other: Q then measures little more than the forces. Pass "
                           "center= (the object's centre, e.g. obj.center)", UserWarning, stacklevel=3)
     reach = _largest_arm(arm)  # the default torque scale

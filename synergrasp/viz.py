@@ -26,6 +26,15 @@ __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "stat
 
 _FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
 _FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
+#: Colours of a hand's fingers, in the order of `SynergyHand.finger_names` (cycled beyond them): the paper
+#: hand's thumb to little finger get ``_FINGER_COLORS``'.
+_CHAIN_COLORS = ["tab:red", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:blue", "tab:pink", "tab:olive",
+                 "tab:cyan"]
+
+
+def _segment_colors(hand):
+    """The colour of each phalanx of ``hand`` (`SynergyHand.segments` order), by its finger."""
+    return [_CHAIN_COLORS[c % len(_CHAIN_COLORS)] for c in hand.point_chains("power")[:-1]]
 
 
 def plot_status(result, path, labels=None, attempts=None):
@@ -104,7 +113,9 @@ def status_figure(result, labels=None, attempts=None):
     Raises
     ------
     ValueError
-        If ``attempts`` is not "all", "last" or None.
+        If ``attempts`` is not "all", "last" or None, or without ``labels``
+        for a result of another hand than the paper's (`PlanResult.hand`), or
+        with more labels than the status has cP rows.
 
     Examples
     --------
@@ -121,7 +132,15 @@ def status_figure(result, labels=None, attempts=None):
     _check(result=result)
     if attempts not in (None, "all", "last"):
         raise ValueError(f"attempts must be 'all', 'last' or None, got {attempts!r}")
-    labels = labels or SynergyHand.default().point_labels(result.grasp)
+    if labels is None:
+        paper = SynergyHand.default()
+        if result.hand and result.hand != paper.identity:
+            raise ValueError(f"the result was planned with hand {result.hand!r}, whose status rows are not the paper "
+                             "hand's: pass labels=hand.point_labels(result.grasp) of that hand")
+        labels = paper.point_labels(result.grasp)
+    if len(labels) >= np.shape(result.status)[1]:
+        raise ValueError(f"{len(labels)} labels for the {np.shape(result.status)[1] - 1} cP rows of the result's status: "
+                         "pass the planning hand's hand.point_labels(result.grasp)")
     traces = [a["status"] for a in result.attempts if "status" in a]
     if attempts is None:
         attempts = "last" if result.success else "all"
@@ -232,8 +251,8 @@ def _draw_object(ax, obj):
 def _draw_hand(ax, hand, u, alpha=1.0, lw=4.0):
     geo = hand.segments(u)
     artists = []
-    for (a, b), label in zip(geo.capsules, geo.labels):
-        artists += ax.plot(*np.c_[a, b], color=_FINGER_COLORS[label[0]], lw=lw, alpha=alpha, solid_capstyle="round")
+    for (a, b), color in zip(geo.capsules, _segment_colors(hand)):
+        artists += ax.plot(*np.c_[a, b], color=color, lw=lw, alpha=alpha, solid_capstyle="round")
     corners = geo.palm_corners
     top = corners[[0, 1, 3, 2, 0]] if len(corners) == 8 else corners
     artists += ax.plot(*top.T, color="k", lw=1.0, alpha=alpha)
@@ -309,9 +328,8 @@ def plot_poses(result, obj, hand, path, count=5):
     _frame_axes(ax, obj, np.vstack(points))
     ax.set_title(f"{result.object_name}, {result.grasp}: iterations {', '.join(map(str, picks))}\n"
                  "(fainter: earlier; the final pose is drawn thickest)", fontsize=10)
-    fingers = [f for f in _FINGER_NAMES if f != "P" and f in {label[0] for label in hand.segments(traj[-1]).labels}]
-    handles = [plt.Line2D([], [], color=_FINGER_COLORS[f], lw=4) for f in fingers]
-    names = [_FINGER_NAMES[f] for f in fingers]
+    handles = [plt.Line2D([], [], color=_CHAIN_COLORS[c % len(_CHAIN_COLORS)], lw=4) for c in range(len(hand.finger_names))]
+    names = [_FINGER_NAMES.get(f, f) for f in hand.finger_names]
     handles.append(plt.Line2D([], [], color="k", lw=1))
     names.append("palm")
     if len(result.contact_points):
@@ -485,11 +503,11 @@ def scene(obj, hand, u):
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
     geo = hand.segments(u)
-    for (a, b), label in zip(geo.capsules, geo.labels):
+    for (a, b), color in zip(geo.capsules, _segment_colors(hand)):
         capsule = trimesh.creation.capsule(height=float(np.linalg.norm(b - a)), radius=geo.radius, count=[12, 12])
         capsule.apply_transform(trimesh.geometry.align_vectors([0, 0, 1], b - a))
         capsule.apply_translation((a + b) / 2)
-        capsule.visual.face_colors = (np.array(matplotlib.colors.to_rgba(_FINGER_COLORS[label[0]])) * 255).astype(int)
+        capsule.visual.face_colors = (np.array(matplotlib.colors.to_rgba(color)) * 255).astype(int)
         meshes.append(capsule)
     palm = trimesh.creation.box(extents=2 * geo.palm_half_extents)
     transform = np.eye(4)

@@ -60,7 +60,8 @@ def cli_reference() -> str:
     lines += [
         "## Output files of `plan`", "",
         "`NAME` is the built-in's name, or the file's stem and extension (`scans/capsule.xyz` gives `capsule_xyz`), "
-        "so two inputs never write to the same files; `GRASP` is `precision` or `power`.", "",
+        "so two inputs of different names never write to the same files (files of one name in different folders "
+        "do: give each its own `--out`); `GRASP` is `precision` or `power`.", "",
         "| file | content |", "|---|---|",
         "| `NAME_GRASP.json` | the `PlanResult`, with the executable reach (read it back with `sg.PlanResult.load`) |",
         "| `NAME_GRASP_status.png` | the status vector against iterations; for a failed plan every attempt, one after another; "

@@ -86,6 +86,8 @@ def test_expand_names_files_and_folders(tmp_path):
     assert tasks[2].source == str((tmp_path / "ball.ply").resolve())
     assert tasks[6].source == str((folder / "kitchen" / "mug.obj").resolve())
     assert expand("teapot")[0].source == "teapot"  # kept as given: its load fails on a worker
+    with pytest.raises(TypeError, match="a built-in name or a path, got bytes"):  # (its bytes were taken one by one)
+        expand(b"cup")
 
 
 def test_expand_warns_of_an_empty_folder(tmp_path):

@@ -258,3 +258,15 @@ def test_parts_quick(tmp_path, capsys):
         assert [w["fingerprint"] for w in csv.DictReader(fh)] == [r[3] for r in rows]
     assert [r[3] for r in bench_parts.main(["--quick", "--out", str(tmp_path)])] == [r[3] for r in rows]
     assert "ms per iteration" in capsys.readouterr().out
+
+
+def test_one_sided_quick(tmp_path, capsys):
+    """The whole cloud of the first train object is not warned of, its camera view is, and rows go under --out."""
+    from benchmarks import one_sided
+
+    rows = one_sided.main(["--quick", "--out", str(tmp_path)])
+    written = [json.loads(line) for line in (tmp_path / "one_sided_train.jsonl").read_text().splitlines()]
+    assert written == rows and [r["cloud"] for r in rows] == ["whole", "view 1"]
+    assert rows[0]["net"] < 0.1 and not rows[0]["warned"]
+    assert rows[1]["net"] > 0.3 and rows[1]["warned"]
+    assert "camera views: 1, warned as seen from one side 1" in capsys.readouterr().out

@@ -299,6 +299,8 @@ def test_missing_field_is_named(hand, tmp_path, field, path):
     (lambda d: d["fingers"][0]["joints"][0].update(axis=[0, 0, 0]), "fingers[0].joints[0].axis"),
     (lambda d: d["fingers"][1]["joints"][1].update(coupling={"X_mcp": 1.0}), "fingers[1].joints[1].coupling.X_mcp"),
     (lambda d: d["palm"].update(size="big"), "palm.size"),
+    (lambda d: d["fingers"][4]["joints"][1].update(name="palm"), "fingers[].joints[].name"),  # the physics' body
+    (lambda d: d["fingers"][4]["joints"][1].update(name="object"), "fingers[].joints[].name"),
 ])
 def test_malformed_field_is_named(hand, tmp_path, edit, field):
     data = hand.to_dict()
@@ -419,3 +421,45 @@ def test_a_hand_of_ten_synergies_plans(hand):
     with pytest.raises(ValueError, match="power_preshape and power_wide_preshape 10 values each, or None"):
         sg.plan("ellipsoid", "power", hand=many)
     assert sg.plan("ellipsoid", "power", hand=many, power_preshape=None, power_wide_preshape=None).success
+
+
+def test_fingers_of_any_names_plan_and_draw(hand, tmp_path):
+    """Finger names longer than a letter ('Th', ...): the planner found a finger's rows by its labels' first letter
+    (precision plans failed), the figures its colour (KeyError); the rows and colours now follow the fingers."""
+    import synergrasp as sg
+    from synergrasp import viz
+    from synergrasp.planner import status_rows
+
+    data = hand.to_dict()
+    for finger, name in zip(data["fingers"], ["Th", "In", "Mi", "Ri", "Li"]):
+        finger["name"] = name
+    named = SynergyHand(data)
+    assert named.point_chains("precision").tolist() == hand.point_chains("precision").tolist() == [0, 1, 2, 3, 4]
+    for kind in ("precision", "power"):
+        labels, contact, rows = status_rows(named, kind)
+        paper_labels, paper_contact, paper_rows = status_rows(hand, kind)
+        assert [lab.replace("Th", "T").replace("In", "I").replace("Mi", "M").replace("Ri", "R").replace("Li", "L")
+                for lab in labels] == paper_labels
+        assert contact.tolist() == paper_contact.tolist() and rows.tolist() == paper_rows.tolist()
+    obj = sg.objects.ellipsoid()
+    result = sg.plan(obj, "precision", hand=named)
+    assert result.success and result.hand == named.identity
+    assert sg.plan(obj, "precision", method="annealing", hand=named, steps=20).trajectory.shape[1] == 8
+    assert viz.plot_poses(result, obj, named, tmp_path / "poses.png").stat().st_size > 0
+    assert len(viz.scene(obj, named, result.u).geometry) == 17
+    with pytest.raises(ValueError, match="planned with hand .* pass labels=hand.point_labels"):
+        viz.plot_status(result, tmp_path / "status.png")
+    assert viz.plot_status(result, tmp_path / "status.png", labels=named.point_labels("precision")).exists()
+
+
+def test_a_hand_given_numpy_arrays_is_json_and_plans(hand):
+    """Synergies from a PCA come as arrays: to_dict() is JSON (a plan's per-hand cache dumps it), the same hand."""
+    import synergrasp as sg
+
+    data = hand.to_dict()
+    data["synergies"] = np.array(data["synergies"])
+    data["finger_radius"] = np.float64(data["finger_radius"])
+    from_arrays = SynergyHand(data)
+    assert json.loads(json.dumps(from_arrays.to_dict())) == hand.to_dict()
+    assert from_arrays.identity == hand.identity
+    assert sg.plan("ellipsoid", "precision", hand=from_arrays, max_iter=5).iterations == 5

@@ -65,6 +65,53 @@ def test_infeasible_and_unbounded_are_statuses(backend):
     assert unbounded.status == "unbounded"
 
 
+def test_an_infeasible_block_makes_the_lp_infeasible_beside_an_unbounded_column(backend):
+    """x0 = -1 has no solution with x0 >= 0; the free column x1 of negative cost must not make it 'unbounded'."""
+    assert sg.lp.get_backend(backend).solve([0.0, -1.0], [[1.0, 0.0]], [-1.0]).status == "infeasible"
+
+
+@pytest.mark.parametrize("indptr, indices, shape, match", [
+    ([0, 1, 2], [0, 5], (1, 2), "indices of shape \\(2,\\) from 0 to 5"),  # a row outside the matrix
+    ([0, 1], [0, 0], (1, 2), "indptr must be n \\+ 1 = 3"),
+    ([0, 2, 1], [0, 0], (1, 2), "non-decreasing"),
+    ([1, 1, 2], [0, 0], (1, 2), "from 1 to 2"),
+    ([0, 1, 2], [0, -1], (1, 2), "from -1 to 0"),
+    ([0.0, 1.0, 2.0], [0, 0], (1, 2), "integer indptr"),
+])
+def test_malformed_csc_is_refused_before_any_solver_sees_it(backend, indptr, indices, shape, match):
+    """A row index outside the matrix crashed the native backend's kernel (a segmentation fault)."""
+    A = CSC(np.asarray(indptr), np.asarray(indices), np.array([1.0, 1.0]), shape)
+    with pytest.raises(ValueError, match="CSC.*" + match if "integer" in match else match):
+        sg.lp.get_backend(backend).solve([1.0, 1.0], A, [1.0])
+
+
+def test_csc_of_lists_and_int64_indices_is_solved(backend):
+    A = CSC([0, 1, 2], np.array([0, 0], dtype=np.int64), [2.0, 3.0], (1, 2))
+    assert sg.lp.get_backend(backend).solve([1.0, 1.0], A, [6.0]).objective == pytest.approx(2.0, abs=1e-7)
+
+
+def test_a_solver_panic_becomes_failed_status_and_an_interrupt_is_not_caught(backend, monkeypatch):
+    """A Rust panic (clarabel's pyo3 PanicException) derives from BaseException, not Exception."""
+    be = sg.lp.get_backend(backend)
+
+    class PanicException(BaseException):
+        pass
+
+    def panic(c, A, b):
+        raise PanicException("index out of bounds")
+
+    monkeypatch.setattr(be, "_solve", panic)
+    sol = be.solve([1.0], [[1.0]], [1.0])
+    assert sol.status == "failed" and "PanicException: index out of bounds" in sol.message
+
+    def interrupt(c, A, b):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(be, "_solve", interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        be.solve([1.0], [[1.0]], [1.0])
+
+
 def test_solver_exception_becomes_failed_status(backend, monkeypatch):
     be = sg.lp.get_backend(backend)
 

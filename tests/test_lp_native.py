@@ -92,6 +92,12 @@ def test_one_bad_block_decides_the_status():
     A = [[1.0, -1.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0]]
     assert native.solve([1.0, 1.0, -1.0, 0.0], A, [1.0, 0.0]).status == "unbounded"
     assert native.solve(*good).status == "optimal"
+    # an infeasible block wins over an unbounded one, whichever comes first, and over a free column of negative cost
+    A = [[1.0, -1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 1.0]]
+    for b in ([-1.0, 0.0, -1.0], [1.0, 0.0, -1.0]):
+        assert native.solve([-1.0, 0.0, 0.0, 0.0, 1.0], A, b).status == "infeasible"
+        assert native.solve([0.0, 0.0, -1.0, 0.0, 1.0], A, b).status == "infeasible"
+    assert native.solve([0.0, -1.0, 0.0], [[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]], [-1.0, 1.0]).status == "infeasible"
 
 
 def test_empty_rows_and_columns():

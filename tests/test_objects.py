@@ -120,6 +120,19 @@ def test_revolve_cuts_at_convex_kinks():
         so.revolve([[10, 0], [-1, 5], [10, 10]])
 
 
+def test_a_tolerance_finer_than_the_shapes_are_built_to_is_refused():
+    """revolve(tolerance=1e-9) ran for over ten minutes (a ring of millions of sides); the ellipsoid stopped at its
+    finest polytope without saying that the tolerance was not met."""
+    spool = [[30.0, 0.0], [20.0, 50.0], [30.0, 100.0]]
+    with pytest.raises(ValueError, match=r"tolerance 1e-09 mm is finer .* largest radius \(30 mm\), 0.003 mm"):
+        so.revolve(spool, tolerance=1e-9)
+    with pytest.raises(ValueError, match=r"largest semi-axis \(50 mm\), 0.005 mm"):
+        so.ellipsoid(tolerance=0.004)
+    finest = so.ellipsoid(tolerance=so.MIN_TOLERANCE * 50.0)  # the finest accepted is met
+    assert finest.info["max_gap"] <= so.MIN_TOLERANCE * 50.0
+    assert so.revolve(spool, tolerance=so.MIN_TOLERANCE * 30.0).info["ring_sides"] <= 300
+
+
 def test_transformed(goblet):
     R = np.array([[0, -1, 0], [1, 0, 0], [0, 0, 1.0]])
     M = np.eye(4)

@@ -372,6 +372,41 @@ def test_a_random_sample_of_a_surface_has_no_strays(count):
         assert obj.n_pieces == 1 and obj.extents == pytest.approx([60.0, 60.0, 60.0], abs=6.0)
 
 
+def camera_view(mesh, direction, pixels=120):
+    """The first hits of a square grid of rays from a camera 3 sizes away along ``direction``: one view of ``mesh``."""
+    v = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    centre, size = mesh.bounds.mean(axis=0), float(np.ptp(mesh.bounds, axis=0).max())
+    eye = centre + 3.0 * size * v
+    a = np.cross(v, [0.3, 0.5, 0.8])
+    a /= np.linalg.norm(a)
+    grid = np.linspace(-0.7, 0.7, pixels) * size
+    s, t = (x.ravel()[:, None] for x in np.meshgrid(grid, grid))
+    rays = centre + s * a + t * np.cross(v, a) - eye
+    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+    return mesh.ray.intersects_location(np.repeat(eye[None], len(rays), axis=0), rays, multiple_hits=False)[0]
+
+
+@pytest.mark.parametrize("direction", [(1.0, 0.2, 0.3), (0.39, -0.88, 0.26)])
+def test_a_cloud_seen_from_one_side_is_closed_by_its_hull_with_a_warning(direction):
+    """One camera view of a cylinder: its voxels enclose nothing and some of its k-means clusters were flat (dropped,
+    so the load failed with "give the points in the pieces' units"); it is the hull of the points, flat behind them,
+    with a warning that names the side seen. The whole cylinder's cloud gets no warning."""
+    cylinder = trimesh.creation.cylinder(radius=30.0, height=90.0, sections=64)
+    points = camera_view(cylinder, direction)
+    with pytest.warns(UserWarning, match=r"seems to be seen from one side: .* mean is 0\.[4-9][0-9] long, toward "
+                                         r"\(0\.[0-9]+, -?0\.[0-9]+, 0\.[0-9]+\).* scan the object from several sides"):
+        obj = so.from_points(points, cache=False)
+    assert obj.info["method"] == "hull of a cloud seen from one side" and obj.n_pieces == 1
+    assert obj.index.min_plane_bound(points).max() < 1.0  # the hull, of 256 vertices at most, covers the view
+    toward = obj.point_surface.net_normal(obj.contains)
+    assert np.dot(toward / np.linalg.norm(toward), direction) > 0.8 * np.linalg.norm(direction)  # the camera's side
+    whole = trimesh.sample.sample_surface(cylinder, 3000, seed=0)[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        obj = so.from_points(whole, cache=False)
+    assert np.linalg.norm(obj.point_surface.net_normal(obj.contains)) < 0.02
+
+
 def test_open_box_cloud_is_the_whole_box():
     """The cloud of a box without its lid: the opening is closed across, the solid is the box."""
     mesh = open_box()
@@ -391,6 +426,26 @@ def test_mesh_that_cannot_be_capped_is_closed_on_a_voxel_grid():
     assert obj.contains([[0.0, 0.0, 0.0], [40.0, 40.0, 0.0], [0.0, 0.0, 15.0]]).all()  # the open boxes are filled
     assert not obj.contains([[40.0, 0.0, 0.0], [0.0, 40.0, 0.0]]).any()  # the empty quadrants stay empty
     assert obj.info["repair"]["filled_volume"] == pytest.approx(2 * 40.0**3, rel=0.25)
+
+
+def test_a_large_mesh_that_cannot_be_capped_is_named_as_slow_to_plan():
+    """A fine open scan cannot be simplified for the planner's tests (only a closed mesh is): the warning says so,
+    with what to do; a small one's warning does not."""
+    torus = trimesh.creation.torus(major_radius=40.0, minor_radius=15.0, major_sections=220, minor_sections=60)
+    first = torus.faces[0]
+    touching = next(i for i in range(1, len(torus.faces)) if len(set(torus.faces[i]) & set(first)) == 1)
+    keep = np.ones(len(torus.faces), dtype=bool)
+    keep[[0, touching]] = False  # two holes that touch at a vertex: not cappable
+    torus.update_faces(keep)
+    with pytest.warns(UserWarning, match=r"two holes touch at vertex .* Its 26398 faces cannot be simplified either "
+                                         r".* decimate the mesh first, to about 20000 faces"):
+        so.from_mesh(torus, name="open torus", cache=False)
+    a, b = open_box((40.0, 40.0, 40.0)), open_box((40.0, 40.0, 40.0))
+    b.apply_translation([40.0, 40.0, 0.0])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        so.from_mesh(trimesh.util.concatenate([a, b]), name="two boxes", cache=False)
+    assert not any("simplified" in str(w.message) for w in caught)
 
 
 def test_open_surface_that_encloses_nothing_is_refused():

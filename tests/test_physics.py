@@ -244,6 +244,27 @@ def test_result_of_another_object_or_hand_is_refused(pinch):
         validate(pinch_result(u, box, labels=("X0", "I0")), box)
 
 
+
+def test_result_of_a_hand_of_the_same_shape_but_other_lengths_is_refused(pinch):
+    """Fingers 30 % longer, the same joints and labels: only the hand's identity the result records tells."""
+    u, box = pinch
+    data = HAND.to_dict()
+    data["name"] = "long fingers"
+    for finger in data["fingers"]:
+        for joint in finger["joints"]:
+            joint["length"] *= 1.3
+    long_hand = sg.SynergyHand(data)
+    result = pinch_result(u, box)
+    result.hand = long_hand.identity
+    with pytest.raises(ValueError, match=r"planned with hand 'long fingers sha256:[0-9a-f]{16}', not with this hand "
+                                         r"'paper_hand sha256:"):
+        validate(result, box)
+    result.hand = HAND.identity
+    assert validate(result, box).held
+    result.hand = ""  # a result saved before results recorded their hand: not checked
+    assert validate(result, box).held
+
+
 def test_configuration_away_from_the_object_is_refused(pinch):
     u, box = pinch
     with pytest.raises(ValueError, match="no hand point is within 5 mm"):
@@ -347,6 +368,27 @@ def test_protocol_settings_round_trip():
 def test_figure_shows_each_direction(pinch_check, tmp_path):
     path = plot_validation(pinch_check, tmp_path / "v.png")
     assert path.stat().st_size > 10_000
+
+
+def test_figure_of_a_protocol_without_a_threshold_is_drawn(pinch, tmp_path):
+    """A threshold of inf (no such check) is the protocol's own; the figure scaled its bars by it and failed inside
+    matplotlib (leaving its figure open)."""
+    import matplotlib.pyplot as plt
+
+    open_before = len(plt.get_fignums())
+    check = validate(*pinch, max_rotation=np.inf, max_displacement=np.inf)
+    assert check.held and plot_validation(check, tmp_path / "v.png").stat().st_size > 10_000
+    assert len(plt.get_fignums()) == open_before
+
+
+def test_joint_names_with_xml_characters_are_simulated(pinch):
+    """Names go into the MuJoCo model's XML: quoted, so a hand's names are its own (the parser failed on a quote)."""
+    u, box = pinch
+    data = HAND.to_dict()
+    data["fingers"][4]["joints"][1]["name"] = 'L "pip" <&>'
+    hand = sg.SynergyHand(data)
+    check = validate(u, box, hand=hand)
+    assert check.held and 'L "pip" <&>' in check.joint_angles
 
 
 def test_figures_refuse_what_they_cannot_draw(pinch, pinch_check, tmp_path):

@@ -124,6 +124,7 @@ def test_the_status_figure_of_a_failed_plan_shows_every_attempt(failed_plan):
     ("reason", None, "field 'reason' must be a string"),
     ("grasp", "pinch", "field 'grasp' must be 'precision' or 'power'"),
     ("object_name", ["x"], "field 'object_name' must be a string"),
+    ("hand", 7, "field 'hand' must be a string"),
     ("options", [], "field 'options' must be an object"),
     ("attempts", {}, "field 'attempts' must be a list"),
     ("attempts", [3], "field 'attempts\\[0\\]' must be an object"),
@@ -154,6 +155,15 @@ def test_load_names_the_file_for_missing_fields_and_bad_files(saved, tmp_path):
         sg.PlanResult.load(path)
     with pytest.raises(FileNotFoundError, match="missing.json"):
         sg.PlanResult.load(tmp_path / "missing.json")
+
+
+def test_a_result_records_its_hand_and_a_file_without_it_loads(failed_plan, saved):
+    path, data = saved
+    assert failed_plan.hand == data["hand"] == sg.SynergyHand.default().identity
+    assert sg.PlanResult.load(path).hand == failed_plan.hand
+    del data["hand"]  # a file saved before results recorded their hand
+    path.write_text(json.dumps(data))
+    assert sg.PlanResult.load(path).hand == ""
 
 
 def test_writes_are_atomic(failed_plan, tmp_path, monkeypatch):

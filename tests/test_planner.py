@@ -961,7 +961,7 @@ def test_save_load_round_trip(goblet_plan, tmp_path):
         np.testing.assert_array_equal(getattr(back, name), getattr(goblet_plan, name))
     assert back.surface_q == goblet_plan.surface_q
     others = ("success", "reason", "iterations", "contact_labels", "penetration", "time_s", "lp_solves", "backend", "options",
-              "attempts", "grasp", "object_name", "collision_free", "reach", "held")
+              "attempts", "grasp", "object_name", "hand", "collision_free", "reach", "held")
     for name in others:
         assert getattr(back, name) == getattr(goblet_plan, name)
     assert set(arrays + others + ("surface_q",)) == set(PlanResult.__dataclass_fields__)  # every field is checked

@@ -67,6 +67,41 @@ def test_scaling_the_simplex_divides_the_value(backend, rng):
         assert sg.pseudo_distance(A, B2, simplex=3.0 * Q, backend=backend).value == pytest.approx(base / 3.0, abs=1e-8)
 
 
+@pytest.mark.parametrize("c", [1e-12, 1e-3, 1e9, 1e13, 1e300])
+def test_a_simplex_of_any_size_divides_the_value_solved_cold(backend, c):
+    """At 1e9 the LPs' tolerances did not fit the simplex: wrong values that depended on the warm start (the
+    value after a call at size 1 was right); at 1e-12 a regular simplex was refused as degenerate."""
+    from synergrasp.pseudo_distance import reset_regime_memory
+
+    Q = sg.regular_simplex(2)
+    for A, B, expected in (([[0.0, 0.0], [1.0, 0.0]], [[3.0, 0.0]], 2.0 * np.sqrt(3.0)),  # apart: the gauge of (2, 0)
+                           ([[0.0, 0.0], [4.0, 0.0], [2.0, 4.0]], [[2.0, 1.0]], None)):  # overlapping
+        reset_regime_memory()
+        base = sg.pseudo_distance(A, B, backend=backend)
+        sg.lp.get_backend(backend).forget()
+        reset_regime_memory()
+        scaled = sg.pseudo_distance(A, B, simplex=c * Q, backend=backend)
+        assert scaled.kind == base.kind
+        assert scaled.value * c == pytest.approx(base.value if expected is None else expected, rel=1e-7)
+        assert np.allclose(scaled.grad_a * c, base.grad_a, atol=1e-6)
+        assert np.allclose(scaled.grad_b * c, base.grad_b, atol=1e-6)
+        assert np.allclose(scaled.normal_b, base.normal_b, atol=1e-6)
+
+
+def test_a_repeated_vertex_is_degenerate_on_every_backend(backend):
+    """An interior-point solver splits the weight between a point's two copies: as many positive weights as
+    rows, but not a vertex of the LP (moving one copy toward B changes the value, away from it does not)."""
+    r = sg.pseudo_distance([[0.0, 0.0], [0.0, 0.0]], [[1.0, -3.0]], backend=backend)
+    single = sg.pseudo_distance([[0.0, 0.0]], [[1.0, -3.0]], backend=backend)
+    assert r.value == pytest.approx(single.value, abs=1e-7) and r.degenerate and not single.degenerate
+
+
+def test_sets_too_large_for_the_penetration_lp_are_refused_before_it_is_built():
+    rng = np.random.default_rng(0)
+    with pytest.raises(ValueError, match=r"301 \+ 301 points in 300 dimensions make a penetration LP of 5.46e\+07"):
+        sg.pseudo_distance(rng.normal(size=(301, 300)), rng.normal(size=(301, 300)))
+
+
 def test_continuity_across_touching(backend):
     cube = np.array(np.meshgrid([0, 1], [0, 1], [0, 1])).reshape(3, -1).T.astype(float)
     values = []
@@ -256,8 +291,11 @@ def test_the_value_is_accurate_to_round_off_of_the_extent(extent, backend):
     """Two segments of length ``extent`` on a line, their ends 1 apart, solved cold: the value is sqrt(3) (the regular
     simplex's gauge along the line) to 1e-9 of the extent up to 1e6; at 1e10, where the gap is 1e-10 of the extent,
     it reads as touching (0) or comes out right, or a backend that cannot solve it says so: never another number."""
+    from synergrasp.pseudo_distance import reset_regime_memory
+
     solver = sg.lp.get_backend(backend)
     solver.forget()  # a cold start (a warm one can resolve a gap a cold one reads as 0)
+    reset_regime_memory()  # (the separation LP first, whatever the tests before solved)
     try:
         value = sg.pseudo_distance([[0.0, 0.0], [extent, 0.0]], [[-extent, 0.0], [-1.0, 0.0]], backend=solver).value
     except sg.lp.LPError:

@@ -174,6 +174,7 @@ def test_force_closure_agrees_with_convex_hull():
     "kwargs, error, match",
     [
         ({"normals": [[0, 0, 0.0], [0, 0, 1.0]]}, ValueError, "zero-length rows \\[0\\]"),
+        ({"normals": [[0, 0, -1e200], [0, 0, 0.0]]}, ValueError, "zero-length rows \\[1\\]"),  # beside a huge one
         ({"normals": [[0, 0, 1.0]]}, ValueError, "one normal per contact"),
         ({"points": [[0, 0, np.nan], [1, 0, 0]]}, ValueError, "points contains NaN"),
         ({"points": [[0, 0], [1, 0]]}, ValueError, "dimension 2, expected 3"),
@@ -233,3 +234,20 @@ def test_contacts_far_from_the_default_centre_are_warned_of():
     with pytest.warns(UserWarning, match=r"torques are taken about the origin.*Pass center="):
         far = sg.q_distance(p + 1e4, n).value
     assert centred == pytest.approx(near, abs=1e-9) and abs(far) < 0.01 * abs(near)
+    with warnings.catch_warnings(record=True) as caught:  # also where the distance's square overflows: no
+        warnings.simplefilter("always")                   # overflow warning of numpy's, the library's own instead
+        sg.q_distance(p * 1e199 + 1e202, n)
+    assert [str(w.message)[:49] for w in caught] == ["the torques are taken about the origin, 1.74e+202"]
+
+
+def test_normals_of_any_length_give_the_same_q(backend):
+    """The normals are normalised: tiny (1e-13 was refused as zero-length) or huge, the same Q and the same
+    derivative along the unit normal."""
+    P, N = sphere_grasp(np.random.default_rng(1), 5)
+    base = sg.q_distance(P, N, backend=backend)
+    for scale in (1e-200, 1e-13, 1e200):
+        r = sg.q_distance(P, N * scale, backend=backend)
+        assert r.value == pytest.approx(base.value, abs=1e-9)
+        assert np.allclose(r.grad_normals * scale, base.grad_normals, atol=1e-7)
+    contacts = sg.contact_wrenches(P, np.vstack([N[:1] * 1e-200, N[1:] * 1e200]))
+    assert np.allclose(contacts, sg.contact_wrenches(P, N), atol=1e-12)

@@ -76,7 +76,7 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
     >>> [(t.key, t.grasp) for t in expand(["ellipsoid", "cup"], ["precision", "power"])]
     [('ellipsoid', 'precision'), ('ellipsoid', 'power'), ('cup', 'precision'), ('cup', 'power')]
     """
-    if isinstance(objects, (str, os.PathLike)):
+    if isinstance(objects, (str, os.PathLike, bytes)):  # (bytes: one object, refused by name below)
         objects = [objects]
     grasps = [grasps] if isinstance(grasps, str) else list(grasps)
     bad = [g for g in grasps if g not in GRASPS]

@@ -159,12 +159,15 @@ class Backend:
             c = np.ascontiguousarray(c, dtype=float)
             b = np.ascontiguousarray(b, dtype=float)
             if isinstance(A, CSC):
+                A = A._replace(data=np.ascontiguousarray(A.data, dtype=float))
                 values = A.data
             else:
                 A = np.ascontiguousarray(A, dtype=float)
                 values = A
         except (TypeError, ValueError):
             raise TypeError("LP data c, A and b must be numeric arrays (A may be a synergrasp.lp.CSC)") from None
+        if isinstance(A, CSC):
+            A = _checked_csc(A)
         if A.ndim != 2 or c.shape != (A.shape[1],) or b.shape != (A.shape[0],):
             raise ValueError(
                 f"LP data of mismatched shapes: c {c.shape}, A {A.shape}, b {b.shape}; "
@@ -184,7 +187,9 @@ class Backend:
                 status, x, y, iterations, message = self._solve(c, A, b, basic=hint)
             else:
                 status, x, y, iterations, message = self._solve(c, A, b)
-        except Exception as exc:  # a solver's own failure becomes a status
+        except (KeyboardInterrupt, SystemExit, GeneratorExit):
+            raise
+        except BaseException as exc:  # a solver's own failure becomes a status (a Rust panic is a BaseException)
             status, x, y, iterations, message = "failed", None, None, -1, f"{type(exc).__name__}: {exc}"
         elapsed = time.perf_counter() - start
         if status == "optimal":
@@ -215,8 +220,31 @@ def _hint(basic, n):
     return hint
 
 
+def _checked_csc(A: "CSC") -> "CSC":
+    """``A`` (float ``data``) with int32 indices, refused (ValueError) unless it is a well-formed column-compressed
+    (m, n) matrix: the backends index with it unchecked."""
+    shape = tuple(A.shape)
+    indptr, indices = np.asarray(A.indptr), np.asarray(A.indices)
+    if len(shape) != 2 or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in shape) \
+            or indptr.dtype.kind not in "iu" or indices.dtype.kind not in "iu":
+        raise ValueError(f"a CSC matrix needs integer indptr and indices and a shape (m, n) of integers >= 0, got "
+                         f"indptr {indptr.dtype}, indices {indices.dtype}, shape {A.shape!r}")
+    m, n = shape
+    nnz = len(A.data)
+    if indptr.shape != (n + 1,) or indices.shape != (nnz,) or indptr[0] != 0 or indptr[-1] != nnz \
+            or (n and (np.diff(indptr) < 0).any()) or (nnz and (indices.min() < 0 or indices.max() >= m)):
+        raise ValueError(f"malformed CSC matrix of shape {shape}: indptr must be n + 1 = {n + 1} non-decreasing "
+                         f"offsets from 0 to the {nnz} entries, and indices that many row numbers from 0 to {m - 1}; "
+                         f"got indptr of shape {indptr.shape} from {indptr[0] if len(indptr) else None} to "
+                         f"{indptr[-1] if len(indptr) else None}, indices of shape {indices.shape}"
+                         + (f" from {indices.min()} to {indices.max()}" if len(indices) else ""))
+    if indptr.dtype == np.int32 and indices.dtype == np.int32:
+        return A
+    return CSC(indptr.astype(np.int32), indices.astype(np.int32), A.data, (int(m), int(n)))
+
+
 class CSC(NamedTuple):
-    """A minimal column-compressed matrix (no validation, no copies).
+    """A minimal column-compressed matrix (no copies; `Backend.solve` checks that it is well formed).
 
     Attributes
     ----------

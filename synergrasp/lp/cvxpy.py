@@ -60,7 +60,9 @@ class CvxpyBackend(Backend):
     def _solve(self, c, A, b):
         problem, x, c_par, A_par, b_par, equality = self._model(*A.shape)
         c_par.value, A_par.value, b_par.value = c, A.toarray() if isinstance(A, CSC) else A, b
-        problem.solve(solver=self.solver, **self.solver_options)
+        # cold: warm-started from the last LP of the same shape, Clarabel stopped at its iteration limit on LPs it
+        # solves cold (the pseudo-distance of segments 1e4 long after one of a simplex 1e300 across)
+        problem.solve(solver=self.solver, warm_start=False, **self.solver_options)
         status = STATUS.get(problem.status, "failed")
         iterations = problem.solver_stats.num_iters if problem.solver_stats else -1
         if status != "optimal":

@@ -53,6 +53,9 @@ PIVOTS_PER_SIZE = 50
 RESTARTS = 3
 #: Pivot tolerance (relative to the column's largest entry) of the second try of a block that failed with `TOL`.
 RESCUE_PIVOT_TOL = 1e-7
+#: Precedence of the blocks' status codes (0 optimal, 1 infeasible, 2 unbounded, 3 failed) in the LP's: an
+#: infeasible block makes the LP infeasible, a failed one leaves an unbounded LP's status unknown.
+STATUS_RANK = np.array([0, 3, 1, 2])
 
 
 class NativeBackend(Backend):
@@ -114,7 +117,7 @@ class NativeBackend(Backend):
                       np.empty(m, dtype=np.int64), np.empty((3, rows_max, width)), np.empty((7, width)),
                       np.empty((2, width), dtype=np.int64), np.empty(width, dtype=bool), xy, out)
         x, y = xy[:n], xy[n:]
-        status, pivots = STATUSES[int(out[0])], int(out[1])  # status codes 0-3; the worst block's is the LP's
+        status, pivots = STATUSES[int(out[0])], int(out[1])  # status codes 0-3 (`STATUS_RANK`)
         if status != "optimal":
             self._bases.pop(key or _structure(m, n, indptr, indices), None)
             return status, None, None, pivots, f"{status} (native dense simplex, {pivots} pivots)"
@@ -211,8 +214,8 @@ def _root(parent, r):
 
 @kernel
 def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local, F2, F1, I1, inbasis, xy, out):
-    """Solve every block of the LP (`_blocks` ordered them): ``xy`` receives x then y, ``out`` (the worst
-    status, pivots). Empty columns stay at 0 (the LP is unbounded if one has a negative cost). Scratch: F2
+    """Solve every block of the LP (`_blocks` ordered them): ``xy`` receives x then y, ``out`` (the LP's
+    status, pivots). Empty columns stay at 0 (one of negative cost makes a feasible LP unbounded). Scratch: F2
     (3, rows, width) for the block, its basis inverse and a work matrix; F1 (7, width) and I1 (2, width).
 
     Each block is a two-phase revised simplex on ``T x = rhs, x >= 0`` (T = [A_k | I | a], rhs >= 0; for a
@@ -231,7 +234,7 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
     tol_c = tol * (1.0 + scale[1])
     for k in range(col_start[0], col_start[1]):  # columns without entries
         if c[col_order[k]] < -tol_c:
-            status = max(status, 2)
+            status = 2
     for blk in range(starts.shape[1] - 2):
         r0, r1 = row_start[blk], row_start[blk + 1]
         k0, k1 = col_start[blk + 1], col_start[blk + 2]
@@ -307,7 +310,7 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             if st != 3:
                 break
         pivots += pv
-        if st > status:
+        if STATUS_RANK[st] > STATUS_RANK[status]:
             status = st
         if st != 0:
             continue

@@ -19,7 +19,7 @@ from .collision import Penetration
 from .contact_distance import ContactDistance
 from .distance_grid import DistanceGrid
 from .scaled_contacts import ScaledContacts
-from .shapes import BUILTINS, bell, cup, ellipsoid, goblet, revolve
+from .shapes import BUILTINS, MIN_TOLERANCE, bell, cup, ellipsoid, goblet, revolve
 
 __all__ = [
     "BUILTINS",
@@ -28,6 +28,7 @@ __all__ = [
     "DistanceGrid",
     "GraspObject",
     "MESH_FORMATS",
+    "MIN_TOLERANCE",
     "POINT_FORMATS",
     "Penetration",
     "SUPPORTED_FORMATS",

@@ -42,7 +42,10 @@
   cloud points nearest to it) is a piece. The solid includes what an opening
   leaves open to one side only: a voxel that sees the surface along five of
   the six axis directions is inside (the cloud of a box without its lid, or a
-  scan that missed one side, is the whole box).
+  scan that missed one side, is the whole box). A cloud of one side of an object (one camera
+  view) is a shell that encloses nothing: it is closed by its hull, flat behind. Any cloud whose
+  outward normals do not balance (`PointSurface.net_normal` longer than ``ONE_SIDED``) is warned
+  of as seen from one side.
 
 Every piece keeps at most ``max_vertices`` hull vertices (farthest-point
 sampling), which bounds the LP sizes of the cP and sQ queries.
@@ -73,7 +76,8 @@ import trimesh
 from .._checks import as_points, integer, positive_scalar
 from .convex import SIZE_LIMITS, ConvexPiece, checked_hull
 from .decompose import DecompositionTimeout, run_coacd
-from .grasp_object import GraspObject
+from .grasp_object import SURFACE_FACES, GraspObject
+from .point_surface import PointSurface
 from .repair import (
     MAX_CAP_FRACTION,
     MAX_PARTS,
@@ -109,6 +113,10 @@ OPEN_MESH_SAMPLES = 20000
 ENCLOSED_DIRECTIONS = 5
 #: Clouds with fewer points are always one hull.
 SMALL_CLOUD = 64
+#: A cloud whose outward normals have an area-weighted mean longer than this (`PointSurface.net_normal`: at most
+#: 0.15 for clouds around the train shapes, at least 0.48 for one camera view of them but for a mug's) is warned of as
+#: seen from one side.
+ONE_SIDED = 0.3
 #: Stray points of a cloud: a point whose k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
 #: is farther than `STRAY_FACTOR` times the cloud's median k-th neighbour distance (an isolated point, or
 #: one of a group of at most `STRAY_NEIGHBOURS` apart from the rest) is dropped, when such points are at
@@ -462,7 +470,12 @@ def _from_mesh(
         repair = {"method": "voxel closing", "reason": refusal, "filled_volume": meta.get("filled_volume", 0.0) * scale**3}
         _warn(f"{what} is not watertight and cannot be capped ({refusal}); it is closed "
               f"on a voxel grid instead: the solid its surface encloses ({repair['filled_volume']:.4g} mm^3), cut into "
-              f"{len(pieces)} convex pieces. Check the pieces (obj.piece_meshes())")
+              f"{len(pieces)} convex pieces. Check the pieces (obj.piece_meshes())"
+              + (f". Its {len(mesh.faces)} faces cannot be simplified either (only a closed mesh is): the planner "
+                 "tests grasps on all of them, which on a fine scan takes seconds (15 s before the first iteration at "
+                 "500,000 faces) and can use up a plan's time limit; decimate the mesh first, to about "
+                 f"{SURFACE_FACES} faces (e.g. trimesh's simplify_quadric_decimation, with pip install "
+                 "fast-simplification)" if len(mesh.faces) > SURFACE_FACES else ""))
     obj = GraspObject(
         _scaled(pieces, scale),
         name=what,
@@ -658,14 +671,37 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
                 continue
         if worst <= tolerance:
             break
-    pieces = []
+    pieces, flat = [], False
     for group in groups:
         try:
             pieces.append(_reduce(group, max_vertices, name))
-        except ValueError:
-            continue
+        except ValueError:  # a flat cluster: a sheet of points with no inside behind it
+            flat = True
+    if (flat or not interior.any()) and (not pieces or _seen_from_one_side(points, pieces)):
+        # a shell of the side of the object that was seen (one camera view): closed flat behind, by its hull
+        return [_reduce(points, max_vertices, name)], {**meta, "method": "hull of a cloud seen from one side"}
     meta.update(method=f"kmeans ({len(pieces)} clusters)", cluster_concavity=worst, tolerance=tolerance)
     return pieces, meta
+
+
+def _seen_from_one_side(points: np.ndarray, pieces: list) -> bool:
+    """Whether a cloud's outward normals, turned outward by the pieces (hull vertices), do not balance (`ONE_SIDED`)."""
+    shapes = [ConvexPiece(vertices) for vertices in pieces]
+    inside = lambda q: np.min([shape.signed_distance_bound(q) for shape in shapes], axis=0) <= 0.0  # noqa: E731
+    return bool(np.linalg.norm(PointSurface(points).net_normal(inside)) > ONE_SIDED)
+
+
+def _warn_one_sided(obj: GraspObject, what: str) -> None:
+    """Warn when the outward normals of a cloud's points do not balance (`ONE_SIDED`): the cloud samples one side."""
+    net = obj.point_surface.net_normal(obj.contains)
+    length = float(np.linalg.norm(net))
+    if length > ONE_SIDED:
+        toward = ", ".join(f"{x:.2f}" for x in net / length)
+        _warn(f"{what} seems to be seen from one side: the outward normals of its points do not balance (their "
+              f"area-weighted mean is {length:.2f} long, toward ({toward}); about 0 for a cloud around the whole object, "
+              "as from a scan on several sides). The unseen side is closed by the pieces' hull faces, where a grasp "
+              "finds no points to touch, so grasps must hold on the side seen; for grasps all round, scan the object "
+              "from several sides or give its mesh")
 
 
 def _from_points(
@@ -690,7 +726,7 @@ def _from_points(
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
               "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,
-              "strays": [STRAY_NEIGHBOURS, STRAY_FACTOR, STRAY_SHARE]}
+              "strays": [STRAY_NEIGHBOURS, STRAY_FACTOR, STRAY_SHARE], "one_sided": ONE_SIDED}
     pieces, meta, status = _cached(
         pts.tobytes(), params, lambda: _cluster_cloud(pts, max_parts, max_vertices, what), cache
     )
@@ -708,6 +744,8 @@ def _from_points(
         _warn(f"{what} has only {len(pts)} distinct points: they are taken as the corners of a convex solid (their "
               f"hull), not as samples of a surface; a scanned cloud needs at least {SMALL_CLOUD} points"
               + (" (a mesh file without faces, such as an OBJ of lines, is read as its vertices)" if _source else ""))
+    if obj.point_surface is not None:
+        _warn_one_sided(obj, what)
     parts, gap = _cloud_parts(pts * scale) if len(pts) >= SMALL_CLOUD else (1, 0.0)
     if gap > PART_GAP:
         _warn(f"{what} is {parts} separate groups of points, some {gap:.0f} mm from the rest: they are planned as one "
@@ -842,7 +880,9 @@ def from_points(
         farther than `STRAY_FACTOR` times the cloud's typical k-th neighbour
         distance: isolated points and groups of up to 8), or kept (more of them),
         or if groups of the points lie more than `PART_GAP` apart, or if the
-        cloud has fewer than `SMALL_CLOUD` points (taken as corners).
+        cloud has fewer than `SMALL_CLOUD` points (taken as corners), or if it
+        seems to be seen from one side (its outward normals do not balance:
+        `ONE_SIDED`; closed by its hull when its points enclose nothing).
 
     Examples
     --------

@@ -19,10 +19,12 @@ from scipy.spatial import cKDTree
 
 from .._checks import as_points
 
-__all__ = ["NEIGHBOURS", "PointSurface"]
+__all__ = ["NEIGHBOURS", "NET_NORMAL_POINTS", "PointSurface"]
 
 #: Points of the cloud a local plane is fitted to (the point itself included).
 NEIGHBOURS = 16
+#: Most cloud points `PointSurface.net_normal` reads (a random sample of them beyond that).
+NET_NORMAL_POINTS = 4000
 
 
 class PointSurface:
@@ -174,6 +176,59 @@ class PointSurface:
         outward, known = self._outward(nearest, normals, radius, contains)
         inside = -np.einsum("ij,ij->i", points - self.points[nearest], outward)
         return np.where(known, inside, -np.abs(inside))
+
+    def net_normal(self, contains) -> np.ndarray:
+        """The area-weighted mean of the surface's outward unit normals at the cloud's points.
+
+        A closed surface's outward normals integrate to zero over its area
+        (the divergence theorem), so a cloud around the whole object gives a
+        short vector, and a cloud of one side of it (one camera view, an
+        object on a table scanned from above) a vector up to 1 long, toward
+        the side seen. Each point's normal is that of the plane fitted to its
+        neighbours, turned outward by ``contains`` as in `signed_distance`
+        (points where it does not tell the sides apart are left out), and
+        weighted by the disc those neighbours span (its radius squared), so
+        that the mean does not depend on how densely a part is sampled. At
+        most `NET_NORMAL_POINTS` points are read, drawn at random (a fixed seed).
+
+        Parameters
+        ----------
+        contains : callable
+            ``contains(points) -> (k,) bool``, e.g. `GraspObject.contains`.
+
+        Returns
+        -------
+        (3,) float
+            Of length 0 to 1; 0 when no point's side is known.
+
+        Examples
+        --------
+        The faces of a 60 mm cube sampled on a grid, as in the class's
+        example, and the same cloud without its bottom face, seen from above:
+
+        >>> import numpy as np
+        >>> g = np.linspace(-30.0, 30.0, 31)
+        >>> a, b = (x.ravel() for x in np.meshgrid(g, g))
+        >>> c = np.full_like(a, 30.0)
+        >>> cube = np.vstack([np.c_[a, b, s * c] for s in (1, -1)] + [np.c_[a, s * c, b] for s in (1, -1)]
+        ...                  + [np.c_[s * c, a, b] for s in (1, -1)])
+        >>> inside = lambda p: np.abs(p).max(axis=1) < 30.0
+        >>> bool(np.linalg.norm(PointSurface(cube).net_normal(inside)) < 0.02)
+        True
+        >>> (PointSurface(cube[cube[:, 2] > -30.0]).net_normal(inside).round(2) + 0.0).tolist()
+        [0.0, 0.0, 0.21]
+        """
+        rows = np.arange(len(self.points))
+        if len(rows) > NET_NORMAL_POINTS:  # a random sample (a fixed seed): every k-th point of the sorted cloud is not
+            rows = np.sort(np.random.default_rng(0).choice(rows, NET_NORMAL_POINTS, replace=False))
+        distance, near = self.tree.query(self.points[rows], k=self.neighbours)
+        around = self.points[near] - self.points[near].mean(axis=1, keepdims=True)
+        radius = distance[:, -1]
+        outward, known = self._outward(rows, np.linalg.eigh(np.einsum("mki,mkj->mij", around, around))[1][:, :, 0],
+                                       radius, contains)
+        weight = np.where(known, radius**2, 0.0)
+        total = weight.sum()
+        return (weight @ outward) / total if total > 0 else np.zeros(3)
 
     def _outward(self, rows, normals, radius, contains):
         """The normals of the planes at cloud points ``rows`` turned outward by ``contains`` half their radius to

@@ -26,6 +26,18 @@ from .grasp_object import GraspObject
 TOLERANCE = 0.5
 #: Share of ``tolerance`` given to the profile polyline (the rest goes to the ring polygons).
 _PROFILE_SHARE = 0.4
+#: Finest ``tolerance`` accepted, relative to the shape's largest radius or semi-axis: a ring of about 290
+#: sides, an ellipsoid's polytope of 40 962 vertices (finer ones took minutes to build, and no grasp needs them).
+MIN_TOLERANCE = 1e-4
+
+
+def _tolerance(tolerance, size: float, what: str) -> float:
+    """``tolerance`` checked: a positive number, at least `MIN_TOLERANCE` times ``size`` (mm)."""
+    tol = positive_scalar(tolerance, "tolerance")
+    if tol < MIN_TOLERANCE * size:
+        raise ValueError(f"tolerance {tol:g} mm is finer than synergrasp builds a shape to: at least {MIN_TOLERANCE:g} "
+                         f"of its largest {what} ({size:g} mm), {MIN_TOLERANCE * size:.3g} mm")
+    return tol
 
 
 def _simplify(profile: np.ndarray, tol: float) -> np.ndarray:
@@ -84,7 +96,8 @@ def revolve(
     name : str
         Object name.
     tolerance : float
-        Largest deviation (mm) of the polygonal solid from the smooth one.
+        Largest deviation (mm) of the polygonal solid from the smooth one;
+        at least `MIN_TOLERANCE` times the largest radius.
     center : (3,) array_like, optional
         Reference point; default the volume centroid (on the axis).
     torque_scale : float, optional
@@ -100,7 +113,8 @@ def revolve(
     ------
     ValueError
         If the profile is not (m, 2) with m >= 2, has a negative radius, a
-        non-increasing z, or no volume.
+        non-increasing z, or no volume, or ``tolerance`` is not positive or
+        below `MIN_TOLERANCE` times the largest radius.
 
     Examples
     --------
@@ -115,7 +129,7 @@ def revolve(
     [True, False]
     """
     prof = as_points(profile, "profile", dim=2)
-    tol = positive_scalar(tolerance, "tolerance")
+    positive_scalar(tolerance, "tolerance")
     prof = prof.copy()
     prof[np.abs(prof[:, 0]) <= 1e-6 * np.abs(prof[:, 0]).max(), 0] = 0.0  # poles of sampled curves
     r, z = prof[:, 0], prof[:, 1]
@@ -127,6 +141,7 @@ def revolve(
         raise ValueError("profile heights z must be strictly increasing from bottom to top")
     if not (r[1:-1] > 0).all() or r.max() <= 0:
         raise ValueError("profile radii must be > 0 between the end knots; the solid has no volume otherwise")
+    tol = _tolerance(tolerance, float(r.max()), "radius")
     prof = _simplify(prof, _PROFILE_SHARE * tol)
     r, z = prof[:, 0], prof[:, 1]
     sides = _ring_sides(float(r.max()), (1.0 - _PROFILE_SHARE) * tol)
@@ -171,12 +186,19 @@ def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: f
     a, b, c : float
         Semi-axes (mm).
     tolerance : float
-        Largest gap (mm) between the polytope's faces and the ellipsoid.
+        Largest gap (mm) between the polytope's faces and the ellipsoid; at
+        least `MIN_TOLERANCE` times the largest semi-axis.
 
     Returns
     -------
     GraspObject
         Centre at the origin, torque scale ``max(a, b, c)``.
+
+    Raises
+    ------
+    ValueError
+        If a semi-axis or ``tolerance`` is not a positive number, or
+        ``tolerance`` is below `MIN_TOLERANCE` times the largest semi-axis.
 
     Examples
     --------
@@ -190,7 +212,7 @@ def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: f
     [80.0, 80.0, 80.0]
     """
     axes = np.array([positive_scalar(a, "a"), positive_scalar(b, "b"), positive_scalar(c, "c")])
-    tol = positive_scalar(tolerance, "tolerance")
+    tol = _tolerance(tolerance, float(axes.max()), "semi-axis")
     for level in range(1, 7):
         sphere = trimesh.creation.icosphere(subdivisions=level)
         vertices = sphere.vertices * axes

@@ -32,8 +32,8 @@ def add_validate_parser(subparsers):
         "squeezes, the grasp settles, and the object is pushed with its weight along -x, +x, -y, +y, -z, +z. "
         "Writes DIR/NAME_GRASP_validation.json, the displacement figure and, where MuJoCo can render offscreen, a "
         "still of the settled grasp. NAME is the object's as synergrasp plan names it (the built-in's name, or the "
-        "file's stem and extension) and GRASP the result's grasp type, so the results of different objects (such as "
-        "a batch's results/OBJECT/GRASP.json) never share output files; a result file named otherwise (run1.json) "
+        "file's stem and extension) and GRASP the result's grasp type, so the results of objects of different names "
+        "(such as a batch's results/OBJECT/GRASP.json) never share output files; a result file named otherwise (run1.json) "
         "adds its stem: NAME_GRASP_run1_validation.json. Exit status 0 if the grasp holds, 1 if "
         "not. Needs pip install \"synergrasp[sim]\".",
     )

@@ -46,14 +46,27 @@ def plot_validation(validation, path):
     v = validation
     p = v.settings
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.4))
+    try:
+        _draw_validation(fig, axes, v, p)
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=120)
+    finally:
+        plt.close(fig)
+    return Path(path)
+
+
+def _draw_validation(fig, axes, v, p):
+    """The bars of `plot_validation` on its two axes, and the title."""
     ok = v.held_per_direction
     panels = ((v.displacement, p.max_displacement, "displacement (mm)"), (v.rotation, p.max_rotation, "rotation (deg)"))
     x = np.arange(len(v.directions))
     for ax, (values, limit, label) in zip(axes, panels):
-        top = 2.0 * limit
+        finite = np.isfinite(limit)  # an infinite threshold (no such check): the scale of the values instead
+        top = 2.0 * limit if finite else max(1.0, float(np.nanmax(values, initial=0.0)))
         shown = np.clip(np.nan_to_num(values, nan=0.0), 0.0, top)
         ax.bar(x, shown, color=np.where(ok, "tab:green", "tab:red"))
-        ax.axhline(limit, color="k", ls="--", lw=1)
+        if finite:
+            ax.axhline(limit, color="k", ls="--", lw=1)
         for k, value in enumerate(values):
             text = "-" if np.isnan(value) else f"{value:.1f}"
             ax.text(k, min(shown[k], top) + 0.02 * top, text, ha="center", va="bottom", fontsize=8)
@@ -66,12 +79,6 @@ def plot_validation(validation, path):
     fig.suptitle(f"{v.object_name}: {verdict}, preset {p.name}, mu {p.mu:g}, mass {v.object_mass * 1e3:.0f} g"
                  + (f", palm moved back {v.retreat:g} mm" if v.retreat else ""), fontsize=10)
     fig.tight_layout()
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=120)
-    finally:
-        plt.close(fig)
-    return Path(path)
 
 
 def render_still(validation, obj, path, *, hand=None, width=640, height=480):

@@ -24,6 +24,7 @@ synergrasp's are millimetres: every length is divided by 1000 on the way in.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
@@ -89,6 +90,11 @@ def moving_joints(hand):
         u[6 + i] = 1.0
         moved |= {name for name, angle in hand.joint_angles(u).items() if angle != q0[name]}
     return [name for name in hand.joint_names if name in moved]
+
+
+def _attr(name: str) -> str:
+    """A hand's joint or point name as a quoted XML attribute value (quotes, ``<`` and ``&`` escaped)."""
+    return quoteattr(name)
 
 
 def _num(value):
@@ -207,17 +213,17 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
             if previous is not None:
                 pos, frame = np.array([0.0, previous, 0.0]), np.eye(3)
             if name in moving:
-                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(frame))}">')
-                lines.append(f'{indent}  <joint name="{name}" axis="{_vec(axis)}"/>')
+                lines.append(f'{indent}<body name={_attr(name)} pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(frame))}">')
+                lines.append(f'{indent}  <joint name={_attr(name)} axis="{_vec(axis)}"/>')
                 joints.append(name)
             else:
                 fixed = frame @ _axis_rotation(axis, angles[name])
-                lines.append(f'{indent}<body name="{name}" pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(fixed))}">')
+                lines.append(f'{indent}<body name={_attr(name)} pos="{_vec(pos * MM)}" quat="{_vec(mujoco_quat(fixed))}">')
             length = float(joint["length"])
             if length > 0:
                 segment += 1
                 label = f'{finger["name"]}{segment}'
-                lines.append(f'{indent}  <geom name="{label}" type="capsule" size="{_num(hand.finger_radius * MM)}" '
+                lines.append(f'{indent}  <geom name={_attr(label)} type="capsule" size="{_num(hand.finger_radius * MM)}" '
                              f'fromto="0 0 0 0 {_num(length * MM)} 0"/>')
                 capsules.append(label)
             previous, depth = length, depth + 1
@@ -231,6 +237,6 @@ def grasp_mjcf(hand, obj, u, *, density, friction, solref, solimp, timestep, joi
     for i in range(obj.n_pieces):
         lines.append(f'      <geom name="{OBJECT}/{i}" mesh="piece{i}" density="{_num(density)}"/>')
     lines += ["    </body>", "  </worldbody>", "  <actuator>"]
-    lines += [f'    <position name="{name}" joint="{name}"/>' for name in joints]
+    lines += [f'    <position name={_attr(name)} joint={_attr(name)}/>' for name in joints]
     lines += ["  </actuator>", "</mujoco>", ""]
     return GraspScene("\n".join(lines), joints, capsules, obj.n_pieces, float(density))

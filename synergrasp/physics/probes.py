@@ -37,8 +37,8 @@ def _pinch(hand, position, angles):
     hand = SynergyHand.default() if hand is None else hand
     u = _configuration(hand, PINCH_Z, position, angles)
     geo = hand.segments(u)
-    last = {label[0]: ends[1] for label, ends in zip(geo.labels, geo.capsules)}
-    return hand, u, last["T"], last["I"]
+    last = {chain: ends[1] for chain, ends in zip(hand.point_chains("power")[:-1], geo.capsules)}
+    return hand, u, last[0], last[1]  # the thumb's and the index's (the first two fingers)
 
 
 def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), gap=1.0, side=20.0):

@@ -36,9 +36,14 @@ def check_match(result, obj, hand, tolerance):
     Raises
     ------
     ValueError
-        If the configuration does not fit the hand, the contact labels are not
-        the hand's, or the contacts lie off the object's surface.
+        If the result records another hand (`PlanResult.hand`), the
+        configuration does not fit the hand, the contact labels are not the
+        hand's, or the contacts lie off the object's surface.
     """
+    if result.hand and result.hand != hand.identity:
+        raise ValueError(f"the result was planned with hand {result.hand!r}, not with this hand {hand.identity!r} (the "
+                         "name and a digest of its definition): pass the planning hand as hand= "
+                         "(SynergyHand.from_file of its hand file)")
     u = np.asarray(result.u, dtype=float)
     if u.shape != (hand.n_u,):
         raise ValueError(f"the result's configuration u has {u.size} entries but hand {hand.name!r} takes {hand.n_u} "

@@ -84,8 +84,8 @@ def contact_normals(hand, u, kind):
     geo = hand.segments(u)
     palm = geo.palm_axes[:, 2]
     if kind == "precision":
-        last = {lab[0]: i for i, lab in enumerate(geo.labels)}  # each finger's distal segment
-        axis = geo.capsules[[last[lab[0]] for lab in hand.point_labels(kind)], 1]
+        last = {chain: i for i, chain in enumerate(hand.point_chains("power")[:-1])}  # each finger's distal segment
+        axis = geo.capsules[[last[chain] for chain in hand.point_chains(kind)], 1]
         offsets = points - axis
     else:
         offsets = np.vstack([points[:-1] - geo.capsules.mean(axis=1), palm])

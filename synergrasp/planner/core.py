@@ -65,6 +65,13 @@ def hand_opening(hand):
     return float(np.linalg.norm(tips[1:] - tips[0], axis=1).max())
 
 
+def _pinch_words(hand):
+    """The fingertips of a pinch (the first finger against the second and third), named for a message."""
+    words = {"T": "thumb", "I": "index", "M": "middle"}
+    first, second, third = (words.get(name, repr(name)) for name in hand.finger_names[:3])
+    return f"the {first} and the {second} and {third} fingertips"
+
+
 def _check_object(obj, hand):
     """The object as a GraspObject, refused early when the hand cannot hold it."""
     if isinstance(obj, (str, os.PathLike)):
@@ -320,6 +327,7 @@ def _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, 
         backend=solver.name,
         grasp=grasp,
         object_name=obj.name,
+        hand=hand.identity,
         options=opts.as_dict(),
         attempts=attempts,
         surface_q=result.surface.q if success else float("nan"),
@@ -382,13 +390,13 @@ def _failure(attempts, grasp, hand, obj, opts):
             reason += ("; no two points of its surface face each other, so no pinch seed was tried (the pads "
                        "press on opposed surfaces)")
         elif opposed.min() + 2.0 * opts.seed_opening > widest:
-            reason += (f"; its opposed surfaces are at least {opposed.min():.0f} mm apart, and the thumb and the "
-                       f"index and middle fingertips open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
+            reason += (f"; its opposed surfaces are at least {opposed.min():.0f} mm apart, and {_pinch_words(hand)} "
+                       f"open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
                        "to spare on either side for a pinch seed): it is too wide for this hand's pinch (a power "
                        "grasp may hold it)")
     if widths and max(widths) < pinch - 2.0 * eps_c:
         reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
-                   f"the thumb and the index and middle fingertips close to no less than {pinch:.0f} mm, too far "
+                   f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm, too far "
                    f"apart to touch both within the contact threshold of {eps_c:g} mm (a wall or sheet too thin for "
                    "this hand's pinch)")
     if grasp == "power":

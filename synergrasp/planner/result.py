@@ -64,6 +64,9 @@ class PlanResult:
         ``"precision"`` or ``"power"``.
     object_name : str
         Name of the grasped object.
+    hand : str
+        The planning hand's `SynergyHand.identity` (its name and a digest of
+        its definition); empty in a file saved before results recorded it.
     options : dict
         Planner settings used.
     attempts : list of dict
@@ -138,6 +141,7 @@ class PlanResult:
     backend: str
     grasp: str = "precision"
     object_name: str = ""
+    hand: str = ""
     options: dict = field(default_factory=dict)
     attempts: list = field(default_factory=list)
     surface_q: float = math.nan
@@ -240,7 +244,7 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS), path))
+        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand",)), path))
 
 
 def _validated(data: dict, path) -> dict:
@@ -285,7 +289,7 @@ def _validated(data: dict, path) -> dict:
     if not isinstance(data["success"], bool):
         fail("success", "true or false")
     out["success"] = data["success"]
-    for name in ("reason", "backend", "object_name"):
+    for name in ("reason", "backend", "object_name") + (("hand",) if "hand" in data else ()):
         out[name] = text(name)
     if data["grasp"] not in ("precision", "power"):
         fail("grasp", "'precision' or 'power'")

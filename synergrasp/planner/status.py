@@ -308,14 +308,13 @@ def status_rows(hand, kind):
     >>> labels[:6], int(contact.sum()), labels[-1]
     (['T0', 'I0', 'M0', 'R0', 'L0', 'T1'], 5, 'P')
     """
-    segments = hand.point_labels("power")[:-1]
+    segments, chains = hand.point_labels("power")[:-1], hand.point_chains("power")[:-1]
     if kind == "power":
         return segments + ["P"], np.ones(len(segments) + 1, bool), np.arange(len(segments))
-    distal = {lab[0]: lab for lab in segments}  # each finger's last segment
-    tips = hand.point_labels("precision")
-    others = [lab for lab in segments if lab not in distal.values()]
-    labels = tips + others + ["P"]
-    rows = [tips.index(f"{lab[0]}0") if lab in distal.values() else labels.index(lab) for lab in segments]
+    distal = {chain: i for i, chain in enumerate(chains)}  # each finger's last segment
+    tips = hand.point_labels("precision")  # one per finger, in the fingers' order
+    labels = tips + [lab for i, lab in enumerate(segments) if distal[chains[i]] != i] + ["P"]
+    rows = [chains[i] if distal[chains[i]] == i else labels.index(lab) for i, lab in enumerate(segments)]
     return labels, np.arange(len(labels)) < len(tips), np.array(rows)
 
 
