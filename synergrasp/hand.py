@@ -166,6 +166,8 @@ class _Spec:
             self.fail(field, f"must be numbers of shape {shape}, got {value!r}")
         try:
             arr = np.array(value, dtype=float)
+        except OverflowError:  # an integer beyond the float range
+            self.fail(field, "must be finite")
         except (TypeError, ValueError):
             self.fail(field, f"must be numbers of shape {shape}")
         if arr.ndim != len(shape) or any(n is not None and n != m for n, m in zip(shape, arr.shape)):

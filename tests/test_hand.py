@@ -299,6 +299,7 @@ def test_missing_field_is_named(hand, tmp_path, field, path):
     (lambda d: d["fingers"][0]["joints"][0].update(axis=[0, 0, 0]), "fingers[0].joints[0].axis"),
     (lambda d: d["fingers"][1]["joints"][1].update(coupling={"X_mcp": 1.0}), "fingers[1].joints[1].coupling.X_mcp"),
     (lambda d: d["palm"].update(size="big"), "palm.size"),
+    (lambda d: d.update(finger_radius=10**400), "finger_radius"),  # an integer beyond the float range
     (lambda d: d["fingers"][4]["joints"][1].update(name="palm"), "fingers[].joints[].name"),  # the physics' body
     (lambda d: d["fingers"][4]["joints"][1].update(name="object"), "fingers[].joints[].name"),
 ])

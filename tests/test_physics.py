@@ -269,6 +269,9 @@ def test_configuration_away_from_the_object_is_refused(pinch):
     u, box = pinch
     with pytest.raises(ValueError, match="no hand point is within 5 mm"):
         validate(u + np.r_[300.0, 0, 0, 0, 0, 0, 0, 0], box)
+    failed = sg.plan("ellipsoid", "precision", max_iter=3)  # a plan without a grasp says so
+    with pytest.raises(ValueError, match=r"no hand point is within 5 mm .*; the plan found no grasp \(no stable grasp"):
+        validate(failed, sg.objects.get("ellipsoid"))
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
@@ -355,6 +358,11 @@ def test_validation_round_trips_through_json(pinch_check, tmp_path):
     (tmp_path / "other.json").write_text(json.dumps({"format": "synergrasp.PlanResult/1"}))
     with pytest.raises(ValueError, match="not a saved synergrasp Validation"):
         Validation.load(tmp_path / "other.json")
+    assert pinch_check.hand == HAND.identity
+    data = json.loads((tmp_path / "v.json").read_text())
+    del data["hand"]  # a file saved before validations recorded their hand
+    (tmp_path / "old.json").write_text(json.dumps(data))
+    assert Validation.load(tmp_path / "old.json").hand == ""
 
 
 def test_protocol_settings_round_trip():
@@ -401,6 +409,12 @@ def test_figures_refuse_what_they_cannot_draw(pinch, pinch_check, tmp_path):
         plot_validation(pinch_result(*pinch), tmp_path / "v.png")
     with pytest.raises(ValueError, match="not of 'cup'"):
         render_still(pinch_check, sg.objects.get("cup"), tmp_path / "s.png")
+    data = HAND.to_dict()
+    for finger in data["fingers"]:  # the same name, fingers 30 % longer
+        for joint in finger["joints"]:
+            joint["length"] *= 1.3
+    with pytest.raises(ValueError, match=r"with hand 'paper_hand sha256:[0-9a-f]{16}', not of .* pass the object and hand"):
+        render_still(pinch_check, box, tmp_path / "s.png", hand=sg.SynergyHand(data))
     with pytest.raises(ValueError, match=r"larger than MuJoCo's offscreen buffer \(1280 x 960\)"):
         render_still(pinch_check, box, tmp_path / "s.png", width=5000, height=5000)
     with pytest.raises(ValueError, match=r"width must be an integer >= 1 \(pixels\), got 0"):

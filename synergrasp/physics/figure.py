@@ -115,9 +115,11 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
     hand = SynergyHand.default() if hand is None else hand
     if not isinstance(hand, SynergyHand):
         raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
-    if validation.object_name != obj.name or validation.hand_name != hand.name:
-        raise ValueError(f"the validation is of {validation.object_name!r} with hand {validation.hand_name!r}, not of "
-                         f"{obj.name!r} with {hand.name!r}: pass the object and hand it validated")
+    if validation.object_name != obj.name or validation.hand_name != hand.name \
+            or (validation.hand and validation.hand != hand.identity):
+        raise ValueError(f"the validation is of {validation.object_name!r} with hand "
+                         f"{validation.hand or validation.hand_name!r}, not of {obj.name!r} with {hand.identity!r}: pass "
+                         "the object and hand it validated")
     width, height = integer(width, "width", 1, "pixels"), integer(height, "height", 1, "pixels")
     mujoco, model, scene = build_model(hand, obj, validation.u, Protocol(**validation.protocol))
     most = (int(model.vis.global_.offwidth), int(model.vis.global_.offheight))

@@ -82,6 +82,9 @@ class Validation:
     protocol : dict
         The `Protocol` used (`Protocol.to_dict`).
     object_name, hand_name : str
+    hand : str
+        The hand's `SynergyHand.identity` (its name and a digest of its
+        definition); empty in a file saved before validations recorded it.
     cpu_time : float
         CPU time of the validation (s).
     mujoco_version : str
@@ -110,6 +113,7 @@ class Validation:
     protocol: dict
     object_name: str = ""
     hand_name: str = ""
+    hand: str = ""
     cpu_time: float = 0.0
     mujoco_version: str = ""
     directions: tuple = field(default=DIRECTIONS)
@@ -164,6 +168,6 @@ class Validation:
         ValueError
             If the file is not a saved Validation.
         """
-        data = load_record(cls, path, _FORMAT, _ARRAYS)
+        data = load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand",))
         data["directions"] = tuple(data["directions"])
         return cls(**data)

@@ -272,7 +272,12 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
             u = hand.check_u(result_or_u)
         except TypeError:
             raise TypeError(f"result_or_u must be a PlanResult or a configuration u, got {type(result_or_u).__name__}") from None
-    z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
+    try:
+        z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
+    except NoContact as error:
+        if isinstance(result_or_u, PlanResult) and not result_or_u.success:  # say why: the plan has no grasp
+            raise NoContact(f"{error}; the plan found no grasp ({result_or_u.reason})") from None
+        raise
     placed = u.copy()
     placed[:3] -= retreat * rotation_xyz(u[3:6])[:, 2]
     squeezed = placed.copy()
@@ -280,6 +285,6 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     measured = simulate(hand, obj, placed, hand.joint_angles(placed), hand.joint_angles(squeezed), settings)
     return Validation(
         held=measured["outcome"] == "held", squeeze_z=z, u=placed, retreat=retreat, protocol=settings.to_dict(),
-        object_name=obj.name, hand_name=hand.name, cpu_time=time.process_time() - start,
+        object_name=obj.name, hand_name=hand.name, hand=hand.identity, cpu_time=time.process_time() - start,
         mujoco_version=mujoco.__version__, **measured,
     )
