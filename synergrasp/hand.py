@@ -683,9 +683,8 @@ class SynergyHand:
         >>> SynergyHand.default().point_chains("power")[[0, 3, -1]].tolist()
         [0, 1, -1]
         """
-        chains = self._check_kind(kind)[3][:, 0].copy()
-        chains[np.array(self._check_kind(kind)[2]) == "P"] = -1
-        return chains
+        _, _, labels, upstream, _, _ = self._check_kind(kind)
+        return np.where(np.array(labels) == "P", -1, upstream[:, 0])
 
     # ------------------------------------------------------------------ kinematics
 
