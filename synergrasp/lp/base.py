@@ -223,8 +223,9 @@ def _hint(basic, n):
 def _checked_csc(A: "CSC") -> "CSC":
     """``A`` (float ``data``) with int32 indices, refused (ValueError) unless it is a well-formed column-compressed
     (m, n) matrix: the backends index with it unchecked."""
-    shape = tuple(A.shape)
-    indptr, indices = np.asarray(A.indptr), np.asarray(A.indices)
+    indptr, indices, shape = A.indptr, A.indices, A.shape
+    if not (isinstance(indptr, np.ndarray) and isinstance(indices, np.ndarray)):
+        indptr, indices = np.asarray(indptr), np.asarray(indices)
     if len(shape) != 2 or not all(isinstance(k, (int, np.integer)) and k >= 0 for k in shape) \
             or indptr.dtype.kind not in "iu" or indices.dtype.kind not in "iu":
         raise ValueError(f"a CSC matrix needs integer indptr and indices and a shape (m, n) of integers >= 0, got "
@@ -232,13 +233,13 @@ def _checked_csc(A: "CSC") -> "CSC":
     m, n = shape
     nnz = len(A.data)
     if indptr.shape != (n + 1,) or indices.shape != (nnz,) or indptr[0] != 0 or indptr[-1] != nnz \
-            or (n and (np.diff(indptr) < 0).any()) or (nnz and (indices.min() < 0 or indices.max() >= m)):
-        raise ValueError(f"malformed CSC matrix of shape {shape}: indptr must be n + 1 = {n + 1} non-decreasing "
+            or (n and (indptr[1:] < indptr[:-1]).any()) or (nnz and (indices.min() < 0 or indices.max() >= m)):
+        raise ValueError(f"malformed CSC matrix of shape {tuple(shape)}: indptr must be n + 1 = {n + 1} non-decreasing "
                          f"offsets from 0 to the {nnz} entries, and indices that many row numbers from 0 to {m - 1}; "
                          f"got indptr of shape {indptr.shape} from {indptr[0] if len(indptr) else None} to "
                          f"{indptr[-1] if len(indptr) else None}, indices of shape {indices.shape}"
                          + (f" from {indices.min()} to {indices.max()}" if len(indices) else ""))
-    if indptr.dtype == np.int32 and indices.dtype == np.int32:
+    if indptr.dtype == np.int32 and indices.dtype == np.int32 and indptr is A.indptr and indices is A.indices:
         return A
     return CSC(indptr.astype(np.int32), indices.astype(np.int32), A.data, (int(m), int(n)))
 
