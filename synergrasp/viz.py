@@ -213,7 +213,8 @@ def _plot_clearance(ax, result):
 
 
 def _check(result=None, obj=None, hand=None):
-    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand."""
+    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand;
+    ValueError for a result planned with another hand than ``hand`` (`PlanResult.hand`)."""
     from .hand import SynergyHand
     from .objects import GraspObject
     from .planner import PlanResult
@@ -221,6 +222,9 @@ def _check(result=None, obj=None, hand=None):
     for name, value, kind in (("result", result, PlanResult), ("obj", obj, GraspObject), ("hand", hand, SynergyHand)):
         if value is not None and not isinstance(value, kind):
             raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
+    if result is not None and hand is not None and result.hand and result.hand != hand.identity:
+        raise ValueError(f"the result was planned with hand {result.hand!r}, not with {hand.identity!r}: pass the "
+                         "hand that made it")
 
 
 def _save(fig, path, dpi):
@@ -363,7 +367,8 @@ def plot_grasps(plans, hand, path, columns=6):
     TypeError
         If a result, object or the hand is of the wrong type.
     ValueError
-        If ``plans`` is empty or malformed, the extension is not an image format, or ``columns`` < 1.
+        If ``plans`` is empty or malformed, a plan is of another hand (`PlanResult.hand`), the extension is
+        not an image format, or ``columns`` < 1.
     FileNotFoundError
         If the folder of ``path`` does not exist.
 
@@ -383,7 +388,7 @@ def plot_grasps(plans, hand, path, columns=6):
     for i, plan in enumerate(plans):
         if not isinstance(plan, (tuple, list)) or len(plan) != 3:
             raise ValueError(f"plans[{i}] must be a (result, object, caption) triple")
-        _check(result=plan[0], obj=plan[1])
+        _check(result=plan[0], obj=plan[1], hand=hand)
     columns = integer(columns, "columns")
     columns = max(1, min(int(columns), len(plans)))
     rows = -(-len(plans) // columns)

@@ -235,6 +235,82 @@ def test_a_rerun_at_another_scale_is_refused_before_planning(tmp_path, cluster):
     assert (again.skipped, again.finished) == (1, 1)
 
 
+def test_another_file_under_a_key_with_plans_is_refused(tmp_path, cluster):
+    """a/thing.stl, then b/thing.stl (another mesh) into the same folder: b's run took a's plan for its own."""
+    out = tmp_path / "out"
+    for folder, extents in (("a", (60.0, 50.0, 90.0)), ("b", (40.0, 40.0, 100.0))):
+        (tmp_path / folder).mkdir()
+        trimesh.creation.box(extents).export(tmp_path / folder / "thing.stl")
+    run([tmp_path / "a" / "thing.stl"], ["precision"], out, scheduler=cluster.scheduler_address, progress=False,
+        options={"max_iter": 3})
+    with pytest.raises(ValueError, match=r"the plans of 'thing.stl' in '.*out' were made of .*a/thing.stl, and this "
+                                         r"run's 'thing.stl' is .*b/thing.stl: write to another output folder"):
+        run([tmp_path / "b" / "thing.stl"], ["precision"], out, scheduler=cluster.scheduler_address, progress=False,
+            options={"max_iter": 3})
+    (tmp_path / "a" / "thing.stl").rename(tmp_path / "a" / "moved.stl")  # a file moved since is not compared
+    again = run([tmp_path / "b" / "thing.stl"], ["precision"], out, scheduler=cluster.scheduler_address,
+                progress=False, options={"max_iter": 3})
+    assert (again.skipped, again.finished) == (1, 0)
+
+
+def test_a_damaged_validation_is_set_aside_not_the_plan(tmp_path):
+    """A broken validation file beside a good plan made the plan 'unreadable' (renamed and planned again) every run."""
+    store = ResultStore(tmp_path)
+    store.write_result("ellipsoid", "precision", sg.plan("ellipsoid", "precision", max_iter=3))
+    store.validation_path("ellipsoid", "precision").write_text("{broken")
+    rows, unreadable = store.scan()
+    assert [r["object"] for r in rows] == ["ellipsoid"] and rows[0]["held"] == ""
+    assert unreadable == [store.validation_path("ellipsoid", "precision")]
+
+
+def test_a_worker_loads_a_file_edited_since_its_last_load(tmp_path):
+    """A long-lived worker kept a broken file's load failure after the file was fixed (--retry-failed got it back)."""
+    from synergrasp.batch.worker import prepare_object
+
+    path = tmp_path / "thing.stl"
+    path.write_text("solid broken\nendsolid broken\n")
+    failure, _ = prepare_object(str(path))
+    assert failure is not None and failure.status == "load error"
+    trimesh.creation.box((60.0, 50.0, 90.0)).export(path)
+    assert prepare_object(str(path))[0] is None
+
+
+def test_the_batch_time_limit_replaces_the_planner_s(monkeypatch):
+    """--time-limit 100 ended plans at the planner's own 10 s."""
+    import synergrasp.batch.worker as worker
+
+    seen = {}
+    monkeypatch.setattr(worker, "plan", lambda *args, **kwargs: seen.update(kwargs) or sg.plan(*args, **{**kwargs, "max_iter": 2}))
+    worker.plan_task("ellipsoid", "precision", time_limit=100.0)
+    assert seen.pop("time_limit") is None
+    worker.plan_task("ellipsoid", "precision", time_limit=100.0, options={"time_limit": 3.0})
+    assert seen.pop("time_limit") == 3.0
+    worker.plan_task("ellipsoid", "precision")
+    assert "time_limit" not in seen
+
+
+def test_a_batch_of_another_hand_is_validated_and_drawn_with_it(tmp_path):
+    """options={"hand": hand}: the validation was asked for the paper hand (refused on every run), and the report
+    drew the paper hand's fingers."""
+    from synergrasp.batch.worker import plan_task
+
+    data = sg.SynergyHand.default().to_dict()
+    data["name"] = "copy of the paper hand"
+    hand = sg.SynergyHand(data)
+    result, messages, validation = plan_task("ellipsoid", "precision", options={"hand": hand}, validate="synergrasp")
+    assert result.success and result.hand == hand.identity
+    assert validation is not None and validation.hand == hand.identity
+    assert not any("validation failed" in m for m in messages)
+    store = ResultStore(tmp_path)
+    store.write_result("ellipsoid", "precision", result, validation)
+    store.write_object("ellipsoid", "ellipsoid", 1.0)
+    page = write_report(tmp_path)  # with the paper hand: the plan is not drawn, and the page says why
+    assert "planned with hand copy of the paper hand sha256:" in page.read_text()
+    assert not (tmp_path / "report" / "ellipsoid" / "precision.png").exists()
+    write_report(tmp_path, hand=hand)
+    assert (tmp_path / "report" / "ellipsoid" / "precision.png").exists()
+
+
 def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):
     # a torus-shaped cloud: its centroid is in the hole, so loading it builds fcl geometry
     # (which cannot be pickled) to move the centre inside

@@ -220,3 +220,31 @@ def test_highs_prints_no_banner_on_stdout():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == "before\nafter\n"
+
+
+def test_highs_options_it_refuses_are_refused_at_once():
+    """A misspelt option, or a value of the wrong type, left every solve at HiGHS's default silently."""
+    from synergrasp.lp.highs import HighsBackend
+
+    with pytest.raises(ValueError, match="HiGHS refuses the option dual_feasibility_tolerence=1e-09"):
+        HighsBackend(dual_feasibility_tolerence=1e-9)
+    with pytest.raises(ValueError, match="HiGHS refuses the option dual_feasibility_tolerance='tight'"):
+        HighsBackend(dual_feasibility_tolerance="tight")
+    assert HighsBackend(dual_feasibility_tolerance=1e-9).solve([1.0], [[1.0]], [2.0]).objective == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize("returned, match", [
+    (("Optimal", [1.0], [1.0], 1, ""), "status 'Optimal' and iterations 1; the status must be one of"),
+    (("optimal", [1.0], [1.0], None, ""), "status 'optimal' and iterations None"),
+    (("optimal", [1.0], [], 1, ""), r"x of shape \(1,\) and y of shape \(0,\) for an LP of 1 rows"),
+    (("optimal", [1.0, 0.0], [1.0], 1, ""), r"x of shape \(2,\)"),
+])
+def test_what_a_custom_backend_returns_is_checked(returned, match):
+    """A custom backend's mistakes surfaced far away (an IndexError inside pseudo_distance, advice to change backend)."""
+
+    class Custom(Backend):
+        def _solve(self, c, A, b):
+            return returned
+
+    with pytest.raises(ValueError, match="backend 'custom': _solve returned " + match):
+        Custom(name="custom").solve([1.0], [[1.0]], [1.0])

@@ -115,9 +115,13 @@ def _gallery(store, rows, count, hand):
             if isinstance(obj, TaskFailure):
                 shown.append((row, None, f"object not loaded: {obj.reason}"))
                 continue
+            result = PlanResult.load(json_path)
+            if result.hand and result.hand != hand.identity:
+                shown.append((row, None, f"planned with hand {result.hand}: write the report with that hand (hand=)"))
+                continue
             picture.parent.mkdir(parents=True, exist_ok=True)
             caption = f"{row['object']}, {row['grasp']}"
-            plot_grasps([(PlanResult.load(json_path), obj, caption)], hand, picture, columns=1)
+            plot_grasps([(result, obj, caption)], hand, picture, columns=1)
         shown.append((row, picture.relative_to(store.out).as_posix(), ""))
     return shown
 

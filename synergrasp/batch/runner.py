@@ -134,8 +134,10 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         ``max_iter``...); checked before any task runs: the values by the
         method's options class, the rest by a one-step plan of an ellipsoid.
     time_limit : float, optional
-        Seconds per plan (checked after every planner iteration); a plan that
-        exceeds it is recorded as ``"timeout"``. None: no limit.
+        Seconds per plan (checked after every planner iteration), in place of
+        the planner's own ``time_limit`` unless ``options`` set it; a plan
+        that exceeds it is recorded as ``"timeout"``. None: the planner's own
+        limit (10 s by default), after which a plan ends without a grasp.
     scale : float
         Factor applied to the coordinates of object files (1000 for files in metres).
     validate : str, optional
@@ -186,13 +188,13 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     """
     tasks = expand(objects, grasps)
     store = ResultStore(out)
-    store.check_writable()
     _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate, connect_timeout)
+    store.check_writable()  # (after the settings: a refused run leaves no folders behind)
     with store.lock():
         rows, unreadable = store.scan()
         for path in unreadable:
             os.replace(path, path.with_name(path.name + ".unreadable"))
-        _check_same_scale(store, rows, tasks, scale)
+        _check_same_objects(store, rows, tasks, scale)
         done = {(r["object"], r["grasp"]): r for r in rows if r["status"] == "planned" or not retry_failed}
         todo, to_validate = [], {}
         for task in tasks:
@@ -255,21 +257,29 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
         raise ValueError(f"the planner rejects the options {options!r}: {exc}") from None
 
 
-def _check_same_scale(store, rows, tasks, scale):
-    """Refuse a run whose objects already have plans in ``store`` made at another scale.
+def _check_same_objects(store, rows, tasks, scale):
+    """Refuse a run whose objects already have plans in ``store`` made of another file or at another scale.
 
-    Their plans would be kept beside new ones at this scale, and ``object.json``
-    (which `synergrasp report` loads the object by) would name only one of them.
-    The built-ins take no scale.
+    Their plans would be taken for this run's (or kept beside new ones at this
+    scale), and ``object.json`` (which `synergrasp report` loads the object by)
+    would name only one of them. A recorded file that no longer exists (a
+    folder moved since) is not compared. The built-ins take no scale.
     """
     planned = {r["object"] for r in rows if r["status"] == "planned"}
     for task in tasks:
         key = task.key
         recorded = store.object_source(key) if key in planned and task.source.lower() not in BUILTINS else None
-        if recorded is not None and not math.isclose(recorded[1], scale, rel_tol=1e-9):
+        if recorded is None:
+            continue
+        source, recorded_scale = recorded
+        if source != task.source and Path(source).exists():
             raise ValueError(
-                f"the plans of '{key}' in '{store.out}' were made at scale {recorded[1]:g}, and this run's scale is "
-                f"{scale:g}: pass the same scale (--scale {recorded[1]:g}) to go on with them, or write to another "
+                f"the plans of '{key}' in '{store.out}' were made of {source}, and this run's '{key}' is "
+                f"{task.source}: write to another output folder (or delete '{store.results / key}' to plan it again)")
+        if not math.isclose(recorded_scale, scale, rel_tol=1e-9):
+            raise ValueError(
+                f"the plans of '{key}' in '{store.out}' were made at scale {recorded_scale:g}, and this run's scale is "
+                f"{scale:g}: pass the same scale (--scale {recorded_scale:g}) to go on with them, or write to another "
                 f"output folder (or delete '{store.results / key}' to plan it again)")
 
 

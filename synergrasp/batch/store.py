@@ -225,13 +225,17 @@ class ResultStore:
             if not failed:
                 try:
                     row = _plan_row(key, grasp, PlanResult.load(path), path.relative_to(self.out))
-                    checked = self.validation_path(key, grasp)
-                    if checked.is_file():
-                        validation = Validation.load(checked)
-                        row.update(held=bool(validation.held), physics=validation.outcome)
-                    rows[key, grasp] = row
                 except (ValueError, TypeError, KeyError):
                     unreadable.append(path)
+                    continue
+                checked = self.validation_path(key, grasp)
+                if checked.is_file():
+                    try:  # a damaged validation is the one set aside (and the plan validated again), not the plan
+                        validation = Validation.load(checked)
+                        row.update(held=bool(validation.held), physics=validation.outcome)
+                    except (ValueError, TypeError, KeyError):
+                        unreadable.append(checked)
+                rows[key, grasp] = row
                 continue
             if (key, grasp) in rows or self.result_path(key, grasp).is_file():
                 continue

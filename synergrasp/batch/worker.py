@@ -23,6 +23,7 @@ tests a successful plan in MuJoCo when the batch asks for it (``synergrasp.valid
 
 from __future__ import annotations
 
+import os
 import time
 import warnings
 from collections import OrderedDict
@@ -94,8 +95,13 @@ def load_object(source: str, scale: float = 1.0):
 
 
 def _kept_object(source: str, scale: float):
-    """`load_object` through this process's memory of the last `KEPT_OBJECTS` objects."""
-    key = (source, float(scale))
+    """`load_object` through this process's memory of the last `KEPT_OBJECTS` objects (a file edited since, by its
+    modification time and size, is loaded again: a long-lived worker of a cluster served a fixed file's old failure)."""
+    try:
+        stamp = os.stat(source)
+        key = (source, float(scale), stamp.st_mtime_ns, stamp.st_size)
+    except OSError:  # a built-in, or no such file
+        key = (source, float(scale))
     if key in _kept:
         _kept.move_to_end(key)
     else:
@@ -146,7 +152,8 @@ def plan_task(source: str, grasp: str, backend: str = "native", options=None, ti
         Keyword arguments of ``synergrasp.plan`` (planner options, ``max_iter``...).
     time_limit : float, optional
         Seconds; checked after every planner iteration (an LP solve in
-        progress is not interrupted). None: no limit.
+        progress is not interrupted), in place of the planner's own
+        ``time_limit`` (unless ``options`` set it). None: the planner's own.
     scale : float
         Factor applied to a file's coordinates.
     prepared : tuple, optional
@@ -197,7 +204,7 @@ def plan_task(source: str, grasp: str, backend: str = "native", options=None, ti
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                validation = physics_validate(outcome, _fresh(loaded), preset=validate,
+                validation = physics_validate(outcome, _fresh(loaded), preset=validate, hand=(options or {}).get("hand"),
                                               backend=type(get_backend(backend))())
             except Exception as exc:  # noqa: BLE001 - the plan is kept; the next run tries again
                 messages.append(f"validation failed: {_describe(exc)}")
@@ -221,11 +228,14 @@ def _plan(obj, grasp, backend, options, time_limit, messages):
         if time.perf_counter() - start > time_limit:
             raise _TimeLimit
 
+    options = dict(options or {})
+    if time_limit is not None and not {"time_limit", "options"} & set(options):
+        options["time_limit"] = None  # the batch's limit, not the planner's own (10 s), ends a plan
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             outcome = plan(obj, grasp, backend=type(get_backend(backend))(),
-                           progress=progress if time_limit is not None else None, **(options or {}))
+                           progress=progress if time_limit is not None else None, **options)
         except _TimeLimit:
             elapsed = time.perf_counter() - start
             outcome = TaskFailure("timeout", f"no result within the time limit of {time_limit:g} s", elapsed)

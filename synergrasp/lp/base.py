@@ -153,7 +153,9 @@ class Backend:
             If the data are not numeric.
         ValueError
             If the shapes do not match, an entry is not finite, or ``basic``
-            is not an (n,) bool array.
+            is not an (n,) bool array; or if a subclass's ``_solve`` returns a
+            status not in `STATUSES`, iterations that are not an integer, or
+            an optimal ``x`` or ``y`` of the wrong shape.
         """
         try:
             c = np.ascontiguousarray(c, dtype=float)
@@ -192,9 +194,15 @@ class Backend:
         except BaseException as exc:  # a solver's own failure becomes a status (a Rust panic is a BaseException)
             status, x, y, iterations, message = "failed", None, None, -1, f"{type(exc).__name__}: {exc}"
         elapsed = time.perf_counter() - start
+        if status not in STATUSES or not isinstance(iterations, (int, np.integer)):
+            raise ValueError(f"backend {self.name!r}: _solve returned status {status!r} and iterations {iterations!r}; "
+                             f"the status must be one of {STATUSES} and the iterations an integer (-1 if unknown)")
         if status == "optimal":
             x = np.asarray(x, dtype=float)
             y = np.asarray(y, dtype=float)
+            if x.shape != (n,) or y.shape != (m,):
+                raise ValueError(f"backend {self.name!r}: _solve returned x of shape {x.shape} and y of shape {y.shape} "
+                                 f"for an LP of {m} rows and {n} columns; they must be ({n},) and ({m},)")
             objective = float(c @ x)
         else:
             x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")

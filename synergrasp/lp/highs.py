@@ -106,6 +106,12 @@ class HighsBackend(Backend):
         same shape. False: every LP is passed as a new model and solved cold.
     options : dict
         Extra HiGHS options (``setOptionValue(key, value)``).
+
+    Raises
+    ------
+    ValueError
+        For an option HiGHS refuses (an unknown name, or a value of the
+        wrong type or range).
     """
 
     vertex_solutions = True  # simplex: basic solutions with exact duals
@@ -123,6 +129,12 @@ class HighsBackend(Backend):
             "threads": THREADS,
             **options,
         }
+        probe = _new_highs()  # an option HiGHS refuses (a misspelt name, a value of the wrong type) is refused now
+        probe.setOptionValue("output_flag", False)
+        for key, value in options.items():
+            if probe.setOptionValue(key, value) != highspy.HighsStatus.kOk:
+                raise ValueError(f"HiGHS refuses the option {key}={value!r} (an unknown name, or a value of the wrong "
+                                 "type or range): see HiGHS's list of options, https://ergo-code.github.io/HiGHS/")
         self._models = OrderedDict()  # structure -> _Model, least recently used first
         self._basis = OrderedDict()
         self._bounds_cache = {}
