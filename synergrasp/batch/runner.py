@@ -61,7 +61,8 @@ class BatchReport:
     rows : list of dict
         The summary table (``summary.csv``), every task in the output folder.
     unreadable : list of Path
-        Result files found unreadable and moved aside (``*.unreadable``); their tasks were planned again.
+        Result files found unreadable and moved aside (``*.unreadable``); their tasks were planned again (a
+        validation's plan is validated again when the run validates).
     warnings : int
         Warnings logged by this run's tasks (in ``OUT/warnings.log``).
     interrupted : bool
@@ -102,7 +103,8 @@ class BatchReport:
         if self.warnings:
             lines.append(f"{self.warnings} warnings: {self.out / 'warnings.log'}")
         if self.unreadable:
-            lines.append(f"{len(self.unreadable)} unreadable result files moved aside and planned again: "
+            lines.append(f"{len(self.unreadable)} unreadable result files moved aside (their tasks planned, or a "
+                         "validation's plan validated with --validate, again): "
                          + ", ".join(str(p) for p in self.unreadable))
         return "\n".join(lines)
 
