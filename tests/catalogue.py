@@ -129,6 +129,15 @@ def _pd(A=A3, B=B3, **kw):
     return lambda tmp: sg.pseudo_distance(A, B, **kw)
 
 
+
+def _far_status():
+    """The precision status of the paper's ellipsoid at the planner's first start."""
+    from synergrasp.planner import start_configuration
+
+    obj = so.ellipsoid()
+    return grasp_status(HAND, obj, start_configuration(HAND, obj), "precision")
+
+
 API = [
     # ------------------------------------------------------------ pseudo_distance, regular_simplex
     Case("sg.pseudo_distance", "A is a string", _pd(A="abc"), TypeError, "A must be a numeric array of shape (n, d)"),
@@ -315,6 +324,11 @@ API = [
     Case("GraspObject.scaled_contacts", "a point at the centre", lambda tmp: so.ellipsoid().scaled_contacts([[0.0, 0.0, 0.0]]), ValueError, "coincide with the object's centre"),
     Case("GraspObject.penetration", "a negative capsule radius", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), -1.0), ValueError, "radius must be a finite number > 0"),
     Case("GraspObject.penetration", "a radius that is a word", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), "thick"), TypeError, "radius must be a number"),
+    Case("GraspObject.penetration", "a radius of True", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), True), TypeError,
+         "radius must be a number or an array of (1,) numbers, got bool"),
+    Case("GraspObject.penetration", "a radius of 3 m (minutes of distance queries)",
+         lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), 3000.0), ValueError,
+         "a capsule radius of 3000 mm is more than the 500 mm a hand's phalanx could have"),
     Case("GraspObject.penetration", "a box with a NaN centre", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), 1.0, box=([np.nan, 0, 0], np.eye(3), [1, 1, 1])), ValueError, "box contains NaN or inf"),
     Case("GraspObject.penetration", "a box with a zero half extent", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), 1.0, box=([0, 0, 0], np.eye(3), [1, 0, 1])), ValueError, "box half_extents must be > 0"),
     Case("GraspObject.penetration", "a box whose axes are not a rotation", lambda tmp: so.ellipsoid().penetration(np.zeros((1, 2, 3)), 1.0, box=([0, 0, 0], 2.0 * np.eye(3), [1, 1, 1])), ValueError, "box axes must be a rotation matrix"),
@@ -326,8 +340,18 @@ API = [
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
     Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
+    Case("planner.check_grasp", "an unknown grasp kind",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "grip"), ValueError, "kind must be 'precision' or 'power', got 'grip'"),
+    Case("planner.check_grasp", "a precision status judged as power",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "power"), ValueError,
+         "the status is of a precision grasp, not a power one"),
+    Case("planner.check_grasp", "a NaN contact threshold",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "precision", eps_c=np.nan), ValueError,
+         "eps_c must be a finite number > 0"),
     Case("planner.recess", "a NaN point", lambda tmp: recess(so.ellipsoid(), [[np.nan, 0.0, 0.0]], [[1.0, 0.0, 0.0]]), ValueError, "points contains NaN or inf at rows [0]"),
     Case("planner.recess", "two points, one normal", lambda tmp: recess(so.ellipsoid(), np.zeros((2, 3)), [[1.0, 0.0, 0.0]]), ValueError, "recess needs one normal per point"),
+    Case("planner.recess", "a zero normal", lambda tmp: recess(so.ellipsoid(), [[0.0, 0.0, 50.0]], [[0.0, 0.0, 0.0]]), ValueError,
+         "recess needs unit normals; rows [0]"),
     Case("planner.recess", "normals of dimension 2", lambda tmp: recess(so.ellipsoid(), np.zeros((1, 3)), [[1.0, 0.0]]), ValueError, "normals has points of dimension 2, expected 3"),
     # ------------------------------------------------------------ the executable reach
     Case("planner.hand_clearance", "a hand given by name", lambda tmp: hand_clearance("paper_hand", so.ellipsoid(), np.zeros(8)), TypeError, "hand must be a SynergyHand"),

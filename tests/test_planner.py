@@ -996,6 +996,31 @@ def test_the_caller_chooses_the_approach(hand, ellipsoid):
     assert hand.points(u, "power")[-1][2] > ellipsoid.center[2] + 50  # from above
 
 
+def test_a_power_approach_starts_as_the_power_starts_do():
+    """Without the wide pre-shape (power_wide_preshape=None: cupped starts only), an approach's start is cupped, not
+    the mean pose (zeros)."""
+    cup = so.cup()
+    cupped = plan(cup, "power", approach=(0.0, 1.0, 0.0), power_wide_preshape=None, max_iter=1)
+    assert cupped.attempts[0]["start"][6:] == list(PlannerOptions().power_preshape)
+    wide = plan(cup, "power", approach=(0.0, 1.0, 0.0), max_iter=1)
+    assert wide.attempts[0]["start"][6:] == list(PlannerOptions().power_wide_preshape)
+
+
+def test_progress_gets_read_only_copies(ellipsoid):
+    """A callback that edited the status in place changed the plan (success became failure)."""
+    seen = []
+
+    def progress(check, status):
+        seen.append((check.contact.flags.writeable, status.g.flags.writeable, status.J.flags.writeable))
+        with pytest.raises(ValueError, match="read-only"):
+            status.g[:] = 0.0
+
+    base = plan(ellipsoid, "precision")
+    watched = plan(ellipsoid, "precision", progress=progress)
+    assert seen and not any(any(flags) for flags in seen)
+    assert watched.success and np.array_equal(watched.trajectory, base.trajectory)
+
+
 # --------------------------------------------------------------------------- bad input
 
 @pytest.mark.parametrize(

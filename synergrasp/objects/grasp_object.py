@@ -482,10 +482,11 @@ class GraspObject:
         Raises
         ------
         ValueError
-            If ``segments`` is not a finite (k, 2, 3) array, a radius is not > 0,
-            or ``box`` is not a finite box with positive half extents and a rotation.
+            If ``segments`` is not a finite (k, 2, 3) array, a radius is not > 0
+            or above `synergrasp.objects.collision.MAX_RADIUS` (500 mm), or ``box``
+            is not a finite box with positive half extents and a rotation.
         TypeError
-            If ``box`` is not a tuple of three numeric arrays.
+            If ``box`` is not a tuple of three numeric arrays, or a radius is a bool.
 
         Examples
         --------

@@ -11,7 +11,7 @@ from .result import PlanResult
 from .starts import (Start, direction_starts, opposed_widths, pinch_fingertips, pinch_seeds, power_schedule,
                      principal_directions, recess, roll_frames, smallest_pinch, start_configuration, starts,
                      surface_samples, widest_pinch, wrap_seeds)
-from .status import Status, grasp_status, smoothed_normals, status_rows
+from .status import Status, grasp_status, read_only, smoothed_normals, status_rows
 from .stop import CRITERION, GraspCheck, check_grasp
 
 __all__ = [
@@ -41,6 +41,7 @@ __all__ = [
     "executable_reach",
     "forget_warm_starts",
     "grasp_status",
+    "read_only",
     "hand_and_object",
     "hand_clearance",
     "judge_grasp",

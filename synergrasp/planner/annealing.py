@@ -42,7 +42,7 @@ import numpy as np
 
 from .._jit import clock
 from .attempt import AttemptResult, Outcome, judge_grasp
-from .status import grasp_status, hand_penetration
+from .status import grasp_status, hand_penetration, read_only
 from .stop import check_grasp
 
 #: Default energy (mm) below which a state is auto-grasped, by grasp type (`AnnealingOptions.autograsp_energy`).
@@ -384,7 +384,7 @@ def anneal(hand, obj, grasp, u0, options, *, backend="native", deadline=None, pr
             continue
         st, chk = search.status(closing[-1])
         if progress is not None:
-            progress(chk, st)
+            progress(read_only(chk), read_only(st))
         ok, pen, surface = judge_grasp(hand, obj, closing[-1], st, chk, opts, backend=backend)
         if not ok:
             continue

@@ -46,7 +46,7 @@ import numpy as np
 
 from .._jit import clock
 from .starts import pinch_fingertips
-from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration
+from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only
 from .step import limited_step
 from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
 
@@ -353,7 +353,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         statuses.append(st.g.copy())
         qs.append(chk.q)
         if progress is not None:
-            progress(chk, st)
+            progress(read_only(chk), read_only(st))
         g = st.g[:-1]
         if grasp == "precision":
             miss = g[contact_rows] - np.clip(g[contact_rows], *opts.contact_band)

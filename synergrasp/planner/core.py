@@ -165,7 +165,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     hand : SynergyHand, optional
         Default: ``SynergyHand.default()``.
     progress : callable, optional
-        Called as ``progress(check, status)`` after every iteration.
+        Called as ``progress(check, status)`` after every iteration, with
+        read-only copies (`read_only`) of the iteration's `GraspCheck` and
+        `Status`.
     validate : bool or dict
         Also test every accepted grasp in MuJoCo (`synergrasp.validate`; a
         dict gives its protocol settings) and keep searching, through
@@ -219,8 +221,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     if progress is not None and not callable(progress):
         raise TypeError(f"progress must be callable as progress(check, status), got {type(progress).__name__}")
     if grasp == "power" and method == "gradient":
-        wide = preshape(hand, opts.power_wide_preshape)
-        preshape(hand, opts.power_preshape)  # both checked before planning
+        preshape(hand, opts.power_wide_preshape), preshape(hand, opts.power_preshape)  # checked before planning
     obj = _check_object(obj, hand)
     forget_warm_starts(solver, obj)
     t0 = time.perf_counter()
@@ -241,10 +242,11 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         queue = starts(hand, obj, grasp, opts, backend=solver)
         if approach is not None:
             direction = as_vector(approach, "approach", 3)
+            wide = grasp == "power" and opts.power_wide_preshape is not None  # as the power starts: wide, else cupped
             first = start_configuration(hand, obj, direction, opts.start_distance, opts.start_clearance,
-                                        palm_centred=grasp == "power")
+                                        palm_centred=wide)
             if grasp == "power":
-                first[6:] = wide
+                first[6:] = preshape(hand, opts.power_wide_preshape if wide else opts.power_preshape)
             queue = itertools.chain([Start(first, "direction", {"direction": direction.tolist()})], queue)
     physics = _validator(validate, obj, hand, solver)
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None

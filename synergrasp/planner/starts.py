@@ -469,11 +469,16 @@ def recess(obj, points, normals):
     Raises
     ------
     ValueError
-        If ``points`` or ``normals`` is not an (m, 3) array of finite numbers, or their shapes differ.
+        If ``points`` or ``normals`` is not an (m, 3) array of finite numbers, their shapes differ, or a
+        normal is not of unit length.
     """
     points, normals = as_points(points, "points", dim=3), as_points(normals, "normals", dim=3)
     if normals.shape != points.shape:
         raise ValueError(f"recess needs one normal per point: points has shape {points.shape}, normals {normals.shape}")
+    length = np.linalg.norm(normals, axis=1)
+    if len(length) and np.abs(length - 1.0).max() > 1e-6:
+        raise ValueError(f"recess needs unit normals; rows {np.flatnonzero(np.abs(length - 1.0) > 1e-6)[:10].tolist()} have "
+                         f"lengths such as {length[np.argmax(np.abs(length - 1.0))]:.3g}: divide them by their lengths")
     planes = obj.hull_planes
     gap = np.maximum(-(points @ planes[:, :3].T + planes[:, 3]), 0.0)  # (m, f): how far inside each facet
     facing = _DIRECTIONS @ planes[:, :3].T  # (d, f)

@@ -80,6 +80,38 @@ class Status:
     lp_solves: int
 
 
+def read_only(record):
+    """A copy of a dataclass (a `Status`, a `GraspCheck`) whose arrays are read-only copies.
+
+    What a ``progress`` callback receives: editing it cannot change the plan.
+
+    Parameters
+    ----------
+    record : dataclass instance
+
+    Returns
+    -------
+    The same type.
+
+    Examples
+    --------
+    >>> from synergrasp import SynergyHand, objects
+    >>> from synergrasp.planner import start_configuration
+    >>> hand, obj = SynergyHand.default(), objects.ellipsoid()
+    >>> st = grasp_status(hand, obj, start_configuration(hand, obj), "precision")
+    >>> shown = read_only(st)
+    >>> shown.g.flags.writeable, st.g.flags.writeable, bool((shown.g == st.g).all())
+    (False, True, True)
+    """
+    arrays = {}
+    for name in record.__dataclass_fields__:
+        value = getattr(record, name)
+        if isinstance(value, np.ndarray):
+            arrays[name] = value.copy()
+            arrays[name].setflags(write=False)
+    return replace(record, **arrays)
+
+
 def smoothed_normals(obj, x, pieces, length):
     """Inward normals of a smoothed surface and their derivatives.
 

@@ -232,6 +232,9 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     ------
     TypeError
         If ``obj`` is not a GraspObject or ``status`` not a Status.
+    ValueError
+        If ``kind`` is not "precision" or "power", or not the status's, or
+        ``eps_c`` is not a positive number.
 
     Examples
     --------
@@ -249,6 +252,12 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     if not isinstance(obj, GraspObject) or not isinstance(status, Status):
         raise TypeError(f"check_grasp takes a GraspObject and a Status (grasp_status), got {type(obj).__name__} "
                         f"and {type(status).__name__}")
+    if kind not in ("precision", "power"):
+        raise ValueError(f"kind must be 'precision' or 'power', got {kind!r}")
+    if (kind == "power") != bool(status.contact.all()):  # every row of a power status is a contact
+        raise ValueError(f"the status is of a {'precision' if kind == 'power' else 'power'} grasp, not a {kind} one: "
+                         f"pass the kind it was built for (grasp_status(..., kind))")
+    eps_c = positive_scalar(eps_c, "eps_c")
     cp = status.g[:-1]
     contact = (cp < eps_c) & status.contact
     n_c = int(contact.sum())
