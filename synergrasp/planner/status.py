@@ -41,7 +41,10 @@ class Status:
     g : (n+1,) float
         cP of each row (mm), then g_sQ.
     J : (n+1, len(u)) float
-        dg/du.
+        dg/du, each row that of the point attaining it held fixed on the hand;
+        where the palm's row is attained at the palm face point
+        (`palm_face_point`), which follows the object's edge rather than the
+        palm, the row is the palm's motion at that point, not dg_P/du.
     labels : list of str
         The n cP rows: ``"T0" ... "L0"`` (fingertips), ``"T1" ... "L3"``
         (phalanges), ``"P"`` (the palm, always last).
