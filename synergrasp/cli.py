@@ -58,7 +58,9 @@ UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 #: Exit status of the ``synergrasp`` command.
 EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
               1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written)",
-              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)"}
+              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)",
+              130: "batch: interrupted (Ctrl-C or SIGTERM) after writing the results that had arrived; rerun the same "
+                   "command to plan the rest"}
 
 
 def output_stem(obj_arg, grasp) -> str:

@@ -88,6 +88,8 @@ def test_expand_names_files_and_folders(tmp_path):
     assert expand("teapot")[0].source == "teapot"  # kept as given: its load fails on a worker
     with pytest.raises(TypeError, match="a built-in name or a path, got bytes"):  # (its bytes were taken one by one)
         expand(b"cup")
+    once = expand([folder / "kitchen" / "mug.obj", folder, "cup", "CUP"])  # each object once, under its first key
+    assert [t.key for t in once] == ["mug.obj", "meshes/box.stl", "cup"]
 
 
 def test_expand_warns_of_an_empty_folder(tmp_path):

@@ -208,8 +208,8 @@ def test_no_solver_banner_on_stdout(tmp_path):
 def test_exit_codes_are_documented(capsys):
     from synergrasp.cli import EXIT_CODES
 
-    assert sorted(EXIT_CODES) == [0, 1, 2]
-    for argv in ([], ["plan"], ["demo"], ["validate"]):
+    assert sorted(EXIT_CODES) == [0, 1, 2, 130]
+    for argv in ([], ["plan"], ["demo"], ["validate"], ["batch"]):
         with pytest.raises(SystemExit):
             main(argv + ["--help"])
         text = " ".join(capsys.readouterr().out.split())

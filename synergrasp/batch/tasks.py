@@ -17,7 +17,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..objects import SUPPORTED_FORMATS
+from ..objects import BUILTINS, SUPPORTED_FORMATS
 from ..planner import GRASPS
 
 
@@ -55,7 +55,8 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
     list of Task
         In the order of ``objects`` (a folder's files sorted by path), each
         object's grasps in the order of ``grasps``; an object named twice
-        counts once.
+        counts once (a built-in in any case, ``"CUP"`` as ``"cup"``; a file
+        named both directly and through its folder, under the first key).
 
     Raises
     ------
@@ -82,9 +83,12 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
     bad = [g for g in grasps if g not in GRASPS]
     if bad or not grasps:
         raise ValueError(f"grasp types must be among {GRASPS}, got {grasps!r}")
-    sources = {}
+    sources, seen = {}, set()
     for item in objects:
         for key, source in _objects_of(item):
+            if source in seen and key not in sources:  # one file named directly and through its folder: once
+                continue
+            seen.add(source)
             if sources.setdefault(key, source) != source:
                 raise ValueError(
                     f"two objects would share the results folder '{key}': {sources[key]} and {source}; "
@@ -113,6 +117,8 @@ def _objects_of(item):
             warnings.warn(f"folder '{item}' holds no object file ({', '.join(SUPPORTED_FORMATS)})", UserWarning,
                           stacklevel=3)
         return [(f"{root.name}/{p.relative_to(root).as_posix()}", str(p)) for p in found]
+    if str(item).lower() in BUILTINS and not path.is_file():  # a built-in in any case ("CUP"): its own name
+        return [(str(item).lower(), str(item).lower())]
     key = path.name
     if key in ("", ".", ".."):
         raise ValueError(f"cannot name the results of object {str(item)!r}: give a name, a file or a folder")
