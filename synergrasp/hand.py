@@ -534,6 +534,19 @@ class SynergyHand:
         text = json.dumps(self._data, sort_keys=True, separators=(",", ":"))
         return f"{self.name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
 
+    def made(self, identity: str) -> bool:
+        """Whether a record of the hand ``identity`` (`PlanResult.hand`, `Validation.hand`) is this hand's.
+
+        An empty identity, of a file saved before records kept it, is anyone's.
+
+        Examples
+        --------
+        >>> hand = SynergyHand.default()
+        >>> hand.made(hand.identity), hand.made(""), hand.made("other sha256:0123456789abcdef")
+        (True, True, False)
+        """
+        return not identity or identity == self.identity
+
     def to_dict(self):
         """A deep copy of the hand's definition, as read from its file (JSON-serialisable).
 

@@ -24,12 +24,12 @@ from ._files import atomic_path, image_path  # noqa: E402
 
 __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
 
-_FINGER_COLORS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown", "P": "black"}
-_FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
-#: Colours of a hand's fingers, in the order of `SynergyHand.finger_names` (cycled beyond them): the paper
-#: hand's thumb to little finger get ``_FINGER_COLORS``'.
+#: Colours of a hand's fingers, in the order of `SynergyHand.finger_names` (cycled beyond them).
 _CHAIN_COLORS = ["tab:red", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:blue", "tab:pink", "tab:olive",
                  "tab:cyan"]
+#: The paper hand's: its thumb to little finger (its first five fingers), and the palm.
+_FINGER_COLORS = {**dict(zip("TIMRL", _CHAIN_COLORS)), "P": "black"}
+_FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
 
 
 def _segment_colors(hand):
@@ -134,7 +134,7 @@ def status_figure(result, labels=None, attempts=None):
         raise ValueError(f"attempts must be 'all', 'last' or None, got {attempts!r}")
     if labels is None:
         paper = SynergyHand.default()
-        if result.hand and result.hand != paper.identity:
+        if not paper.made(result.hand):
             raise ValueError(f"the result was planned with hand {result.hand!r}, whose status rows are not the paper "
                              "hand's: pass labels=hand.point_labels(result.grasp) of that hand")
         labels = paper.point_labels(result.grasp)
@@ -222,7 +222,7 @@ def _check(result=None, obj=None, hand=None):
     for name, value, kind in (("result", result, PlanResult), ("obj", obj, GraspObject), ("hand", hand, SynergyHand)):
         if value is not None and not isinstance(value, kind):
             raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
-    if result is not None and hand is not None and result.hand and result.hand != hand.identity:
+    if result is not None and hand is not None and not hand.made(result.hand):
         raise ValueError(f"the result was planned with hand {result.hand!r}, not with {hand.identity!r}: pass the "
                          "hand that made it")
 

@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 import trimesh
 
+from benchmarks.one_sided import camera_view
+
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp.objects import decompose, loading
@@ -372,27 +374,13 @@ def test_a_random_sample_of_a_surface_has_no_strays(count):
         assert obj.n_pieces == 1 and obj.extents == pytest.approx([60.0, 60.0, 60.0], abs=6.0)
 
 
-def camera_view(mesh, direction, pixels=120):
-    """The first hits of a square grid of rays from a camera 3 sizes away along ``direction``: one view of ``mesh``."""
-    v = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
-    centre, size = mesh.bounds.mean(axis=0), float(np.ptp(mesh.bounds, axis=0).max())
-    eye = centre + 3.0 * size * v
-    a = np.cross(v, [0.3, 0.5, 0.8])
-    a /= np.linalg.norm(a)
-    grid = np.linspace(-0.7, 0.7, pixels) * size
-    s, t = (x.ravel()[:, None] for x in np.meshgrid(grid, grid))
-    rays = centre + s * a + t * np.cross(v, a) - eye
-    rays /= np.linalg.norm(rays, axis=1, keepdims=True)
-    return mesh.ray.intersects_location(np.repeat(eye[None], len(rays), axis=0), rays, multiple_hits=False)[0]
-
-
 @pytest.mark.parametrize("direction", [(1.0, 0.2, 0.3), (0.39, -0.88, 0.26)])
 def test_a_cloud_seen_from_one_side_is_closed_by_its_hull_with_a_warning(direction):
     """One camera view of a cylinder: its voxels enclose nothing and some of its k-means clusters were flat (dropped,
     so the load failed with "give the points in the pieces' units"); it is the hull of the points, flat behind them,
     with a warning that names the side seen. The whole cylinder's cloud gets no warning."""
     cylinder = trimesh.creation.cylinder(radius=30.0, height=90.0, sections=64)
-    points = camera_view(cylinder, direction)
+    points = camera_view(cylinder, np.asarray(direction), np.random.default_rng(0))  # the benchmark's camera
     with pytest.warns(UserWarning, match=r"seems to be seen from one side: .* mean is 0\.[4-9][0-9] long, toward "
                                          r"\(0\.[0-9]+, -?0\.[0-9]+, 0\.[0-9]+\).* scan the object from several sides"):
         obj = so.from_points(points, cache=False)

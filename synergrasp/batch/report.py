@@ -116,7 +116,7 @@ def _gallery(store, rows, count, hand):
                 shown.append((row, None, f"object not loaded: {obj.reason}"))
                 continue
             result = PlanResult.load(json_path)
-            if result.hand and result.hand != hand.identity:
+            if not hand.made(result.hand):
                 shown.append((row, None, f"planned with hand {result.hand}: write the report with that hand (hand=)"))
                 continue
             picture.parent.mkdir(parents=True, exist_ok=True)

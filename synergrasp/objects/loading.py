@@ -671,22 +671,22 @@ def _cluster_cloud(points: np.ndarray, max_parts: int, max_vertices: int, name: 
                 continue
         if worst <= tolerance:
             break
-    pieces, flat = [], False
+    shapes, flat = [], False
     for group in groups:
         try:
-            pieces.append(_reduce(group, max_vertices, name))
+            shapes.append(ConvexPiece(group, name=name, max_vertices=max_vertices))
         except ValueError:  # a flat cluster: a sheet of points with no inside behind it
             flat = True
-    if (flat or not interior.any()) and (not pieces or _seen_from_one_side(points, pieces)):
+    pieces = [shape.vertices for shape in shapes]
+    if (flat or not interior.any()) and (not shapes or _seen_from_one_side(points, shapes)):
         # a shell of the side of the object that was seen (one camera view): closed flat behind, by its hull
         return [_reduce(points, max_vertices, name)], {**meta, "method": "hull of a cloud seen from one side"}
     meta.update(method=f"kmeans ({len(pieces)} clusters)", cluster_concavity=worst, tolerance=tolerance)
     return pieces, meta
 
 
-def _seen_from_one_side(points: np.ndarray, pieces: list) -> bool:
-    """Whether a cloud's outward normals, turned outward by the pieces (hull vertices), do not balance (`ONE_SIDED`)."""
-    shapes = [ConvexPiece(vertices) for vertices in pieces]
+def _seen_from_one_side(points: np.ndarray, shapes: list) -> bool:
+    """Whether a cloud's outward normals, turned outward by its pieces (`ConvexPiece`), do not balance (`ONE_SIDED`)."""
     inside = lambda q: np.min([shape.signed_distance_bound(q) for shape in shapes], axis=0) <= 0.0  # noqa: E731
     return bool(np.linalg.norm(PointSurface(points).net_normal(inside)) > ONE_SIDED)
 

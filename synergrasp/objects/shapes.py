@@ -31,13 +31,11 @@ _PROFILE_SHARE = 0.4
 MIN_TOLERANCE = 1e-4
 
 
-def _tolerance(tolerance, size: float, what: str) -> float:
-    """``tolerance`` checked: a positive number, at least `MIN_TOLERANCE` times ``size`` (mm)."""
-    tol = positive_scalar(tolerance, "tolerance")
+def _fine_enough(tol: float, size: float, what: str) -> None:
+    """Refuse a tolerance (mm) below `MIN_TOLERANCE` times ``size`` (mm), the shape's largest ``what``."""
     if tol < MIN_TOLERANCE * size:
         raise ValueError(f"tolerance {tol:g} mm is finer than synergrasp builds a shape to: at least {MIN_TOLERANCE:g} "
                          f"of its largest {what} ({size:g} mm), {MIN_TOLERANCE * size:.3g} mm")
-    return tol
 
 
 def _simplify(profile: np.ndarray, tol: float) -> np.ndarray:
@@ -129,7 +127,7 @@ def revolve(
     [True, False]
     """
     prof = as_points(profile, "profile", dim=2)
-    positive_scalar(tolerance, "tolerance")
+    tol = positive_scalar(tolerance, "tolerance")
     prof = prof.copy()
     prof[np.abs(prof[:, 0]) <= 1e-6 * np.abs(prof[:, 0]).max(), 0] = 0.0  # poles of sampled curves
     r, z = prof[:, 0], prof[:, 1]
@@ -141,7 +139,7 @@ def revolve(
         raise ValueError("profile heights z must be strictly increasing from bottom to top")
     if not (r[1:-1] > 0).all() or r.max() <= 0:
         raise ValueError("profile radii must be > 0 between the end knots; the solid has no volume otherwise")
-    tol = _tolerance(tolerance, float(r.max()), "radius")
+    _fine_enough(tol, float(r.max()), "radius")
     prof = _simplify(prof, _PROFILE_SHARE * tol)
     r, z = prof[:, 0], prof[:, 1]
     sides = _ring_sides(float(r.max()), (1.0 - _PROFILE_SHARE) * tol)
@@ -212,7 +210,8 @@ def ellipsoid(a: float = 30.0, b: float = 40.0, c: float = 50.0, *, tolerance: f
     [80.0, 80.0, 80.0]
     """
     axes = np.array([positive_scalar(a, "a"), positive_scalar(b, "b"), positive_scalar(c, "c")])
-    tol = _tolerance(tolerance, float(axes.max()), "semi-axis")
+    tol = positive_scalar(tolerance, "tolerance")
+    _fine_enough(tol, float(axes.max()), "semi-axis")
     for level in range(1, 7):
         sphere = trimesh.creation.icosphere(subdivisions=level)
         vertices = sphere.vertices * axes

@@ -116,7 +116,7 @@ def render_still(validation, obj, path, *, hand=None, width=640, height=480):
     if not isinstance(hand, SynergyHand):
         raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
     if validation.object_name != obj.name or validation.hand_name != hand.name \
-            or (validation.hand and validation.hand != hand.identity):
+            or not hand.made(validation.hand):
         raise ValueError(f"the validation is of {validation.object_name!r} with hand "
                          f"{validation.hand or validation.hand_name!r}, not of {obj.name!r} with {hand.identity!r}: pass "
                          "the object and hand it validated")

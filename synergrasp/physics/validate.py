@@ -40,7 +40,7 @@ def check_match(result, obj, hand, tolerance):
         configuration does not fit the hand, the contact labels are not the
         hand's, or the contacts lie off the object's surface.
     """
-    if result.hand and result.hand != hand.identity:
+    if not hand.made(result.hand):
         raise ValueError(f"the result was planned with hand {result.hand!r}, not with this hand {hand.identity!r} (the "
                          "name and a digest of its definition): pass the planning hand as hand= "
                          "(SynergyHand.from_file of its hand file)")
