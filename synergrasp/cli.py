@@ -315,7 +315,7 @@ def main(argv=None) -> int:
         try:
             return args.func(args)
         except (ValueError, TypeError, OSError, ImportError) as exc:
-            print(f"synergrasp: error: {_command_line_hint(str(exc))}", file=sys.stderr)
+            print(f"synergrasp: error: {command_line_hint(str(exc))}", file=sys.stderr)
             return 2
 
 
@@ -323,7 +323,7 @@ def main(argv=None) -> int:
 _COMMAND_LINE_ADVICE = {"scale=": "--units m or cm, or --scale FACTOR", "as hand=": "--hand FILE"}
 
 
-def _command_line_hint(message: str) -> str:
+def command_line_hint(message: str) -> str:
     """A library message that suggests ``scale=...`` or ``hand=...``, with the command line's way of saying it."""
     hints = [flags for advice, flags in _COMMAND_LINE_ADVICE.items() if advice in message]
     return message + "".join(f" (on the command line: {flags})" for flags in hints)
@@ -331,7 +331,7 @@ def _command_line_hint(message: str) -> str:
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     """Warnings as one line on stderr, without the library's file and line."""
-    print(f"synergrasp: warning: {_command_line_hint(str(message))}", file=sys.stderr)
+    print(f"synergrasp: warning: {command_line_hint(str(message))}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ import pytest
 import trimesh
 
 import synergrasp as sg
-from synergrasp.batch import ResultStore, TaskFailure, expand, grasp_summary, local_cluster, run, write_report
+from synergrasp.batch import COLUMNS, ResultStore, TaskFailure, expand, grasp_summary, local_cluster, run, write_report
 from synergrasp.cli import main
 from synergrasp.pseudo_distance import reset_regime_memory
 
@@ -166,6 +166,30 @@ def test_grasp_summary_closed_form():
     assert s["plans_per_s"] == pytest.approx(10 / 55)
 
 
+def test_grasp_summary_reads_summary_csv(tmp_path):
+    """summary.csv's rows, read back as strings, summarise as the scanned rows do; bad rows are named."""
+    rows = [dict.fromkeys(COLUMNS, "") | {"object": f"o{k}", "grasp": "power", "status": "planned",
+                                          "success": k != 1, "time_s": float(k), "held": [True, False, ""][k]}
+            for k in range(3)]
+    rows.append(dict.fromkeys(COLUMNS, "") | {"object": "o3", "grasp": "power", "status": "timeout",
+                                              "success": False, "time_s": 9.0})
+    store = ResultStore(tmp_path)
+    store.write_summary(rows)
+    with open(store.summary_path, newline="") as handle:
+        read = list(csv.DictReader(handle))
+    assert read[1]["success"] == "False" and read[0]["held"] == "True"  # strings: bool("False") is True
+    s, = grasp_summary(read)
+    assert s == grasp_summary(rows)[0]
+    assert (s["success"], s["validated"], s["held"], s["timeouts"], s["median_s"]) == (2, 2, 1, 1, 1.0)
+    with pytest.raises(ValueError, match="row 0 of the summary has no success, time_s column"):
+        grasp_summary([{"grasp": "power", "status": "planned"}])
+    with pytest.raises(ValueError, match="row 1 .* success='yes'.* True or False"):
+        grasp_summary([rows[0], rows[1] | {"success": "yes"}])
+    for bad in ({"time_s": "nan"}, {"time_s": -1.0}, {"status": "done"}, {"held": "maybe"}):
+        with pytest.raises(ValueError, match="row 0 of the summary has"):
+            grasp_summary([rows[0] | bad])
+
+
 # --------------------------------------------------------------------------- batches on a cluster
 
 
@@ -235,6 +259,21 @@ def test_a_rerun_at_another_scale_is_refused_before_planning(tmp_path, cluster):
     again = run([source], ["precision", "power"], out, scheduler=cluster.scheduler_address, progress=False, scale=10,
                 options={"max_iter": 3})
     assert (again.skipped, again.finished) == (1, 1)
+
+
+def test_batch_command_prints_why_tasks_failed_with_its_flags(tmp_path, cluster, bad_objects, capsys):
+    """The reasons in summary.csv give the library's advice (scale=1000); the command prints its own flags."""
+    garbage, metres = bad_objects
+    out = tmp_path / "out"
+    assert main(["batch", str(garbage), str(metres), "--grasp", "precision", "power", "--out", str(out),
+                 "--scheduler", cluster.scheduler_address, "--quiet", "--max-iter", "3"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("synergrasp: garbage.stl: load error: ") == 1  # once per object, not per grasp
+    for grasp in ("precision", "power"):
+        line, = [x for x in err.splitlines() if x.startswith(f"synergrasp: box_in_metres.stl {grasp}: plan error: ")]
+        assert "scale=1000" in line and line.endswith("(on the command line: --units m or cm, or --scale FACTOR)")
+    with open(out / "summary.csv", newline="") as handle:
+        assert all("on the command line" not in r["reason"] for r in csv.DictReader(handle))
 
 
 def test_another_file_under_a_key_with_plans_is_refused(tmp_path, cluster):

@@ -650,3 +650,103 @@ def test_distance_grid_interpolates_as_scipy_does_and_reads_pad_off_the_grid():
     for bad in (np.zeros((6, 2)), np.zeros((2, 4)), 5.0):  # (6, 2) would read as four points if reshaped
         with pytest.raises(ValueError, match=r"shape \(\.\.\., 3\)"):
             grid(bad)
+
+
+# --------------------------------------------------------------------------- mesh queries
+
+
+def _both_ways(mesh, monkeypatch):
+    """MeshQueries through trimesh's R-tree, and without it (as for a large mesh)."""
+    from synergrasp.objects import mesh_queries
+
+    monkeypatch.setattr(mesh_queries, "TREE_FACES", len(mesh.faces))
+    tree = mesh_queries.MeshQueries(mesh)
+    monkeypatch.setattr(mesh_queries, "TREE_FACES", 0)
+    large = mesh_queries.MeshQueries(mesh)
+    assert not tree.large and large.large
+    return tree, large
+
+
+def test_mesh_queries_without_the_tree_agree_with_trimesh(monkeypatch):
+    """Random rays from inside and outside a sphere (some miss), and points near and far from it: the same hits,
+    nearest points and signed distances."""
+    import trimesh
+
+    sphere = trimesh.creation.icosphere(3, 30.0)
+    tree, large = _both_ways(sphere, monkeypatch)
+    rng = np.random.default_rng(4)
+    origins = np.vstack([rng.uniform(-20, 20, (60, 3)), rng.uniform(-80, 80, (60, 3))])
+    directions = rng.normal(size=(120, 3)) * rng.uniform(0.5, 3.0, (120, 1))  # not unit
+    (p, r, t), (p2, r2, t2) = tree.first_hits(origins, directions), large.first_hits(origins, directions)
+    order = np.argsort(r)
+    assert 60 < len(r) < 120 and np.array_equal(r[order], r2) and np.array_equal(t[order], t2)
+    np.testing.assert_allclose(p2, p[order], atol=1e-9)
+    assert np.array_equal(r2[:60], np.arange(60))  # every ray from inside leaves
+    assert np.all(np.einsum("ij,ij->i", p2 - origins[r2], directions[r2]) > 0)
+    points = np.vstack([rng.normal(size=(200, 3)) * rng.uniform(0, 60, (200, 1)), sphere.vertices[:5]])
+    for a, b in zip(tree.closest(points), large.closest(points)):
+        np.testing.assert_allclose(b, a, atol=1e-9)
+    signed = large.signed_distance(points)
+    np.testing.assert_allclose(signed, tree.signed_distance(points), atol=1e-9)
+    radius = np.linalg.norm(points, axis=1)
+    far = np.abs(radius - 30.0) > 1.0  # off the faceted ball's shell
+    assert far.sum() > 150 and np.array_equal((signed > 0)[far], (radius < 30.0)[far])
+    assert np.all(signed[-5:] == 0.0)  # the mesh's own vertices
+
+
+def test_mesh_queries_closed_forms(monkeypatch):
+    """A 40 mm cube: +x from the centre leaves at x = 20; rays pointing away or passing beside miss; a point over
+    an edge or a corner (no face holds its projection: the sign comes from a ray) is outside."""
+    import trimesh
+
+    cube = trimesh.creation.box((40.0, 40.0, 40.0))
+    _, large = _both_ways(cube, monkeypatch)
+    origins = np.array([[0.0, 1.0, 2.0], [0.0, 0.0, 0.0], [50.0, 0.0, 0.0], [50.0, 0.0, 0.0], [50.0, 30.0, 0.0]])
+    directions = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -2.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])
+    points, hit, faces = large.first_hits(origins, directions)
+    assert hit.tolist() == [0, 1, 3]
+    np.testing.assert_allclose(points, [[20.0, 1.0, 2.0], [0.0, 0.0, -20.0], [20.0, 0.0, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(cube.face_normals[faces], [[1, 0, 0], [0, 0, -1], [1, 0, 0]], atol=1e-12)
+    queries = [[0.0, 0.0, 15.0], [0.0, 0.0, 30.0], [23.0, 24.0, 0.0], [-21.0, -22.0, 25.0], [19.0, -19.5, 19.0]]
+    expected = [5.0, -10.0, -5.0, -np.sqrt(1 + 4 + 25), 0.5]
+    np.testing.assert_allclose(large.signed_distance(queries), expected, atol=1e-12)
+    closest, distance, _ = large.closest(queries)
+    np.testing.assert_allclose(closest[2], [20.0, 20.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(distance, np.abs(expected), atol=1e-12)
+
+
+def test_first_hits_of_coincident_faces_keeps_the_one_the_ray_leaves_by(monkeypatch):
+    """A sheet with both sides (two faces on one triangle, opposite normals), and a degenerate face before it."""
+    import trimesh
+
+    vertices = [[-10.0, -10.0, 0.0], [10.0, -10.0, 0.0], [0.0, 10.0, 0.0], [0.0, 0.0, -5.0]]
+    for faces in ([[0, 1, 2], [0, 2, 1], [3, 3, 3]], [[0, 2, 1], [0, 1, 2], [3, 3, 3]]):
+        sheet = trimesh.Trimesh(vertices, faces, process=False)
+        _, large = _both_ways(sheet, monkeypatch)
+        points, hit, met = large.first_hits([[0.0, 0.0, -8.0], [0.0, 0.0, 8.0]], [[0.0, 0.0, 1.0], [0, 0, -1.0]])
+        assert hit.tolist() == [0, 1]
+        np.testing.assert_allclose(points, [[0, 0, 0], [0, 0, 0]], atol=1e-12)
+        assert sheet.face_normals[met, 2].tolist() == [1.0, -1.0]  # along each ray, whichever face comes first
+
+
+def test_a_large_open_mesh_is_queried_without_the_tree():
+    """An open scan of 52,000 faces whose two holes touch at a vertex (so it can be neither capped nor simplified):
+    its surface is the mesh itself, queried without trimesh's R-tree, and a precision grasp of it is accepted on it
+    (at 450,000 faces the tree's rays alone took 16 s)."""
+    import trimesh
+
+    from synergrasp.objects.mesh_queries import TREE_FACES
+
+    torus = trimesh.creation.torus(40.0, 15.0, major_sections=200, minor_sections=130)
+    fan = np.flatnonzero((torus.faces == 1000).any(axis=1))
+    apart = [f for f in fan[1:] if len(set(torus.faces[f]) & set(torus.faces[fan[0]])) == 1]
+    keep = np.ones(len(torus.faces), dtype=bool)
+    keep[[fan[0], apart[0]]] = False
+    torus.update_faces(keep)
+    with pytest.warns(UserWarning, match="cannot be capped"):
+        obj = so.from_mesh(torus, cache=False, name="holey torus")
+    assert len(obj.surface.faces) == len(torus.faces) > TREE_FACES and obj.surface_queries.large
+    result = sg.plan(obj, "precision")
+    assert result.success and result.surface_q < 0
+    closest, gap, _ = obj.surface_queries.closest(result.contact_points)
+    assert gap.max() < 5.0

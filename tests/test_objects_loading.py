@@ -416,26 +416,6 @@ def test_mesh_that_cannot_be_capped_is_closed_on_a_voxel_grid():
     assert obj.info["repair"]["filled_volume"] == pytest.approx(2 * 40.0**3, rel=0.25)
 
 
-def test_a_large_mesh_that_cannot_be_capped_is_named_as_slow_to_plan():
-    """A fine open scan cannot be simplified for the planner's tests (only a closed mesh is): the warning says so,
-    with what to do; a small one's warning does not."""
-    torus = trimesh.creation.torus(major_radius=40.0, minor_radius=15.0, major_sections=220, minor_sections=60)
-    first = torus.faces[0]
-    touching = next(i for i in range(1, len(torus.faces)) if len(set(torus.faces[i]) & set(first)) == 1)
-    keep = np.ones(len(torus.faces), dtype=bool)
-    keep[[0, touching]] = False  # two holes that touch at a vertex: not cappable
-    torus.update_faces(keep)
-    with pytest.warns(UserWarning, match=r"two holes touch at vertex .* Its 26398 faces cannot be simplified either "
-                                         r".* decimate the mesh first, to about 20000 faces"):
-        so.from_mesh(torus, name="open torus", cache=False)
-    a, b = open_box((40.0, 40.0, 40.0)), open_box((40.0, 40.0, 40.0))
-    b.apply_translation([40.0, 40.0, 0.0])
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        so.from_mesh(trimesh.util.concatenate([a, b]), name="two boxes", cache=False)
-    assert not any("simplified" in str(w.message) for w in caught)
-
-
 def test_open_surface_that_encloses_nothing_is_refused():
     """Half a tube (an arch): its edge loop is not planar, and it encloses no volume."""
     tube = trimesh.creation.cylinder(radius=30.0, height=80.0, sections=48)

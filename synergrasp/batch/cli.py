@@ -6,7 +6,10 @@ import signal
 import sys
 import threading
 
-from ..cli import UNITS, positive
+from ..cli import UNITS, command_line_hint, positive
+
+#: Failed tasks whose reasons `_batch` prints (the rest are in summary.csv).
+SHOWN_FAILURES = 10
 
 
 def register(sub, epilog: str = "") -> None:
@@ -95,6 +98,7 @@ def _batch(args) -> int:
                      connect_timeout=args.connect_timeout)
     except BatchInterrupted as exc:
         print(exc.report)
+        _print_failures(exc.report)
         print(f"synergrasp: interrupted; the {exc.report.finished} results of this run are written: "
               "rerun the same command to plan the rest", file=sys.stderr)
         return 130
@@ -105,7 +109,22 @@ def _batch(args) -> int:
         if main_thread:
             signal.signal(signal.SIGTERM, previous)
     print(report)
+    _print_failures(report)
     return 0
+
+
+def _print_failures(report) -> None:
+    """Why tasks gave no plan, on stderr, the library's advice with the command line's flags (an object's load error once)."""
+    failures = {}
+    for row in report.rows:
+        if row["status"] != "planned":
+            key = row["object"] if row["status"] == "load error" else f"{row['object']} {row['grasp']}"
+            failures.setdefault(key, f"{row['status']}: {command_line_hint(row['reason'])}")
+    for key, words in list(failures.items())[:SHOWN_FAILURES]:
+        print(f"synergrasp: {key}: {words}", file=sys.stderr)
+    if len(failures) > SHOWN_FAILURES:
+        print(f"synergrasp: {len(failures) - SHOWN_FAILURES} more failed tasks: see the reason column of "
+              f"{report.out / 'summary.csv'}", file=sys.stderr)
 
 
 def _report(args) -> int:

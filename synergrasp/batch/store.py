@@ -292,7 +292,10 @@ def grasp_summary(rows) -> list[dict]:
     Parameters
     ----------
     rows : list of dict
-        Rows of the summary table (`ResultStore.scan`).
+        Rows of the summary table: `ResultStore.scan`'s, or ``summary.csv``'s
+        as `csv.DictReader` reads them (``success`` and ``held`` as the
+        strings ``"True"``, ``"False"`` or ``""``). Each needs ``grasp``,
+        ``status``, ``success`` and ``time_s``; ``held`` is optional.
 
     Returns
     -------
@@ -305,6 +308,11 @@ def grasp_summary(rows) -> list[dict]:
         summed time), ``validated`` (grasps tested in MuJoCo) and ``held``
         (of those, the ones that held).
 
+    Raises
+    ------
+    ValueError
+        If a row lacks a column, or a column holds a value it cannot have.
+
     Examples
     --------
     >>> rows = [{"grasp": "power", "status": "planned", "success": True, "time_s": 1.0, "held": True},
@@ -314,11 +322,12 @@ def grasp_summary(rows) -> list[dict]:
     >>> s["tasks"], s["success"], round(s["rate"], 3), s["timeouts"], s["median_s"], s["plans_per_s"], s["held"]
     (3, 1, 0.333, 1, 2.0, 0.5, 1)
     """
+    rows = [_summary_row(i, r) for i, r in enumerate(rows)]
     out = []
     for grasp in dict.fromkeys(r["grasp"] for r in rows):
         mine = [r for r in rows if r["grasp"] == grasp]
-        times = np.array([float(r["time_s"]) for r in mine if r["status"] == "planned"])
-        success = sum(bool(r["success"]) for r in mine)
+        times = np.array([r["time_s"] for r in mine if r["status"] == "planned"])
+        success = sum(r["success"] for r in mine)
         out.append({
             "grasp": grasp, "tasks": len(mine), "success": success, "rate": success / len(mine),
             "failed": sum(r["status"] != "planned" for r in mine),
@@ -326,7 +335,33 @@ def grasp_summary(rows) -> list[dict]:
             "median_s": float(np.median(times)) if len(times) else float("nan"),
             "p90_s": float(np.percentile(times, 90)) if len(times) else float("nan"),
             "plans_per_s": float(len(times) / times.sum()) if len(times) and times.sum() > 0 else float("nan"),
-            "validated": sum(r.get("held", "") != "" for r in mine),
-            "held": sum(r.get("held", "") is True for r in mine),
+            "validated": sum(r["held"] is not None for r in mine),
+            "held": sum(r["held"] is True for r in mine),
         })
     return out
+
+
+#: How ``summary.csv`` writes a boolean column (and an empty ``held``), read back.
+_FLAGS = {True: True, False: False, "True": True, "False": False}
+
+
+def _summary_row(i, row) -> dict:
+    """The columns `grasp_summary` reads from row ``i``, parsed (``held``: True, False or None)."""
+    missing = [c for c in ("grasp", "status", "success", "time_s") if c not in row]
+    if missing:
+        raise ValueError(f"row {i} of the summary has no {', '.join(missing)} column: give the rows of "
+                         "ResultStore.scan or of summary.csv")
+    held = row.get("held", "")
+    try:
+        time_s = float(row["time_s"])
+    except (TypeError, ValueError):
+        time_s = float("nan")
+    if (row["success"] not in _FLAGS or (held not in ("", None) and held not in _FLAGS)
+            or row["status"] not in STATUSES or not np.isfinite(time_s) or time_s < 0):
+        raise ValueError(
+            f"row {i} of the summary has success={row['success']!r}, held={held!r}, status={row['status']!r}, "
+            f"time_s={row['time_s']!r}: success and held are True or False (held may be empty), status one of "
+            f"{', '.join(STATUSES)}, time_s seconds >= 0"
+        )
+    return {"grasp": row["grasp"], "status": row["status"], "success": _FLAGS[row["success"]],
+            "time_s": time_s, "held": None if held in ("", None) else _FLAGS[held]}

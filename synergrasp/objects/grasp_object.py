@@ -16,6 +16,7 @@ from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
 from .point_surface import PointSurface
+from .mesh_queries import MeshQueries
 from .repair import TURNED_OUTWARD, orient_outward, simplify
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
@@ -194,7 +195,8 @@ class GraspObject:
         `SURFACE_TOLERANCE` mm of it, a few thousand faces, built on first use
         (about a second for 300,000 faces): on a fine scan those tests would
         otherwise take seconds each. A large mesh that cannot be simplified
-        (not a closed manifold) is used as it is.
+        (not a closed manifold) is used as it is, and queried without trimesh's
+        R-tree (`surface_queries`).
 
         Returns
         -------
@@ -204,6 +206,14 @@ class GraspObject:
             return self.mesh
         coarse = simplify(self.mesh, SURFACE_TOLERANCE)
         return self.mesh if coarse is None else coarse
+
+    @cached_property
+    def surface_queries(self):
+        """Ray, nearest-point and signed-distance queries on `surface` (`MeshQueries`; None without a mesh).
+
+        Built on first use; quick on a large mesh that could not be simplified too.
+        """
+        return None if self.surface is None else MeshQueries(self.surface)
 
     @cached_property
     def mesh_excess(self) -> float:

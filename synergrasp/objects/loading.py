@@ -76,7 +76,7 @@ import trimesh
 from .._checks import as_points, integer, positive_scalar
 from .convex import SIZE_LIMITS, ConvexPiece, checked_hull
 from .decompose import DecompositionTimeout, run_coacd
-from .grasp_object import SURFACE_FACES, GraspObject
+from .grasp_object import GraspObject
 from .point_surface import PointSurface
 from .repair import (
     MAX_CAP_FRACTION,
@@ -470,12 +470,7 @@ def _from_mesh(
         repair = {"method": "voxel closing", "reason": refusal, "filled_volume": meta.get("filled_volume", 0.0) * scale**3}
         _warn(f"{what} is not watertight and cannot be capped ({refusal}); it is closed "
               f"on a voxel grid instead: the solid its surface encloses ({repair['filled_volume']:.4g} mm^3), cut into "
-              f"{len(pieces)} convex pieces. Check the pieces (obj.piece_meshes())"
-              + (f". Its {len(mesh.faces)} faces cannot be simplified either (only a closed mesh is): the planner "
-                 "tests grasps on all of them, which on a fine scan takes seconds (15 s before the first iteration at "
-                 "500,000 faces) and can use up a plan's time limit; decimate the mesh first, to about "
-                 f"{SURFACE_FACES} faces (e.g. trimesh's simplify_quadric_decimation, with pip install "
-                 "fast-simplification)" if len(mesh.faces) > SURFACE_FACES else ""))
+              f"{len(pieces)} convex pieces. Check the pieces (obj.piece_meshes())")
     obj = GraspObject(
         _scaled(pieces, scale),
         name=what,

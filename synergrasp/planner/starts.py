@@ -30,6 +30,7 @@ from scipy.spatial.transform import Rotation
 
 from .._checks import as_points, as_vector
 from ..hand import rotation_xyz
+from ..objects.mesh_queries import MeshQueries
 from .status import grasp_status, hand_penetration
 from .stop import check_grasp
 
@@ -223,12 +224,12 @@ def surface_samples(obj, count, seed):
     """
     import trimesh
 
-    mesh = obj.surface if obj.surface is not None else obj.to_mesh()
+    queries = obj.surface_queries if obj.surface is not None else MeshQueries(obj.to_mesh())
+    mesh = queries.mesh
     points, faces = trimesh.sample.sample_surface(mesh, count, seed=seed)
     normals = mesh.face_normals[faces]
-    exits, rays, triangles = mesh.ray.intersects_location(points - 1e-3 * normals, -normals, multiple_hits=False)
-    rays, triangles = np.asarray(rays, dtype=np.int64), np.asarray(triangles, dtype=np.int64)  # empty: no ray left
-    return points[rays], normals[rays], np.asarray(exits, dtype=float).reshape(-1, 3), mesh.face_normals[triangles]
+    exits, rays, triangles = queries.first_hits(points - 1e-3 * normals, -normals)
+    return points[rays], normals[rays], exits, mesh.face_normals[triangles]
 
 
 #: The fingers (chain indices) whose fingertips' centroid opposes the thumb tip in a pinch: index and middle.

@@ -45,8 +45,8 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
 
     The convex pieces the planner works on cover the object's concavities and
     facet its curves; a grasp is judged on the surface they approximate: the
-    object's mesh (`GraspObject.surface`; trimesh's closest points and their
-    face normals), or the surface its points sample (a point cloud,
+    object's mesh (`GraspObject.surface`; its closest points and their face
+    normals, `GraspObject.surface_queries`), or the surface its points sample (a point cloud,
     `GraspObject.point_surface`: the feet on planes fitted to the nearest
     points, a contact over a gap of the cloud as far as its nearest point).
     An object with neither is its pieces: the contacts and ``normals`` stay
@@ -88,9 +88,7 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     elif obj.mesh is None or not len(points):
         closest, gap, inward = points, np.zeros(len(points)), normals
     else:
-        import trimesh
-
-        closest, gap, triangle = trimesh.proximity.closest_point(obj.surface, points)
+        closest, gap, triangle = obj.surface_queries.closest(points)
         inward = -obj.surface.face_normals[triangle]
     q = np.nan
     if len(points) >= 2:
@@ -106,7 +104,7 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     """Penetration depth of capsules in the object's true surface (mm, >= 0).
 
     A capsule's depth is its radius plus the largest signed distance into the
-    mesh (trimesh, positive inside), or below the planes fitted to a point
+    mesh (`GraspObject.surface_queries`, positive inside), or below the planes fitted to a point
     cloud (`PointSurface.signed_distance`), over points along its axis at most
     ``spacing`` apart, floored at 0: the depth of its deepest point, within
     ``spacing / 2``. The convex pieces' depth (python-fcl,
@@ -156,13 +154,11 @@ def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
     radius, spacing = positive_scalar(radius, "radius"), positive_scalar(spacing, "spacing")
     if not len(capsules):
         return np.zeros(0)
-    import trimesh
-
     counts = np.maximum(2, np.ceil(np.linalg.norm(capsules[:, 1] - capsules[:, 0], axis=1) / spacing).astype(int) + 1)
     t = np.concatenate([np.linspace(0.0, 1.0, n) for n in counts])[:, None]
     a, b = np.repeat(capsules[:, 0], counts, axis=0), np.repeat(capsules[:, 1], counts, axis=0)
     samples = a + t * (b - a)
-    inside = trimesh.proximity.signed_distance(obj.surface, samples) if obj.mesh is not None else \
+    inside = obj.surface_queries.signed_distance(samples) if obj.mesh is not None else \
         obj.point_surface.signed_distance(samples, obj.contains)
     return np.maximum(0.0, np.maximum.reduceat(inside, np.r_[0, np.cumsum(counts)[:-1]]) + radius)
 

@@ -1,0 +1,237 @@
+"""Ray, nearest-point and signed-distance queries on a triangle mesh, quick on large meshes too.
+
+The planner asks the object's true surface (`GraspObject.surface`) where the
+precision seeds' inward rays leave it, where an accepted grasp's contacts are
+nearest it, and how deep a phalanx lies in it. trimesh answers from an R-tree
+of the triangles' boxes, which is quick for the meshes the planner usually
+sees: at most `TREE_FACES` faces, small ones and large closed ones once
+simplified. A larger mesh is one that could not be simplified, an open scan:
+there trimesh's tree takes seconds to build (4 s for 450,000 faces) and a ray
+across the object draws a candidate from every box it crosses (200 rays took
+16 s). `MeshQueries` answers the same questions on such a mesh without it:
+
+* rays: every ray against every triangle in a compiled loop, trimesh's tests
+  (the plane intersection, then the barycentric coordinates);
+* nearest points: a k-d tree of the vertices bounds each point's distance by
+  its nearest vertex, and trimesh then searches only the faces with a vertex
+  within that distance plus the longest edge, which hold the nearest point;
+* signed distance: as trimesh signs it, by the nearest face's normal where the
+  point projects into that face, else by the parity of a ray's crossings.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from .._jit import helper, kernel
+
+#: Meshes with more faces than this are queried without trimesh's R-tree of the whole mesh.
+TREE_FACES = 20000
+#: trimesh's tests: a ray parallel to a plane within this (|d . n|) misses it; a point is in a
+#: triangle within this of its barycentric range; a hit this far behind the origin still counts.
+PARALLEL = 1e-5
+BARYCENTRIC = 1e-13
+BEHIND = 1e-6
+#: trimesh's: a point this near the surface (mm) has distance 0 and no sign; of a point projecting
+#: into its nearest face this far outside its barycentric range the sign comes from a ray.
+ON_SURFACE = 1e-8
+#: The direction of the parity ray (trimesh's `contains_points`).
+PARITY_RAY = np.array([0.4395064455, 0.617598629942, 0.652231566745])
+
+
+class MeshQueries:
+    """Queries on one triangle mesh, with what a large mesh needs built on first use.
+
+    Parameters
+    ----------
+    mesh : trimesh.Trimesh
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> q = MeshQueries(trimesh.creation.box((40.0, 40.0, 40.0)))
+    >>> q.signed_distance([[0.0, 0.0, 15.0], [0.0, 0.0, 30.0]]).tolist()
+    [5.0, -10.0]
+    """
+
+    def __init__(self, mesh):
+        self.mesh = mesh
+        self.large = len(mesh.faces) > TREE_FACES
+
+    def first_hits(self, origins, directions):
+        """The first triangle each ray meets, as ``mesh.ray.intersects_location(..., multiple_hits=False)``.
+
+        Of hits at the same distance on a large mesh (coincident faces, a ray
+        through a shared edge), the one whose normal runs most along the ray
+        is kept: the face the ray leaves by.
+
+        Parameters
+        ----------
+        origins, directions : (m, 3) float
+            The rays (directions need not be unit).
+
+        Returns
+        -------
+        locations : (h, 3) float
+            Where each ray that meets the mesh first meets it (h <= m).
+        rays : (h,) int
+            Which ray: ascending on a large mesh, in trimesh's order (by its
+            grouping of the hits, mostly ascending) on others.
+        triangles : (h,) int
+            The triangle met.
+        """
+        origins = np.ascontiguousarray(origins, dtype=float).reshape(-1, 3)
+        directions = np.ascontiguousarray(directions, dtype=float).reshape(-1, 3)
+        if not self.large:
+            locations, rays, triangles = self.mesh.ray.intersects_location(origins, directions, multiple_hits=False)
+            return (np.asarray(locations, dtype=float).reshape(-1, 3), np.asarray(rays, dtype=np.int64),
+                    np.asarray(triangles, dtype=np.int64))
+        distance, met = np.empty(len(origins)), np.empty(len(origins), dtype=np.int64)
+        _first_hits(origins, directions, *self._triangles, PARALLEL, BARYCENTRIC, BEHIND, distance, met)
+        rays = np.flatnonzero(met >= 0)
+        return origins[rays] + directions[rays] * distance[rays, None], rays, met[rays]
+
+    def closest(self, points):
+        """Each point's nearest point on the mesh, as ``trimesh.proximity.closest_point``.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+
+        Returns
+        -------
+        closest : (n, 3) float
+        distance : (n,) float
+        triangle : (n,) int
+            The face of each nearest point.
+        """
+        import trimesh
+
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        if not self.large or not len(points):
+            return trimesh.proximity.closest_point(self.mesh, points)
+        nearest, _ = self._vertex_tree.query(points)  # the nearest vertex bounds the distance to the surface
+        near = np.zeros(len(self.mesh.vertices), dtype=bool)
+        for vertices in self._vertex_tree.query_ball_point(points, nearest + self._longest_edge):
+            near[vertices] = True
+        faces = np.flatnonzero(near[self.mesh.faces].any(axis=1))
+        part = trimesh.Trimesh(self.mesh.vertices, self.mesh.faces[faces], process=False, validate=False)
+        closest, distance, triangle = trimesh.proximity.closest_point(part, points)
+        return closest, distance, faces[triangle]
+
+    def signed_distance(self, points):
+        """Distance to the mesh, positive inside, as ``trimesh.proximity.signed_distance``.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+
+        Returns
+        -------
+        (n,) float
+        """
+        import trimesh
+
+        points = np.asarray(points, dtype=float).reshape(-1, 3)
+        if not self.large or not len(points):
+            return trimesh.proximity.signed_distance(self.mesh, points)
+        closest, distance, triangle = self.closest(points)
+        signed = distance.copy()
+        off = np.flatnonzero(distance > ON_SURFACE)
+        normals = self.mesh.face_normals[triangle[off]]
+        height = np.einsum("ij,ij->i", points[off] - closest[off], normals)
+        foot = points[off] - normals * height[:, None]
+        barycentric = trimesh.triangles.points_to_barycentric(self.mesh.triangles[triangle[off]], foot)
+        within = ((barycentric >= -ON_SURFACE) & (barycentric <= 1.0 + ON_SURFACE)).all(axis=1)
+        signed[off[within]] *= -np.sign(height[within])
+        ray = off[~within]
+        if len(ray):
+            crossings = np.empty(len(ray), dtype=np.int64)
+            _crossings(np.ascontiguousarray(points[ray]), PARITY_RAY, *self._triangles, PARALLEL, BARYCENTRIC,
+                       crossings)
+            signed[ray] *= np.where(crossings % 2 == 1, 1.0, -1.0)
+        return signed
+
+    @cached_property
+    def _triangles(self):
+        """The compiled loops' triangle data: first corner, normal, two edges, and their Gram terms."""
+        corners = np.asarray(self.mesh.triangles, dtype=float)
+        e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+        d00, d01, d11 = (e1 * e1).sum(axis=1), (e1 * e2).sum(axis=1), (e2 * e2).sum(axis=1)
+        with np.errstate(divide="ignore"):
+            inverse = 1.0 / (d00 * d11 - d01 * d01)  # inf for a degenerate triangle: it is never met
+        return (np.ascontiguousarray(corners[:, 0]), np.ascontiguousarray(self.mesh.face_normals, dtype=float), e1,
+                e2, d00, d01, d11, inverse)
+
+    @cached_property
+    def _vertex_tree(self):
+        from scipy.spatial import cKDTree
+
+        return cKDTree(np.asarray(self.mesh.vertices, dtype=float))
+
+    @cached_property
+    def _longest_edge(self) -> float:
+        corners = np.asarray(self.mesh.triangles, dtype=float)
+        return float(np.sqrt(((corners - np.roll(corners, 1, axis=1)) ** 2).sum(axis=2)).max())
+
+
+@kernel
+def _first_hits(origins, directions, v0, normals, e1, e2, d00, d01, d11, inverse, parallel, barycentric, behind,
+                distance, met):
+    """For each ray, the parameter ``distance`` and triangle ``met`` of its first hit (-1: none).
+
+    Of hits at the same distance the one whose normal runs most along the ray is kept.
+    """
+    for r in range(len(origins)):
+        ox, oy, oz = origins[r, 0], origins[r, 1], origins[r, 2]
+        dx, dy, dz = directions[r, 0], directions[r, 1], directions[r, 2]
+        squared = dx * dx + dy * dy + dz * dz
+        best, hit, leaving = np.inf, -1, 0.0
+        for f in range(len(v0)):
+            across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
+            if abs(across) <= parallel:
+                continue
+            t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1]
+                 + (v0[f, 2] - oz) * normals[f, 2]) / across
+            ahead = t * squared  # the hit's distance along the ray, times the direction's length
+            if ahead <= -behind or ahead > best or (ahead == best and across <= leaving):
+                continue
+            if _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11, inverse,
+                            barycentric):
+                best, hit, leaving = ahead, f, across
+        distance[r] = best / squared if hit >= 0 else np.nan
+        met[r] = hit
+
+
+@kernel
+def _crossings(points, direction, v0, normals, e1, e2, d00, d01, d11, inverse, parallel, barycentric, crossings):
+    """How many triangles the ray from each point along ``direction`` crosses ahead of it."""
+    dx, dy, dz = direction[0], direction[1], direction[2]
+    for r in range(len(points)):
+        ox, oy, oz = points[r, 0], points[r, 1], points[r, 2]
+        count = 0
+        for f in range(len(v0)):
+            across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
+            if abs(across) <= parallel:
+                continue
+            t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1]
+                 + (v0[f, 2] - oz) * normals[f, 2]) / across
+            if t > 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
+                                        inverse, barycentric):
+                count += 1
+        crossings[r] = count
+
+
+@helper
+def _in_triangle(x, y, z, f, v0, e1, e2, d00, d01, d11, inverse, barycentric):
+    """Whether a point of triangle ``f``'s plane lies in it (barycentric coordinates, trimesh's Cramer rule)."""
+    wx, wy, wz = x - v0[f, 0], y - v0[f, 1], z - v0[f, 2]
+    d02 = e1[f, 0] * wx + e1[f, 1] * wy + e1[f, 2] * wz
+    d12 = e2[f, 0] * wx + e2[f, 1] * wy + e2[f, 2] * wz
+    b2 = (d00[f] * d12 - d01[f] * d02) * inverse[f]
+    b1 = (d11[f] * d02 - d01[f] * d12) * inverse[f]
+    b0 = 1.0 - b1 - b2
+    return (-barycentric < b0 < 1.0 + barycentric and -barycentric < b1 < 1.0 + barycentric
+            and -barycentric < b2 < 1.0 + barycentric)
