@@ -4,7 +4,7 @@ Usage::
 
     python benchmarks/generalise.py [--split train|test|all] [--grasp precision power] [--only NAME ...]
                                     [--option NAME=VALUE ...] [--runs R] [--jobs N] [--out DIR] [--docs] [--quick]
-                                    [--rows] [--urdf-sizes MM ...] [--cloud N [--noise MM]]
+                                    [--rows] [--urdf-sizes MM ...] [--cloud N [--noise MM]] [--pose SEED]
 
 Plans a grasp of every object of a split of ``benchmarks/objectset.py`` (269 objects from three
 sources, split by shape) and verifies each plan independently of the planner, on the object's true
@@ -24,7 +24,9 @@ README summary; ``--rows`` plans nothing and summarises (and documents) the rows
 hold (each shape in its split), for a sweep of sizes on train. ``--cloud 3000`` plans every object from
 3000 points sampled on its mesh (``sg.objects.from_points``: a point cloud, no mesh) and verifies the
 grasp on the mesh (rows in ``bench-out/generalise-cloud``); ``--noise 0.5`` adds Gaussian noise of
-0.5 mm to every coordinate, as a scanner would.
+0.5 mm to every coordinate, as a scanner would. ``--pose SEED`` turns every object about its centre by
+a rotation drawn uniformly and moves it 150 mm (rows in ``bench-out/generalise-posed``): the
+benchmark's objects sit at the origin in the pose their files give, and a user's need not.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ import json
 import sys
 import time
 import warnings
+import zlib
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -55,6 +58,8 @@ FIGURE = ROOT / "docs" / "figures" / "generalisation.png"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
+#: How far (mm) ``--pose`` moves each object, in a direction of its own.
+SHIFT = 150.0
 
 
 def fidelity(obj, samples=2000, mesh=None):
@@ -86,12 +91,30 @@ def fidelity(obj, samples=2000, mesh=None):
     return float(gap.max()), float(np.percentile(gap, 95))
 
 
-def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0):
+def pose(name, seed, shift=SHIFT):
+    """(4, 4) float: a rotation drawn uniformly and a move of ``shift`` mm in a direction drawn uniformly, from
+    ``seed`` and the object's ``name``."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
+    matrix = np.eye(4)
+    matrix[:3, :3] = Rotation.random(random_state=rng).as_matrix()
+    direction = rng.normal(size=3)
+    matrix[:3, 3] = shift * direction / np.linalg.norm(direction)
+    return matrix
+
+
+def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0, posed=None):
     """Plan and verify one object (or a cloud of ``cloud`` points sampled on it, each moved by Gaussian noise of
-    standard deviation ``noise`` mm along each axis): a JSON-able row."""
+    standard deviation ``noise`` mm along each axis; with ``posed`` a seed, turned and moved by `pose`): a JSON-able
+    row."""
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
     obj = entry.make()
+    if posed is not None:
+        centre = np.eye(4)
+        centre[:3, 3] = -np.asarray(obj.center, dtype=float)
+        obj = obj.transformed(pose(entry.name, posed) @ centre)
     labels = dict(name=entry.name, source=entry.source, split=entry.split)
     if cloud is None:
         return plan_row(obj, grasp, options, **labels)
@@ -223,6 +246,10 @@ def main(argv=None):
                              "verify on its mesh")
     parser.add_argument("--noise", type=float, default=0.0, metavar="MM",
                         help="with --cloud: Gaussian noise of this standard deviation (mm) added to every coordinate")
+    parser.add_argument("--pose", type=int, default=None, metavar="SEED",
+                        help=f"turn each object about its centre by a rotation drawn uniformly and move it {SHIFT:g} mm, "
+                             "from SEED and its name (the planner should not care where an object is, nor how it is "
+                             "turned)")
     parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
                         help="sizes of the random_urdfs shapes (default: the benchmark's); with --only urdf/, a sweep "
                              "of sizes, split by shape as the benchmark")
@@ -233,7 +260,7 @@ def main(argv=None):
         parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
     args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
     sweep = tuple(args.urdf_sizes) != URDF_SIZES
-    if args.docs and (sweep or args.cloud is not None):
+    if args.docs and (sweep or args.cloud is not None or args.pose is not None):
         parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes and meshes only")
     if args.cloud is not None and args.cloud < 100:
         parser.error(f"--cloud must be at least 100 points, got {args.cloud}")
@@ -241,7 +268,7 @@ def main(argv=None):
         parser.error(f"--noise must be >= 0 mm and needs --cloud, got {args.noise}")
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise-cloud" if args.cloud else
-                                        "generalise")
+                                        "generalise-posed" if args.pose is not None else "generalise")
     options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
@@ -257,7 +284,8 @@ def _plan_all(args, options):
     tasks = [(k, e.name, g) for k in range(args.runs) for g in args.grasp for e in entries]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
-        futures = [(k, pool.submit(run, name, grasp, options, sizes, args.cloud, args.noise)) for k, name, grasp in tasks]
+        futures = [(k, pool.submit(run, name, grasp, options, sizes, args.cloud, args.noise, args.pose))
+                   for k, name, grasp in tasks]
         for k, future in futures:
             rows.append({**future.result(), "run": k})
             print_row(rows[-1], f"run {k} " if args.runs > 1 else "")

@@ -214,7 +214,7 @@ API = [
     Case("sg.plan", "an unknown object name", lambda tmp: sg.plan("teapot"), ValueError, "unknown object 'teapot'"),
     Case("sg.plan", "an object 1 mm wide (metres?)", lambda tmp: sg.plan(so.ellipsoid(0.5, 0.5, 0.5)), ValueError, "too small to grasp"),
     Case("sg.plan", "a card 85 x 54 x 1 mm (a sheet, not metres)", lambda tmp: sg.plan(so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)),
-         ValueError, "card is too thin to grasp: its thinnest extent is 1 mm"),
+         ValueError, "card is too thin to grasp: it is 1 mm thin"),
     Case("sg.plan", "an object 600 mm wide", lambda tmp: sg.plan(so.ellipsoid(300.0, 300.0, 300.0)), ValueError, "too large for the hand"),
     Case("sg.plan", "u0 of 3 numbers", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 1.0]), ValueError, "u0 must have shape (8,)"),
     Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),

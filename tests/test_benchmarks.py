@@ -124,6 +124,22 @@ def test_generalise_plans_clouds_sampled_on_the_objects_and_verifies_them_on_the
         assert message in capsys.readouterr().err
 
 
+def test_generalise_poses_each_object_its_own_way_and_verifies_it_there(tmp_path, capsys):
+    """--pose: a uniform rotation and a 150 mm move per object, fixed by the seed and the name; plans verified on the
+    moved mesh."""
+    a, b = generalise.pose("urdf/013@80", 1), generalise.pose("urdf/013@80", 1)
+    np.testing.assert_array_equal(a, b)
+    assert not np.allclose(a, generalise.pose("urdf/013@120", 1)) and not np.allclose(a, generalise.pose("urdf/013@80", 2))
+    np.testing.assert_allclose(a[:3, :3] @ a[:3, :3].T, np.eye(3), atol=1e-12)
+    assert np.linalg.det(a[:3, :3]) == pytest.approx(1.0) and np.linalg.norm(a[:3, 3]) == pytest.approx(generalise.SHIFT)
+    generalise.main(["--quick", "--grasp", "precision", "--pose", "1", "--out", str(tmp_path)])
+    rows = [json.loads(line) for line in (tmp_path / "test_precision.jsonl").read_text().splitlines()]
+    assert [r["name"] for r in rows] == list(generalise.QUICK) and all(r["verified"] for r in rows)
+    with pytest.raises(SystemExit):
+        generalise.main(["--pose", "1", "--docs", "--out", str(tmp_path)])
+    assert "--docs writes" in capsys.readouterr().err
+
+
 def test_procedural_objects_are_seeded():
     a, b = objectset.select("all", ["procedural/blob_2"])[0].make(), objectset.select("all", ["procedural/blob_2"])[0].make()
     np.testing.assert_array_equal(a.mesh.vertices, b.mesh.vertices)

@@ -35,6 +35,7 @@ from synergrasp.planner import (
 )
 from synergrasp.lp import get_backend
 from synergrasp.planner import attempt as attempt_module
+from synergrasp.planner.core import hand_opening
 from synergrasp.planner.clearance import HandClearance
 from synergrasp.planner.starts import surface_samples
 from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration, palm_face_point
@@ -906,6 +907,21 @@ def test_a_small_ball_is_pinched_with_the_fingertips_that_reach_it():
     assert np.all(np.abs(np.linalg.norm(r.contact_points, axis=1) - 20.0) < 1.0)  # on the ball
 
 
+def test_the_fingertips_that_reach_an_object_do_not_depend_on_how_it_is_turned():
+    """A 37 x 30 x 21 mm box: the ring fingertip (35 mm from the index at the nearest) reaches it. Turned, its bounding
+    box's largest side read 37-52 mm and its least 26-37 mm; its largest extent along its principal axes stays 37."""
+    hand = SynergyHand.default()
+    box = so.from_mesh(trimesh.creation.box((37.0, 30.0, 21.0)), name="box", cache=False)
+    assert sg.planner.pinch_fingertips(hand, box).tolist() == [True, True, True, True, False]
+    for k in range(6):
+        turned = box.transformed(trimesh.transformations.random_rotation_matrix(np.random.default_rng(k).random(3)))
+        assert turned.length == pytest.approx(37.0) and turned.width == pytest.approx(21.0)
+        assert sg.planner.pinch_fingertips(hand, turned).tolist() == [True, True, True, True, False]
+    thin = so.from_mesh(trimesh.creation.box((33.0, 20.0, 10.0)), name="thin", cache=False)
+    turned = thin.transformed(trimesh.transformations.euler_matrix(0.0, 0.0, np.pi / 4))
+    assert turned.size > 35.0 and sg.planner.pinch_fingertips(hand, turned).tolist() == [True, True, True, False, False]
+
+
 def test_a_plan_does_not_depend_on_the_plans_made_before_it():
     """Every plan starts its LPs cold: the same plan of the same object, before and after other plans (of it and of
     another object), is bit-identical (the warm starts kept from earlier solves used to move it at round-off)."""
@@ -1151,9 +1167,27 @@ def test_a_30_mm_ball_has_a_power_grasp_with_the_palm_on_it():
 def test_a_sheet_is_refused_as_too_thin_without_a_units_hint():
     """A card 85 mm long and 1 mm thick is in plausible units: the message says it is too thin, not "metres?"."""
     card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)
-    with pytest.raises(ValueError, match="card is too thin to grasp: its thinnest extent is 1 mm.*85 mm long") as info:
+    with pytest.raises(ValueError, match="card is too thin to grasp: it is 1 mm thin.*85 mm long") as info:
         plan(card, "precision")
     assert "scale=" not in str(info.value)
+
+
+def test_how_an_object_is_turned_does_not_decide_whether_it_is_refused():
+    """The refusals read the object's smallest width, not its bounding box: a 60 mm thick box turned by 45 degrees
+    about two axes spans 292 mm along every axis, and was refused as too large for the hand; a card turned so was
+    planned (its box is 40 mm thick)."""
+    turn = trimesh.transformations.euler_matrix(np.pi / 4, np.pi / 4, 0.0)
+    box = so.from_mesh(trimesh.creation.box((60.0, 200.0, 300.0)), name="box", cache=False).transformed(turn)
+    assert box.extents.min() > hand_opening(SynergyHand.default()) and box.width == pytest.approx(60.0)
+    assert plan(box, "precision", max_iter=2).total_iterations > 0  # planned, not refused
+    card = so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False).transformed(turn)
+    assert card.extents.min() > 30.0
+    with pytest.raises(ValueError, match="card is too thin to grasp: it is 1 mm thin"):
+        plan(card, "precision")
+    rng = np.random.default_rng(0)
+    for k in range(5):  # the width of a turned box: its thinnest side, whatever the turn
+        turned = box.transformed(trimesh.transformations.random_rotation_matrix(rng.random(3)))
+        assert turned.width == pytest.approx(60.0, abs=1e-9)
 
 
 def test_an_object_the_hand_cannot_hold():

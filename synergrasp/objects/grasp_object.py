@@ -256,6 +256,55 @@ class GraspObject:
         """Largest bounding-box side (mm)."""
         return float(self.extents.max())
 
+    @cached_property
+    def width(self) -> float:
+        """The object's smallest width (mm): the least gap of two parallel planes that enclose it.
+
+        Taken along the normals of the pieces' hull (`hull_planes`) and the
+        coordinate axes. A convex solid is thinnest along a facet normal or
+        across two edges, so this is a close upper bound of the smallest
+        width. Unlike the bounding box's smallest side, it hardly depends on
+        how the object is turned: a 60 x 200 x 300 mm box turned about two axes
+        by 45 degrees spans 292 mm or more along every axis, and is 60 mm wide.
+
+        Examples
+        --------
+        >>> import trimesh
+        >>> from synergrasp import objects
+        >>> box = objects.from_mesh(trimesh.creation.box((60.0, 200.0, 300.0)), cache=False)
+        >>> turn = trimesh.transformations.euler_matrix(np.pi / 4, np.pi / 4, 0.0)
+        >>> turned = box.transformed(turn)
+        >>> round(float(turned.extents.min())), round(turned.width)
+        (292, 60)
+        """
+        vertices = np.vstack(self.pieces)
+        directions = np.vstack([self.hull_planes[:, :3], np.eye(3)])
+        return float(min(np.ptp(vertices @ block.T, axis=0).min()
+                         for block in np.array_split(directions, -(-len(directions) // 256))))
+
+    @cached_property
+    def length(self) -> float:
+        """The object's largest extent along its principal axes (mm).
+
+        The principal axes of the pieces' vertices turn with the object, so
+        this does not depend on how it is turned, where the bounding box's
+        largest side (`size`) does (a 37 x 30 x 21 mm box turned at random
+        spans up to 52 mm along an axis). For an object whose sides are
+        aligned with the coordinate axes, it is `size`.
+
+        Examples
+        --------
+        >>> import trimesh
+        >>> from synergrasp import objects
+        >>> box = objects.from_mesh(trimesh.creation.box((37.0, 30.0, 21.0)), cache=False)
+        >>> turned = box.transformed(trimesh.transformations.euler_matrix(0.4, 0.5, 0.6))
+        >>> round(turned.size, 1), round(turned.length, 1)
+        (50.0, 37.0)
+        """
+        vertices = np.vstack(self.pieces)
+        _, _, axes = np.linalg.svd(vertices - vertices.mean(axis=0), full_matrices=False)
+        return float(np.ptp(vertices @ axes.T, axis=0).max())
+
     @property
     def volume(self) -> float:
         """Sum of the pieces' volumes (mm^3; overlapping pieces count twice)."""

@@ -81,21 +81,21 @@ def _check_object(obj, hand):
                 "; a point cloud becomes one with sg.objects.from_points(points)" if isinstance(obj, (np.ndarray, list, tuple))
                 else "")
         raise TypeError(f"obj must be a GraspObject, a built-in name or a file path, got {type(obj).__name__}{hint}")
-    width, opening = float(np.min(obj.extents)), hand_opening(hand)
+    width, opening = obj.width, hand_opening(hand)
     if width < MIN_WIDTH:
         if obj.size < objects.loading.SIZE_RANGE[0]:  # small every way: most likely in metres
             raise ValueError(
-                f"{obj.name} is too small to grasp: its smallest extent is {width:.2g} mm "
+                f"{obj.name} is too small to grasp: its smallest width is {width:.2g} mm "
                 f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
             )
         raise ValueError(
-            f"{obj.name} is too thin to grasp: its thinnest extent is {width:.2g} mm, less than the {MIN_WIDTH:g} mm "
+            f"{obj.name} is too thin to grasp: it is {width:.2g} mm thin, less than the {MIN_WIDTH:g} mm "
             f"the fingertips need between them, while it is {obj.size:.0f} mm long (a sheet or a wire: its units "
             "are plausible, its shape is not one this hand can hold)"
         )
     if width > opening:
         raise ValueError(
-            f"{obj.name} is too large for the hand: its smallest extent is {width:.0f} mm "
+            f"{obj.name} is too large for the hand: its smallest width is {width:.0f} mm "
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
         )

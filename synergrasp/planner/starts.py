@@ -329,10 +329,11 @@ def pinch_fingertips(hand, obj):
 
     The thumb and its pinch partners (index and middle, `PARTNERS`) always;
     another fingertip when the object is at least as large (its largest
-    extent) as the nearest that fingertip comes to the index fingertip over
-    the synergy box: on a smaller object the fingertips cannot all touch it,
-    and steering them all into contact stalls the attempt in a compromise.
-    The others are kept out of the object like the other phalanges.
+    width, `GraspObject.length`, whichever way it is turned) as the nearest
+    that fingertip comes to the index fingertip over the synergy box: on a
+    smaller object the fingertips cannot all touch it, and steering them all
+    into contact stalls the attempt in a compromise. The others are kept out
+    of the object like the other phalanges.
 
     Parameters
     ----------
@@ -358,7 +359,7 @@ def pinch_fingertips(hand, obj):
     >>> pinch_fingertips(hand, ball).tolist()
     [True, True, True, True, False]
     """
-    return _apertures(hand).spread <= obj.size
+    return _apertures(hand).spread <= obj.length
 
 
 def pinch_seeds(hand, obj, options):
