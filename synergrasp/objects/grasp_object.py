@@ -301,9 +301,16 @@ class GraspObject:
         >>> round(turned.size, 1), round(turned.length, 1)
         (50.0, 37.0)
         """
+        return float(np.ptp(np.vstack(self.pieces) @ self.principal_axes.T, axis=0).max())
+
+    @cached_property
+    def principal_axes(self) -> np.ndarray:
+        """(3, 3) float: the principal axes of the pieces' vertices, as rows, the longest first.
+
+        They turn with the object; each axis's sign is arbitrary.
+        """
         vertices = np.vstack(self.pieces)
-        _, _, axes = np.linalg.svd(vertices - vertices.mean(axis=0), full_matrices=False)
-        return float(np.ptp(vertices @ axes.T, axis=0).max())
+        return np.linalg.svd(vertices - vertices.mean(axis=0), full_matrices=False)[2]
 
     @property
     def volume(self) -> float:
