@@ -87,6 +87,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--quick", action="store_true", help="a 5000-face torus")
     parser.add_argument("--out", type=Path, default=Path("bench-out"), help="output folder (default ./bench-out)")
     args = parser.parse_args(argv)
+    if args.open and args.mesh is not None:
+        parser.error("--open removes faces of the generated torus: it does not take --mesh")
     with tempfile.TemporaryDirectory() as folder:
         if args.mesh is not None:
             path = args.mesh

@@ -25,7 +25,8 @@ hold (each shape in its split), for a sweep of sizes on train. ``--cloud 3000`` 
 3000 points sampled on its mesh (``sg.objects.from_points``: a point cloud, no mesh) and verifies the
 grasp on the mesh (rows in ``bench-out/generalise-cloud``); ``--noise 0.5`` adds Gaussian noise of
 0.5 mm to every coordinate, as a scanner would. ``--pose SEED`` turns every object about its centre by
-a rotation drawn uniformly and moves it 150 mm (rows in ``bench-out/generalise-posed``): the
+a rotation drawn uniformly and puts its centre 150 mm from the origin (rows in
+``bench-out/generalise-posed``, or ``-cloud-posed`` with ``--cloud``; each row records its seed): the
 benchmark's objects sit at the origin in the pose their files give, and a user's need not.
 """
 
@@ -58,7 +59,7 @@ FIGURE = ROOT / "docs" / "figures" / "generalisation.png"
 README_MARKERS = ("<!-- generalise:start -->", "<!-- generalise:end -->")
 #: Objects of the quick mode (tests).
 QUICK = ("household/can", "procedural/box_0")
-#: How far (mm) ``--pose`` moves each object, in a direction of its own.
+#: How far (mm) from the origin ``--pose`` puts each object's centre, in a direction of its own.
 SHIFT = 150.0
 
 
@@ -92,8 +93,8 @@ def fidelity(obj, samples=2000, mesh=None):
 
 
 def pose(name, seed, shift=SHIFT):
-    """(4, 4) float: a rotation drawn uniformly and a move of ``shift`` mm in a direction drawn uniformly, from
-    ``seed`` and the object's ``name``."""
+    """(4, 4) float: a rotation drawn uniformly, then a move of ``shift`` mm in a direction drawn uniformly, from
+    ``seed`` and the object's ``name`` (`run` applies it to the object centred at the origin)."""
     from scipy.spatial.transform import Rotation
 
     rng = np.random.default_rng([seed, zlib.crc32(name.encode())])
@@ -111,11 +112,11 @@ def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
     obj = entry.make()
+    labels = dict(name=entry.name, source=entry.source, split=entry.split, pose=posed)
     if posed is not None:
         centre = np.eye(4)
         centre[:3, 3] = -np.asarray(obj.center, dtype=float)
         obj = obj.transformed(pose(entry.name, posed) @ centre)
-    labels = dict(name=entry.name, source=entry.source, split=entry.split)
     if cloud is None:
         return plan_row(obj, grasp, options, **labels)
     mesh = true_surface(obj)
@@ -247,7 +248,8 @@ def main(argv=None):
     parser.add_argument("--noise", type=float, default=0.0, metavar="MM",
                         help="with --cloud: Gaussian noise of this standard deviation (mm) added to every coordinate")
     parser.add_argument("--pose", type=int, default=None, metavar="SEED",
-                        help=f"turn each object about its centre by a rotation drawn uniformly and move it {SHIFT:g} mm, "
+                        help=f"turn each object about its centre by a rotation drawn uniformly and put its centre {SHIFT:g} mm "
+                             "from the origin, "
                              "from SEED and its name (the planner should not care where an object is, nor how it is "
                              "turned)")
     parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
@@ -261,14 +263,17 @@ def main(argv=None):
     args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
     sweep = tuple(args.urdf_sizes) != URDF_SIZES
     if args.docs and (sweep or args.cloud is not None or args.pose is not None):
-        parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes and meshes only")
+        parser.error("--docs writes the benchmark's page: it takes the benchmark's --urdf-sizes and meshes, in their "
+                     "own pose, only (no --cloud nor --pose)")
+    if args.pose is not None and args.pose < 0:
+        parser.error(f"--pose must be a seed >= 0, got {args.pose}")
     if args.cloud is not None and args.cloud < 100:
         parser.error(f"--cloud must be at least 100 points, got {args.cloud}")
     if args.noise < 0 or (args.noise and args.cloud is None):
         parser.error(f"--noise must be >= 0 mm and needs --cloud, got {args.noise}")
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
-        args.out = Path("bench-out") / ("generalise-sizes" if sweep else "generalise-cloud" if args.cloud else
-                                        "generalise-posed" if args.pose is not None else "generalise")
+        args.out = Path("bench-out") / ("generalise" + ("-sizes" if sweep else "") + ("-cloud" if args.cloud else "")
+                                        + ("-posed" if args.pose is not None else ""))
     options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]

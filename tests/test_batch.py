@@ -185,7 +185,8 @@ def test_grasp_summary_reads_summary_csv(tmp_path):
         grasp_summary([{"grasp": "power", "status": "planned"}])
     with pytest.raises(ValueError, match="row 1 .* success='yes'.* True or False"):
         grasp_summary([rows[0], rows[1] | {"success": "yes"}])
-    for bad in ({"time_s": "nan"}, {"time_s": -1.0}, {"status": "done"}, {"held": "maybe"}):
+    assert grasp_summary([rows[2] | {"held": float("nan")}])[0]["validated"] == 0  # pandas reads an empty cell so
+    for bad in ({"time_s": "nan"}, {"time_s": -1.0}, {"status": "done"}, {"held": "maybe"}, {"success": [True]}):
         with pytest.raises(ValueError, match="row 0 of the summary has"):
             grasp_summary([rows[0] | bad])
 

@@ -15,6 +15,15 @@ def test_large_mesh_quick(tmp_path, capsys):
     assert "peak memory" in capsys.readouterr().out
 
 
+def test_large_mesh_open_torus_cannot_be_capped(tmp_path, capsys):
+    """--open: two faces that touch at a vertex removed, so loading closes the torus on a voxel grid."""
+    torus = bench_large_mesh.torus(5000, opened=True)
+    assert len(torus.faces) == len(bench_large_mesh.torus(5000).faces) - 2 and not torus.is_watertight
+    with pytest.raises(SystemExit):
+        bench_large_mesh.main(["--open", "--mesh", str(tmp_path / "x.stl"), "--out", str(tmp_path)])
+    assert "does not take --mesh" in capsys.readouterr().err
+
+
 def test_time_limit_quick(capsys):
     """A plan that cannot succeed runs to its limit and stops there (the ratio is reported, not asserted tightly)."""
     from benchmarks import bench_time_limit
@@ -135,9 +144,11 @@ def test_generalise_poses_each_object_its_own_way_and_verifies_it_there(tmp_path
     generalise.main(["--quick", "--grasp", "precision", "--pose", "1", "--out", str(tmp_path)])
     rows = [json.loads(line) for line in (tmp_path / "test_precision.jsonl").read_text().splitlines()]
     assert [r["name"] for r in rows] == list(generalise.QUICK) and all(r["verified"] for r in rows)
-    with pytest.raises(SystemExit):
-        generalise.main(["--pose", "1", "--docs", "--out", str(tmp_path)])
-    assert "--docs writes" in capsys.readouterr().err
+    assert all(r["pose"] == 1 for r in rows)
+    for argv, message in ((["--pose", "1", "--docs"], "--docs writes"), (["--pose", "-1"], "must be a seed >= 0")):
+        with pytest.raises(SystemExit):
+            generalise.main([*argv, "--out", str(tmp_path)])
+        assert message in capsys.readouterr().err
 
 
 def test_procedural_objects_are_seeded():

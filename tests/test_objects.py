@@ -694,6 +694,23 @@ def test_mesh_queries_without_the_tree_agree_with_trimesh(monkeypatch):
     assert np.all(signed[-5:] == 0.0)  # the mesh's own vertices
 
 
+def test_mesh_queries_on_an_open_mesh_sign_as_trimesh(monkeypatch):
+    """A ball with a wavy opening (the meshes the compiled loop is for are open): a point in the hollow under the
+    opening is outside, as trimesh's two-way ray test says, where one ray's parity read it inside."""
+    import trimesh
+
+    ball = trimesh.creation.icosphere(4, 30.0)
+    centres = ball.triangles_center
+    keep = centres[:, 2] < 15.0 + 5.0 * np.sin(3.0 * np.arctan2(centres[:, 1], centres[:, 0]))
+    bowl = trimesh.Trimesh(ball.vertices, ball.faces[keep])
+    assert not bowl.is_watertight
+    tree, large = _both_ways(bowl, monkeypatch)
+    points = np.random.default_rng(0).uniform(-40.0, 40.0, (3000, 3))
+    np.testing.assert_allclose(large.signed_distance(points), tree.signed_distance(points), atol=1e-9)
+    hollow = np.array([[0.0, 0.0, 20.0], [5.0, 3.0, 22.0], [-4.0, 2.0, 18.0], [0.0, 0.0, -20.0]])
+    assert (np.sign(large.signed_distance(hollow)) == [-1, -1, -1, 1]).all()  # under the opening; under the floor
+
+
 def test_mesh_queries_closed_forms(monkeypatch):
     """A 40 mm cube: +x from the centre leaves at x = 20; rays pointing away or passing beside miss; a point over
     an edge or a corner (no face holds its projection: the sign comes from a ray) is outside."""

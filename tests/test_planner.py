@@ -909,13 +909,18 @@ def test_a_small_ball_is_pinched_with_the_fingertips_that_reach_it():
 
 def test_the_fingertips_that_reach_an_object_do_not_depend_on_how_it_is_turned():
     """A 37 x 30 x 21 mm box: the ring fingertip (35 mm from the index at the nearest) reaches it. Turned, its bounding
-    box's largest side read 37-52 mm and its least 26-37 mm; its largest extent along its principal axes stays 37."""
+    box's largest side read 37-52 mm and its least 26-37 mm; its smallest enclosing box's largest side stays 37."""
     hand = SynergyHand.default()
     box = so.from_mesh(trimesh.creation.box((37.0, 30.0, 21.0)), name="box", cache=False)
     assert sg.planner.pinch_fingertips(hand, box).tolist() == [True, True, True, True, False]
     for k in range(6):
         turned = box.transformed(trimesh.transformations.random_rotation_matrix(np.random.default_rng(k).random(3)))
         assert turned.length == pytest.approx(37.0) and turned.width == pytest.approx(21.0)
+        assert sg.planner.pinch_fingertips(hand, turned).tolist() == [True, True, True, True, False]
+    cube = so.from_mesh(trimesh.creation.box((38.0, 38.0, 38.0)), name="cube", cache=False)  # principal axes: any
+    for k in range(4):
+        turned = cube.transformed(trimesh.transformations.random_rotation_matrix(np.random.default_rng(k).random(3)))
+        assert turned.length == pytest.approx(38.0) and turned.width == pytest.approx(38.0)
         assert sg.planner.pinch_fingertips(hand, turned).tolist() == [True, True, True, True, False]
     thin = so.from_mesh(trimesh.creation.box((33.0, 20.0, 10.0)), name="thin", cache=False)
     turned = thin.transformed(trimesh.transformations.euler_matrix(0.0, 0.0, np.pi / 4))

@@ -114,7 +114,7 @@ def _batch(args) -> int:
 
 
 def _print_failures(report) -> None:
-    """Why tasks gave no plan, on stderr, the library's advice with the command line's flags (an object's load error once)."""
+    """Why tasks gave no plan (in this run or before), on stderr, with the command line's flags (a load error once)."""
     failures = {}
     for row in report.rows:
         if row["status"] != "planned":
@@ -123,7 +123,7 @@ def _print_failures(report) -> None:
     for key, words in list(failures.items())[:SHOWN_FAILURES]:
         print(f"synergrasp: {key}: {words}", file=sys.stderr)
     if len(failures) > SHOWN_FAILURES:
-        print(f"synergrasp: {len(failures) - SHOWN_FAILURES} more failed tasks: see the reason column of "
+        print(f"synergrasp: {len(failures) - SHOWN_FAILURES} more failures: see the reason column of "
               f"{report.out / 'summary.csv'}", file=sys.stderr)
 
 

@@ -294,7 +294,8 @@ def grasp_summary(rows) -> list[dict]:
     rows : list of dict
         Rows of the summary table: `ResultStore.scan`'s, or ``summary.csv``'s
         as `csv.DictReader` reads them (``success`` and ``held`` as the
-        strings ``"True"``, ``"False"`` or ``""``). Each needs ``grasp``,
+        strings ``"True"``, ``"False"`` or ``""``; pandas's NaN for an empty
+        ``held``). Each needs ``grasp``,
         ``status``, ``success`` and ``time_s``; ``held`` is optional.
 
     Returns
@@ -352,12 +353,13 @@ def _summary_row(i, row) -> dict:
         raise ValueError(f"row {i} of the summary has no {', '.join(missing)} column: give the rows of "
                          "ResultStore.scan or of summary.csv")
     held = row.get("held", "")
+    held = "" if isinstance(held, float) and np.isnan(held) else held  # an empty cell, as pandas reads it
     try:
         time_s = float(row["time_s"])
-    except (TypeError, ValueError):
-        time_s = float("nan")
-    if (row["success"] not in _FLAGS or (held not in ("", None) and held not in _FLAGS)
-            or row["status"] not in STATUSES or not np.isfinite(time_s) or time_s < 0):
+        known = row["success"] in _FLAGS and (held in ("", None) or held in _FLAGS) and row["status"] in STATUSES
+    except (TypeError, ValueError):  # not a number, or a value that cannot be looked up (a list)
+        time_s, known = float("nan"), False
+    if not known or not np.isfinite(time_s) or time_s < 0:
         raise ValueError(
             f"row {i} of the summary has success={row['success']!r}, held={held!r}, status={row['status']!r}, "
             f"time_s={row['time_s']!r}: success and held are True or False (held may be empty), status one of "

@@ -15,14 +15,15 @@ from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
 from .convex import ConvexPiece
 from .distance_grid import DistanceGrid
+from .mesh_queries import TREE_FACES, MeshQueries
 from .point_surface import PointSurface
-from .mesh_queries import MeshQueries
 from .repair import TURNED_OUTWARD, orient_outward, simplify
 from .scaled_contacts import ScaledContacts, scaled_contacts
 
 
-#: A mesh with more faces than this is simplified for the planner's tests against the true surface (`GraspObject.surface`).
-SURFACE_FACES = 20000
+#: A mesh with more faces than this is simplified for the planner's tests against the true surface (`GraspObject.surface`);
+#: a mesh that stays larger is queried without trimesh's R-tree (`MeshQueries`).
+SURFACE_FACES = TREE_FACES
 #: How far (mm) that simplified surface may lie from the mesh.
 SURFACE_TOLERANCE = 0.1
 #: A given torque scale must lie within this factor of the object's bounding radius (a value in other units is refused).
@@ -209,9 +210,12 @@ class GraspObject:
 
     @cached_property
     def surface_queries(self):
-        """Ray, nearest-point and signed-distance queries on `surface` (`MeshQueries`; None without a mesh).
+        """Ray, nearest-point and signed-distance queries on `surface`, built on first use.
 
-        Built on first use; quick on a large mesh that could not be simplified too.
+        Returns
+        -------
+        MeshQueries or None
+            None without a mesh.
         """
         return None if self.surface is None else MeshQueries(self.surface)
 
@@ -258,22 +262,22 @@ class GraspObject:
 
     @cached_property
     def width(self) -> float:
-        """The object's smallest width (mm): the least gap of two parallel planes that enclose it.
+        """An upper bound of the object's smallest width (mm): its least extent along the pieces' hull's normals.
 
-        Taken along the normals of the pieces' hull (`hull_planes`) and the
-        coordinate axes. A convex solid is thinnest along a facet normal or
-        across two edges, so this is a close upper bound of the smallest
-        width. Unlike the bounding box's smallest side, it hardly depends on
-        how the object is turned: a 60 x 200 x 300 mm box turned about two axes
-        by 45 degrees spans 292 mm or more along every axis, and is 60 mm wide.
+        Taken along the normals of `hull_planes` and the coordinate axes. A
+        convex solid is thinnest along a facet normal (a box, a slab, a
+        cylinder: then this is exact) or across two of its edges (a
+        tetrahedron on edge: up to 15 % more). Unlike the bounding box's
+        smallest side it does not grow when the object is turned: a 60 x 200 x
+        300 mm box turned about two axes by 45 degrees spans 292 mm or more
+        along every axis, and is 60 mm wide.
 
         Examples
         --------
         >>> import trimesh
         >>> from synergrasp import objects
         >>> box = objects.from_mesh(trimesh.creation.box((60.0, 200.0, 300.0)), cache=False)
-        >>> turn = trimesh.transformations.euler_matrix(np.pi / 4, np.pi / 4, 0.0)
-        >>> turned = box.transformed(turn)
+        >>> turned = box.transformed(trimesh.transformations.euler_matrix(np.pi / 4, np.pi / 4, 0.0))
         >>> round(float(turned.extents.min())), round(turned.width)
         (292, 60)
         """
@@ -284,13 +288,12 @@ class GraspObject:
 
     @cached_property
     def length(self) -> float:
-        """The object's largest extent along its principal axes (mm).
+        """The largest side of the object's smallest enclosing box, whatever its orientation (mm).
 
-        The principal axes of the pieces' vertices turn with the object, so
-        this does not depend on how it is turned, where the bounding box's
-        largest side (`size`) does (a 37 x 30 x 21 mm box turned at random
-        spans up to 52 mm along an axis). For an object whose sides are
-        aligned with the coordinate axes, it is `size`.
+        The box is trimesh's `oriented_bounds` of the pieces' vertices: it
+        turns with the object, so this does not depend on how the object is
+        turned, where the bounding box's largest side (`size`) does (a 37 x 30
+        x 21 mm box turned at random spans up to 52 mm along an axis).
 
         Examples
         --------
@@ -301,21 +304,9 @@ class GraspObject:
         >>> round(turned.size, 1), round(turned.length, 1)
         (50.0, 37.0)
         """
-        return float(np.ptp(np.vstack(self.pieces) @ self.principal_axes.T, axis=0).max())
+        import trimesh
 
-    @cached_property
-    def principal_axes(self) -> np.ndarray:
-        """(3, 3) float: the principal axes of the pieces' vertices, as rows, the longest first.
-
-        They turn with the object; each axis's sign is arbitrary.
-        """
-        vertices = np.vstack(self.pieces)
-        return np.linalg.svd(vertices - vertices.mean(axis=0), full_matrices=False)[2]
-
-    @property
-    def volume(self) -> float:
-        """Sum of the pieces' volumes (mm^3; overlapping pieces count twice)."""
-        return float(sum(p.volume for p in self.convex))
+        return float(np.max(trimesh.bounds.oriented_bounds(np.vstack(self.pieces))[1]))
 
     def __repr__(self) -> str:
         ext = " x ".join(f"{e:.0f}" for e in self.extents)

@@ -5,7 +5,7 @@ precision seeds' inward rays leave it, where an accepted grasp's contacts are
 nearest it, and how deep a phalanx lies in it. trimesh answers from an R-tree
 of the triangles' boxes, which is quick for the meshes the planner usually
 sees: at most `TREE_FACES` faces, small ones and large closed ones once
-simplified. A larger mesh is one that could not be simplified, an open scan:
+simplified. A larger mesh is mostly one that could not be simplified, an open scan:
 there trimesh's tree takes seconds to build (4 s for 450,000 faces) and a ray
 across the object draws a candidate from every box it crosses (200 rays took
 16 s). `MeshQueries` answers the same questions on such a mesh without it:
@@ -16,7 +16,8 @@ across the object draws a candidate from every box it crosses (200 rays took
   its nearest vertex, and trimesh then searches only the faces with a vertex
   within that distance plus the longest edge, which hold the nearest point;
 * signed distance: as trimesh signs it, by the nearest face's normal where the
-  point projects into that face, else by the parity of a ray's crossings.
+  point projects into that face, else by the parity of a line's crossings on
+  either side of the point (trimesh's `contains_points`).
 """
 
 from __future__ import annotations
@@ -37,8 +38,10 @@ BEHIND = 1e-6
 #: trimesh's: a point this near the surface (mm) has distance 0 and no sign; of a point projecting
 #: into its nearest face this far outside its barycentric range the sign comes from a ray.
 ON_SURFACE = 1e-8
-#: The direction of the parity ray (trimesh's `contains_points`).
+#: The direction of the parity rays (trimesh's `contains_points`), and of the second line drawn
+#: through a point whose two rays disagree.
 PARITY_RAY = np.array([0.4395064455, 0.617598629942, 0.652231566745])
+SECOND_RAY = np.array([-0.7416198487, 0.3288290209, 0.5847050208])
 
 
 class MeshQueries:
@@ -47,6 +50,12 @@ class MeshQueries:
     Parameters
     ----------
     mesh : trimesh.Trimesh
+
+    Attributes
+    ----------
+    mesh : trimesh.Trimesh
+    large : bool
+        More than `TREE_FACES` faces: queried without trimesh's R-tree.
 
     Examples
     --------
@@ -63,9 +72,9 @@ class MeshQueries:
     def first_hits(self, origins, directions):
         """The first triangle each ray meets, as ``mesh.ray.intersects_location(..., multiple_hits=False)``.
 
-        Of hits at the same distance on a large mesh (coincident faces, a ray
-        through a shared edge), the one whose normal runs most along the ray
-        is kept: the face the ray leaves by.
+        Of hits at the same distance on a large mesh (coincident faces), the
+        one whose normal runs most along the ray is kept: the face the ray
+        leaves by.
 
         Parameters
         ----------
@@ -95,6 +104,10 @@ class MeshQueries:
 
     def closest(self, points):
         """Each point's nearest point on the mesh, as ``trimesh.proximity.closest_point``.
+
+        On a large mesh, trimesh searches only the faces near the points; the
+        farther a point is from a fine mesh, the more faces are near it (the
+        planner asks about points within a few millimetres of the surface).
 
         Parameters
         ----------
@@ -148,11 +161,31 @@ class MeshQueries:
         signed[off[within]] *= -np.sign(height[within])
         ray = off[~within]
         if len(ray):
-            crossings = np.empty(len(ray), dtype=np.int64)
-            _crossings(np.ascontiguousarray(points[ray]), PARITY_RAY, *self._triangles, PARALLEL, BARYCENTRIC,
-                       crossings)
-            signed[ray] *= np.where(crossings % 2 == 1, 1.0, -1.0)
+            signed[ray] *= np.where(self._contains(points[ray]), 1.0, -1.0)
         return signed
+
+    def _contains(self, points):
+        """(n,) bool: trimesh's ray test of each point (``contains_points``), on the compiled loop.
+
+        Outside the mesh's bounding box a point is outside. Else the faces a
+        line through it crosses are counted ahead of and behind it: none on
+        either side, outside; odd on both, inside; even on both, outside; a
+        line whose two sides disagree (through an edge, or the mesh's
+        opening) is drawn again along `SECOND_RAY`, then taken as outside.
+        """
+        lo, hi = self.mesh.bounds
+        inside = np.zeros(len(points), dtype=bool)
+        todo = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
+        for direction in (PARITY_RAY, SECOND_RAY):
+            if not len(todo):
+                break
+            counts = np.empty((len(todo), 2), dtype=np.int64)
+            _crossings(np.ascontiguousarray(points[todo]), direction, *self._triangles, PARALLEL, BARYCENTRIC, counts)
+            odd = counts % 2 == 1
+            settled = (counts == 0).any(axis=1) | (odd[:, 0] == odd[:, 1])
+            inside[todo[settled]] = odd[settled, 0] & (counts[settled] > 0).all(axis=1)
+            todo = todo[~settled]
+        return inside
 
     @cached_property
     def _triangles(self):
@@ -182,7 +215,7 @@ def _first_hits(origins, directions, v0, normals, e1, e2, d00, d01, d11, inverse
                 distance, met):
     """For each ray, the parameter ``distance`` and triangle ``met`` of its first hit (-1: none).
 
-    Of hits at the same distance the one whose normal runs most along the ray is kept.
+    Of hits at the same distance (coincident faces) the one whose normal runs most along the ray is kept.
     """
     for r in range(len(origins)):
         ox, oy, oz = origins[r, 0], origins[r, 1], origins[r, 2]
@@ -207,21 +240,24 @@ def _first_hits(origins, directions, v0, normals, e1, e2, d00, d01, d11, inverse
 
 @kernel
 def _crossings(points, direction, v0, normals, e1, e2, d00, d01, d11, inverse, parallel, barycentric, crossings):
-    """How many triangles the ray from each point along ``direction`` crosses ahead of it."""
+    """How many triangles the line through each point along ``direction`` crosses ahead of it and behind it."""
     dx, dy, dz = direction[0], direction[1], direction[2]
     for r in range(len(points)):
         ox, oy, oz = points[r, 0], points[r, 1], points[r, 2]
-        count = 0
+        ahead, behind = 0, 0
         for f in range(len(v0)):
             across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
             if abs(across) <= parallel:
                 continue
             t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1]
                  + (v0[f, 2] - oz) * normals[f, 2]) / across
-            if t > 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
-                                        inverse, barycentric):
-                count += 1
-        crossings[r] = count
+            if t != 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
+                                         inverse, barycentric):
+                if t > 0.0:
+                    ahead += 1
+                else:
+                    behind += 1
+        crossings[r, 0], crossings[r, 1] = ahead, behind
 
 
 @helper

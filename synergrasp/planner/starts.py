@@ -328,9 +328,10 @@ def pinch_fingertips(hand, obj):
     """The fingertips a precision attempt steers into contact with ``obj``.
 
     The thumb and its pinch partners (index and middle, `PARTNERS`) always;
-    another fingertip when the object is at least as large (its largest
-    width, `GraspObject.length`, whichever way it is turned) as the nearest
-    that fingertip comes to the index fingertip over the synergy box: on a
+    another fingertip when the object is at least as large (the largest
+    side of its smallest enclosing box, `GraspObject.length`, whichever way
+    it is turned) as the nearest that fingertip comes to the index fingertip
+    over the synergy box: on a
     smaller object the fingertips cannot all touch it, and steering them all
     into contact stalls the attempt in a compromise. The others are kept out
     of the object like the other phalanges.
