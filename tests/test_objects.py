@@ -684,8 +684,11 @@ def test_mesh_queries_without_the_tree_agree_with_trimesh(monkeypatch):
     assert np.array_equal(r2[:60], np.arange(60))  # every ray from inside leaves
     assert np.all(np.einsum("ij,ij->i", p2 - origins[r2], directions[r2]) > 0)
     points = np.vstack([rng.normal(size=(200, 3)) * rng.uniform(0, 60, (200, 1)), sphere.vertices[:5]])
-    for a, b in zip(tree.closest(points), large.closest(points)):
-        np.testing.assert_allclose(b, a, atol=1e-9)
+    (near, gap, face), (near2, gap2, face2) = tree.closest(points), large.closest(points)
+    np.testing.assert_allclose(near2, near, atol=1e-9)
+    np.testing.assert_allclose(gap2, gap, atol=1e-9)
+    reached = trimesh.triangles.closest_point(sphere.triangles[face2], points)  # a face at that distance (of those
+    np.testing.assert_allclose(np.linalg.norm(reached - points, axis=1), gap, atol=1e-9)  # sharing a corner, any)
     signed = large.signed_distance(points)
     np.testing.assert_allclose(signed, tree.signed_distance(points), atol=1e-9)
     radius = np.linalg.norm(points, axis=1)

@@ -308,6 +308,11 @@ class GraspObject:
 
         return float(np.max(trimesh.bounds.oriented_bounds(np.vstack(self.pieces))[1]))
 
+    @property
+    def volume(self) -> float:
+        """Sum of the pieces' volumes (mm^3; overlapping pieces count twice)."""
+        return float(sum(p.volume for p in self.convex))
+
     def __repr__(self) -> str:
         ext = " x ".join(f"{e:.0f}" for e in self.extents)
         return f"GraspObject({self.name!r}, {self.n_pieces} pieces, {ext} mm, L={self.torque_scale:.1f})"

@@ -13,8 +13,9 @@ across the object draws a candidate from every box it crosses (200 rays took
 * rays: every ray against every triangle in a compiled loop, trimesh's tests
   (the plane intersection, then the barycentric coordinates);
 * nearest points: a k-d tree of the vertices bounds each point's distance by
-  its nearest vertex, and trimesh then searches only the faces with a vertex
-  within that distance plus the longest edge, which hold the nearest point;
+  its nearest vertex, and only the faces with a vertex within that distance
+  plus the longest edge over sqrt(3), which hold the nearest point, are
+  compared with it (trimesh's point-triangle test);
 * signed distance: as trimesh signs it, by the nearest face's normal where the
   point projects into that face, else by the parity of a line's crossings on
   either side of the point (trimesh's `contains_points`).
@@ -38,6 +39,8 @@ BEHIND = 1e-6
 #: trimesh's: a point this near the surface (mm) has distance 0 and no sign; of a point projecting
 #: into its nearest face this far outside its barycentric range the sign comes from a ray.
 ON_SURFACE = 1e-8
+#: Point-face pairs `MeshQueries.closest` compares at once on a large mesh.
+PAIRS = 1_000_000
 #: The direction of the parity rays (trimesh's `contains_points`), and of the second line drawn
 #: through a point whose two rays disagree.
 PARITY_RAY = np.array([0.4395064455, 0.617598629942, 0.652231566745])
@@ -105,9 +108,11 @@ class MeshQueries:
     def closest(self, points):
         """Each point's nearest point on the mesh, as ``trimesh.proximity.closest_point``.
 
-        On a large mesh, trimesh searches only the faces near the points; the
-        farther a point is from a fine mesh, the more faces are near it (the
-        planner asks about points within a few millimetres of the surface).
+        On a large mesh each point is compared with the faces that have a
+        vertex within its nearest vertex's distance plus `_reach` (every
+        point of a face lies that near one of its corners, so these hold its
+        nearest point), in trimesh's vectorised point-triangle test; of faces
+        at the same distance, the first.
 
         Parameters
         ----------
@@ -125,14 +130,25 @@ class MeshQueries:
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         if not self.large or not len(points):
             return trimesh.proximity.closest_point(self.mesh, points)
-        nearest, _ = self._vertex_tree.query(points)  # the nearest vertex bounds the distance to the surface
-        near = np.zeros(len(self.mesh.vertices), dtype=bool)
-        for vertices in self._vertex_tree.query_ball_point(points, nearest + self._longest_edge):
-            near[vertices] = True
-        faces = np.flatnonzero(near[self.mesh.faces].any(axis=1))
-        part = trimesh.Trimesh(self.mesh.vertices, self.mesh.faces[faces], process=False, validate=False)
-        closest, distance, triangle = trimesh.proximity.closest_point(part, points)
-        return closest, distance, faces[triangle]
+        nearest, _ = self._vertex_tree.query(points)
+        order, starts = self._vertex_faces
+        closest, distance, triangle = np.empty((len(points), 3)), np.empty(len(points)), np.empty(len(points), int)
+        batch = []
+        balls = self._vertex_tree.query_ball_point(points, nearest + self._reach)
+        for i, vertices in enumerate(balls):
+            lo, hi = starts[vertices], starts[np.asarray(vertices) + 1]
+            runs = np.repeat(lo - np.cumsum(np.r_[0, hi - lo][:-1]), hi - lo) + np.arange(int((hi - lo).sum()))
+            batch.append((i, np.unique(order[runs])))
+            if sum(len(f) for _, f in batch) >= PAIRS or i == len(balls) - 1:  # a bounded number of pairs at once
+                which = np.concatenate([np.full(len(f), k) for k, f in batch])
+                faces = np.concatenate([f for _, f in batch])
+                feet = trimesh.triangles.closest_point(self.mesh.triangles[faces], points[which])
+                gap = np.linalg.norm(feet - points[which], axis=1)
+                best = np.lexsort((faces, gap, which))
+                best = best[np.r_[True, which[best][1:] != which[best][:-1]]]
+                closest[which[best]], distance[which[best]], triangle[which[best]] = feet[best], gap[best], faces[best]
+                batch = []
+        return closest, distance, triangle
 
     def signed_distance(self, points):
         """Distance to the mesh, positive inside, as ``trimesh.proximity.signed_distance``.
@@ -205,9 +221,21 @@ class MeshQueries:
         return cKDTree(np.asarray(self.mesh.vertices, dtype=float))
 
     @cached_property
-    def _longest_edge(self) -> float:
+    def _reach(self) -> float:
+        """How far a point of a face can be from the face's nearest corner: the longest edge over sqrt(3).
+
+        (At most the circumradius of an acute face, half the longest edge of another.)
+        """
         corners = np.asarray(self.mesh.triangles, dtype=float)
-        return float(np.sqrt(((corners - np.roll(corners, 1, axis=1)) ** 2).sum(axis=2)).max())
+        return float(np.sqrt(((corners - np.roll(corners, 1, axis=1)) ** 2).sum(axis=2)).max() / np.sqrt(3.0))
+
+    @cached_property
+    def _vertex_faces(self):
+        """The faces of each vertex: face indices sorted by vertex, and each vertex's start among them."""
+        faces = np.asarray(self.mesh.faces, dtype=np.int64).ravel()
+        order = np.argsort(faces, kind="stable")
+        starts = np.searchsorted(faces[order], np.arange(len(self.mesh.vertices) + 1))
+        return order // 3, starts
 
 
 @kernel
