@@ -687,8 +687,11 @@ def test_mesh_queries_without_the_tree_agree_with_trimesh(monkeypatch):
     (near, gap, face), (near2, gap2, face2) = tree.closest(points), large.closest(points)
     np.testing.assert_allclose(near2, near, atol=1e-9)
     np.testing.assert_allclose(gap2, gap, atol=1e-9)
-    reached = trimesh.triangles.closest_point(sphere.triangles[face2], points)  # a face at that distance (of those
-    np.testing.assert_allclose(np.linalg.norm(reached - points, axis=1), gap, atol=1e-9)  # sharing a corner, any)
+    reached = trimesh.triangles.closest_point(sphere.triangles[face2], points)
+    np.testing.assert_allclose(np.linalg.norm(reached - points, axis=1), gap, atol=1e-9)  # the face holds the foot
+    facing = [np.einsum("ij,ij->i", sphere.face_normals[f], points - near) for f in (face, face2)]
+    assert np.all(facing[1] >= facing[0] - 1e-9)  # of faces as near (at a corner), one facing the point at least as
+    assert np.mean(face2 == face) > 0.8  # much as trimesh's (which weighs only its two nearest); mostly the same
     signed = large.signed_distance(points)
     np.testing.assert_allclose(signed, tree.signed_distance(points), atol=1e-9)
     radius = np.linalg.norm(points, axis=1)
@@ -712,6 +715,23 @@ def test_mesh_queries_on_an_open_mesh_sign_as_trimesh(monkeypatch):
     np.testing.assert_allclose(large.signed_distance(points), tree.signed_distance(points), atol=1e-9)
     hollow = np.array([[0.0, 0.0, 20.0], [5.0, 3.0, 22.0], [-4.0, 2.0, 18.0], [0.0, 0.0, -20.0]])
     assert (np.sign(large.signed_distance(hollow)) == [-1, -1, -1, 1]).all()  # under the opening; under the floor
+
+
+def test_mesh_queries_pick_trimeshs_face_at_edges_and_ignore_unused_vertices(monkeypatch):
+    """A point beyond a box's edge is as near two faces: trimesh takes the one facing it most, and so does the large
+    path (the contact's normal comes from that face). A vertex no face uses is not a candidate (the k-d tree of every
+    vertex found it nearest and read no face)."""
+    import trimesh
+
+    box = trimesh.creation.box((40.0, 40.0, 40.0))
+    stray = trimesh.Trimesh(np.vstack([box.vertices, [[0.0, 0.0, 60.0]]]), box.faces, process=False)
+    tree, large = _both_ways(stray, monkeypatch)
+    points = np.array([[25.0, 0.0, 21.0], [21.0, 0.0, 25.0], [0.0, 0.0, 61.0], [30.0, 30.0, 30.0], [5.0, 2.0, 1.0]])
+    for a, b in zip(tree.closest(points), large.closest(points)):
+        np.testing.assert_allclose(b, a, atol=1e-12)
+    np.testing.assert_allclose(stray.face_normals[large.closest(points[:2])[2]], [[1, 0, 0], [0, 0, 1]], atol=1e-12)
+    np.testing.assert_allclose(large.signed_distance(points), tree.signed_distance(points), atol=1e-12)
+    assert large.closest(points[2:3])[1][0] == pytest.approx(41.0)
 
 
 def test_mesh_queries_closed_forms(monkeypatch):

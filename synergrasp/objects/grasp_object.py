@@ -266,11 +266,11 @@ class GraspObject:
 
         Taken along the normals of `hull_planes` and the coordinate axes. A
         convex solid is thinnest along a facet normal (a box, a slab, a
-        cylinder: then this is exact) or across two of its edges (a
-        tetrahedron on edge: up to 15 % more). Unlike the bounding box's
-        smallest side it does not grow when the object is turned: a 60 x 200 x
-        300 mm box turned about two axes by 45 degrees spans 292 mm or more
-        along every axis, and is 60 mm wide.
+        cylinder: then this is exact, however the object is turned) or across
+        two of its edges (a tetrahedron: then this reads more, up to twice the
+        width of a flat one). The bounding box's smallest side grows when the
+        object is turned: a 60 x 200 x 300 mm box turned about two axes by 45
+        degrees spans 292 mm or more along every axis, and is 60 mm wide.
 
         Examples
         --------

@@ -13,9 +13,8 @@ across the object draws a candidate from every box it crosses (200 rays took
 * rays: every ray against every triangle in a compiled loop, trimesh's tests
   (the plane intersection, then the barycentric coordinates);
 * nearest points: a k-d tree of the vertices bounds each point's distance by
-  its nearest vertex, and only the faces with a vertex within that distance
-  plus the longest edge over sqrt(3), which hold the nearest point, are
-  compared with it (trimesh's point-triangle test);
+  its nearest vertex, and only the faces with a corner near enough to hold
+  its nearest point are compared with it (trimesh's comparison);
 * signed distance: as trimesh signs it, by the nearest face's normal where the
   point projects into that face, else by the parity of a line's crossings on
   either side of the point (trimesh's `contains_points`).
@@ -36,9 +35,10 @@ TREE_FACES = 20000
 PARALLEL = 1e-5
 BARYCENTRIC = 1e-13
 BEHIND = 1e-6
-#: trimesh's: a point this near the surface (mm) has distance 0 and no sign; of a point projecting
-#: into its nearest face this far outside its barycentric range the sign comes from a ray.
-ON_SURFACE = 1e-8
+#: trimesh's ``tol.merge``: a point this near the surface (mm) has distance 0 and no sign; of a point
+#: projecting into its nearest face this far outside its barycentric range the sign comes from a ray;
+#: two faces whose squared distances (mm^2) to a point differ by less are as near.
+MERGE = 1e-8
 #: Point-face pairs `MeshQueries.closest` compares at once on a large mesh.
 PAIRS = 1_000_000
 #: The direction of the parity rays (trimesh's `contains_points`), and of the second line drawn
@@ -109,10 +109,11 @@ class MeshQueries:
         """Each point's nearest point on the mesh, as ``trimesh.proximity.closest_point``.
 
         On a large mesh each point is compared with the faces that have a
-        vertex within its nearest vertex's distance plus `_reach` (every
-        point of a face lies that near one of its corners, so these hold its
-        nearest point), in trimesh's vectorised point-triangle test; of faces
-        at the same distance, the first.
+        corner within ``sqrt(d^2 + reach^2)`` of it, ``d`` its nearest
+        corner's distance and ``reach`` the farthest a point of a face can be
+        from its nearest corner (`_reach`): these hold its nearest point. The
+        comparison is trimesh's: of faces as near, the one whose normal points
+        most towards the point (`_nearest_of_pairs`).
 
         Parameters
         ----------
@@ -130,25 +131,47 @@ class MeshQueries:
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         if not self.large or not len(points):
             return trimesh.proximity.closest_point(self.mesh, points)
-        nearest, _ = self._vertex_tree.query(points)
+        used, tree = self._vertex_tree
+        nearest, _ = tree.query(points)
         order, starts = self._vertex_faces
-        closest, distance, triangle = np.empty((len(points), 3)), np.empty(len(points)), np.empty(len(points), int)
-        batch = []
-        balls = self._vertex_tree.query_ball_point(points, nearest + self._reach)
-        for i, vertices in enumerate(balls):
-            lo, hi = starts[vertices], starts[np.asarray(vertices) + 1]
+        closest, distance = np.empty((len(points), 3)), np.empty(len(points))
+        triangle = np.empty(len(points), dtype=np.int64)
+        batch, pairs = [], 0
+        balls = tree.query_ball_point(points, np.sqrt(nearest**2 + self._reach**2) * (1.0 + 1e-9) + 1e-9)
+        for i, ball in enumerate(balls):
+            vertices = used[np.asarray(ball, dtype=np.int64)]
+            lo, hi = starts[vertices], starts[vertices + 1]
             runs = np.repeat(lo - np.cumsum(np.r_[0, hi - lo][:-1]), hi - lo) + np.arange(int((hi - lo).sum()))
             batch.append((i, np.unique(order[runs])))
-            if sum(len(f) for _, f in batch) >= PAIRS or i == len(balls) - 1:  # a bounded number of pairs at once
+            pairs += len(batch[-1][1])
+            if pairs >= PAIRS or i == len(balls) - 1:  # a bounded number of point-face pairs at once
                 which = np.concatenate([np.full(len(f), k) for k, f in batch])
                 faces = np.concatenate([f for _, f in batch])
-                feet = trimesh.triangles.closest_point(self.mesh.triangles[faces], points[which])
-                gap = np.linalg.norm(feet - points[which], axis=1)
-                best = np.lexsort((faces, gap, which))
-                best = best[np.r_[True, which[best][1:] != which[best][:-1]]]
-                closest[which[best]], distance[which[best]], triangle[which[best]] = feet[best], gap[best], faces[best]
-                batch = []
+                feet, pick = self._nearest_of_pairs(points[which], which, faces)
+                closest[which[pick]], triangle[which[pick]] = feet[pick], faces[pick]
+                distance[which[pick]] = np.linalg.norm(points[which[pick]] - feet[pick], axis=1)
+                batch, pairs = [], 0
         return closest, distance, triangle
+
+    def _nearest_of_pairs(self, points, which, faces):
+        """Each point's foot on each of its faces (``which``: the point, ascending), and per point the pair picked.
+
+        The nearest face; of faces as near within `MERGE` (an edge, a corner),
+        the one whose normal points most towards the point (trimesh's rule,
+        which weighs only its two nearest: at a corner its pick can differ).
+        """
+        import trimesh
+
+        feet = trimesh.triangles.closest_point(self.mesh.triangles[faces], points)
+        away = points - feet
+        squared = np.einsum("ij,ij->i", away, away)
+        heads = np.flatnonzero(np.r_[True, which[1:] != which[:-1]])
+        low = np.minimum.reduceat(squared, heads)[np.cumsum(np.r_[True, which[1:] != which[:-1]]) - 1]
+        near = squared - low < MERGE
+        contest = near & (low > MERGE)  # off the surface: the face facing the point
+        facing = np.einsum("ij,ij->i", self.mesh.face_normals[faces], away) / np.sqrt(np.maximum(squared, 1e-300))
+        order = np.lexsort((faces, squared, np.where(contest, -facing, 0.0), ~near, which))
+        return feet, order[np.flatnonzero(np.r_[True, which[order][1:] != which[order][:-1]])]
 
     def signed_distance(self, points):
         """Distance to the mesh, positive inside, as ``trimesh.proximity.signed_distance``.
@@ -168,12 +191,12 @@ class MeshQueries:
             return trimesh.proximity.signed_distance(self.mesh, points)
         closest, distance, triangle = self.closest(points)
         signed = distance.copy()
-        off = np.flatnonzero(distance > ON_SURFACE)
+        off = np.flatnonzero(distance > MERGE)
         normals = self.mesh.face_normals[triangle[off]]
         height = np.einsum("ij,ij->i", points[off] - closest[off], normals)
         foot = points[off] - normals * height[:, None]
         barycentric = trimesh.triangles.points_to_barycentric(self.mesh.triangles[triangle[off]], foot)
-        within = ((barycentric >= -ON_SURFACE) & (barycentric <= 1.0 + ON_SURFACE)).all(axis=1)
+        within = ((barycentric >= -MERGE) & (barycentric <= 1.0 + MERGE)).all(axis=1)
         signed[off[within]] *= -np.sign(height[within])
         ray = off[~within]
         if len(ray):
@@ -185,9 +208,10 @@ class MeshQueries:
 
         Outside the mesh's bounding box a point is outside. Else the faces a
         line through it crosses are counted ahead of and behind it: none on
-        either side, outside; odd on both, inside; even on both, outside; a
+        one side, outside; odd on both, inside; even on both, outside; a
         line whose two sides disagree (through an edge, or the mesh's
-        opening) is drawn again along `SECOND_RAY`, then taken as outside.
+        opening) is drawn again along `SECOND_RAY` (fixed, where trimesh draws
+        one at random), then taken as outside.
         """
         lo, hi = self.mesh.bounds
         inside = np.zeros(len(points), dtype=bool)
@@ -216,13 +240,15 @@ class MeshQueries:
 
     @cached_property
     def _vertex_tree(self):
+        """The vertices some face uses, and a k-d tree of them."""
         from scipy.spatial import cKDTree
 
-        return cKDTree(np.asarray(self.mesh.vertices, dtype=float))
+        used = np.unique(np.asarray(self.mesh.faces, dtype=np.int64))
+        return used, cKDTree(np.asarray(self.mesh.vertices, dtype=float)[used])
 
     @cached_property
     def _reach(self) -> float:
-        """How far a point of a face can be from the face's nearest corner: the longest edge over sqrt(3).
+        """The farthest a point of a face can be from the face's nearest corner: the longest edge over sqrt(3).
 
         (At most the circumradius of an acute face, half the longest edge of another.)
         """
