@@ -324,7 +324,22 @@ _COMMAND_LINE_ADVICE = {"scale=": "--units m or cm, or --scale FACTOR", "as hand
 
 
 def command_line_hint(message: str) -> str:
-    """A library message that suggests ``scale=...`` or ``hand=...``, with the command line's way of saying it."""
+    """A library message that suggests ``scale=...`` or ``hand=...``, with the command line's way of saying it.
+
+    Parameters
+    ----------
+    message : str
+
+    Returns
+    -------
+    str
+        ``message``, then ``(on the command line: FLAGS)`` for each advice it gives.
+
+    Examples
+    --------
+    >>> command_line_hint("pass scale=1000")
+    'pass scale=1000 (on the command line: --units m or cm, or --scale FACTOR)'
+    """
     hints = [flags for advice, flags in _COMMAND_LINE_ADVICE.items() if advice in message]
     return message + "".join(f" (on the command line: {flags})" for flags in hints)
 

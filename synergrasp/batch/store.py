@@ -295,8 +295,8 @@ def grasp_summary(rows) -> list[dict]:
         Rows of the summary table: `ResultStore.scan`'s, or ``summary.csv``'s
         as `csv.DictReader` reads them (``success`` and ``held`` as the
         strings ``"True"``, ``"False"`` or ``""``; pandas's NaN for an empty
-        ``held``). Each needs ``grasp``,
-        ``status``, ``success`` and ``time_s``; ``held`` is optional.
+        ``held``). Each needs ``grasp``, ``status``, ``success`` and
+        ``time_s``; ``held`` is optional.
 
     Returns
     -------
