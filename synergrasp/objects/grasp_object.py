@@ -304,8 +304,6 @@ class GraspObject:
         >>> round(turned.size, 1), round(turned.length, 1)
         (50.0, 37.0)
         """
-        import trimesh
-
         return float(np.max(trimesh.bounds.oriented_bounds(np.vstack(self.pieces))[1]))
 
     @property
