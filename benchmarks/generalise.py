@@ -105,6 +105,13 @@ def pose(name, seed, shift=SHIFT):
     return matrix
 
 
+def placed(obj, name, seed):
+    """``obj`` centred at the origin, then turned and moved by `pose` of ``name`` and ``seed``."""
+    centre = np.eye(4)
+    centre[:3, 3] = -np.asarray(obj.center, dtype=float)
+    return obj.transformed(pose(name, seed) @ centre)
+
+
 def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0, posed=None):
     """Plan and verify one object (or a cloud of ``cloud`` points sampled on it, each moved by Gaussian noise of
     standard deviation ``noise`` mm along each axis; with ``posed`` a seed, turned and moved by `pose`): a JSON-able
@@ -113,10 +120,7 @@ def run(entry_name, grasp, options, urdf_sizes=URDF_SIZES, cloud=None, noise=0.0
     (entry,) = [e for e in select("all", urdf_sizes=urdf_sizes) if e.name == entry_name]
     obj = entry.make()
     labels = dict(name=entry.name, source=entry.source, split=entry.split, pose=posed)
-    if posed is not None:
-        centre = np.eye(4)
-        centre[:3, 3] = -np.asarray(obj.center, dtype=float)
-        obj = obj.transformed(pose(entry.name, posed) @ centre)
+    obj = obj if posed is None else placed(obj, entry.name, posed)
     if cloud is None:
         return plan_row(obj, grasp, options, **labels)
     mesh = true_surface(obj)

@@ -3,7 +3,8 @@
 Usage::
 
     python benchmarks/single_attempts.py [--split train|test|all] [--grasp precision|power] [--starts K]
-                                         [--only NAME ...] [--option NAME=VALUE ...] [--jobs N] [--out FILE]
+                                         [--only NAME ...] [--option NAME=VALUE ...] [--pose SEED] [--jobs N]
+                                         [--out FILE]
 
 For every object of a split of the generalisation benchmark (``benchmarks/objectset.py``), the
 first K starts the planner would try (`synergrasp.planner.starts`) each get one attempt
@@ -11,7 +12,8 @@ first K starts the planner would try (`synergrasp.planner.starts`) each get one 
 grasp that passes the benchmarks' independent check on the true mesh (``verification.py``:
 contacts within 5 mm of it, force-closed by qhull at its normals, no phalanx capsule and not the
 palm box deeper than 3 mm in it). Prints the rate per object and in all, the outcomes of the attempts, and with
-``--out`` writes every attempt (JSON lines).
+``--out`` writes every attempt (JSON lines). ``--pose SEED`` turns and moves every object as
+``generalise.py --pose SEED`` does.
 """
 
 from __future__ import annotations
@@ -31,24 +33,26 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import option_value  # noqa: E402
+from generalise import option_value, placed  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import PlannerOptions, run_attempt, starts  # noqa: E402
 
 
-def run_object(name, grasp, count, options):
-    """The first ``count`` starts of one object, one attempt each: a list of dicts."""
+def run_object(name, grasp, count, options, posed=None):
+    """The first ``count`` starts of one object (turned and moved by `placed` with seed ``posed``, if given), one
+    attempt each: a list of dicts."""
     warnings.simplefilter("ignore")
     (entry,) = [e for e in select("all") if e.name == name]
     obj, hand, opts = entry.make(), sg.SynergyHand.default(), PlannerOptions(**options)
+    obj = obj if posed is None else placed(obj, name, posed)
     rows = []
     for start in itertools.islice(starts(hand, obj, grasp, opts), count):
         t0 = time.perf_counter()
         r = run_attempt(hand, obj, grasp, start.u, opts)
         plan_like = SimpleNamespace(success=r.success, u=r.trajectory[-1], contact_points=r.final.nearest[r.check.contact])
         check = verify(plan_like, obj)
-        rows.append(dict(name=name, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
+        rows.append(dict(name=name, pose=posed, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
                          verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
     return rows
 
@@ -60,15 +64,18 @@ def main(argv=None):
     parser.add_argument("--starts", type=int, default=4, help="starts per object (the planner's first K)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
+    parser.add_argument("--pose", type=int, default=None, metavar="SEED", help="turn and move every object (a seed >= 0)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes")
     parser.add_argument("--out", type=Path, help="write every attempt here (JSON lines)")
     args = parser.parse_args(argv)
+    if args.pose is not None and args.pose < 0:
+        parser.error(f"--pose must be a seed >= 0, got {args.pose}")
     options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
     PlannerOptions(**options)  # a bad option fails here, before any work
     names = [e.name for e in select(args.split, args.only)]
     start = time.perf_counter()
     with ProcessPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(run_object, names, *zip(*[(args.grasp, args.starts, options)] * len(names))))
+        results = list(pool.map(run_object, names, *zip(*[(args.grasp, args.starts, options, args.pose)] * len(names))))
     rows = [r for rs in results for r in rs]
     for name, rs in zip(names, results):
         print(f"{name:32s} {sum(r['verified'] for r in rs)}/{len(rs)}  ({sum(r['iterations'] for r in rs)} iterations)")
@@ -76,7 +83,8 @@ def main(argv=None):
     print("outcomes: " + ", ".join(f"{k} {v}" for k, v in Counter(r["outcome"] for r in rows).most_common()))
     by_kind = Counter(r["start"] for r in rows)
     print("by start: " + ", ".join(f"{k} {sum(r['verified'] for r in rows if r['start'] == k)}/{n}" for k, n in by_kind.items()))
-    print(f"{args.grasp}, {args.split}, options {options or 'default'}: {ok}/{len(rows)} single attempts verified "
+    posed = "" if args.pose is None else f", pose {args.pose}"
+    print(f"{args.grasp}, {args.split}{posed}, options {options or 'default'}: {ok}/{len(rows)} single attempts verified "
           f"({100.0 * ok / max(len(rows), 1):.1f}%), {time.perf_counter() - start:.0f} s")
     if args.out:
         args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -228,6 +228,24 @@ def test_single_attempts_writes_every_attempt(tmp_path, capsys):
     assert len(rows) == 2 and {r["start"] for r in rows} == {"pinch"} and all(r["iterations"] > 0 for r in rows)
     ok = sum(r["verified"] for r in rows)
     assert f"{ok}/2 single attempts verified" in capsys.readouterr().out
+    assert all(r["pose"] is None for r in rows)
+
+
+def test_single_attempts_turns_the_objects_as_generalise_does(tmp_path, capsys):
+    from benchmarks import single_attempts
+
+    can = objectset.select("all", ["household/can"])[0].make()
+    moved = generalise.placed(can, "household/can", 1)
+    np.testing.assert_allclose(np.linalg.norm(moved.center), generalise.SHIFT, rtol=1e-9)
+    assert moved.volume == pytest.approx(can.volume, rel=1e-9)
+    out = tmp_path / "attempts.jsonl"
+    single_attempts.main(["--split", "all", "--only", "household/can", "--starts", "1", "--pose", "1", "--out", str(out)])
+    (row,) = [json.loads(line) for line in out.read_text().splitlines()]
+    assert row["pose"] == 1 and row["iterations"] > 0
+    assert "precision, all, pose 1, options default: " in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        single_attempts.main(["--pose", "-1"])
+    assert "must be a seed >= 0" in capsys.readouterr().err
 
 
 def test_validated_plans_quick(capsys):

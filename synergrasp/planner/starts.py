@@ -360,7 +360,10 @@ def pinch_fingertips(hand, obj):
     >>> pinch_fingertips(hand, ball).tolist()
     [True, True, True, True, False]
     """
-    return _apertures(hand).spread <= obj.length
+    spread = _apertures(hand).spread
+    if np.all(spread * np.sqrt(3.0) <= obj.size):  # the box's largest side is at least size / sqrt(3): no need to fit it
+        return np.ones(len(spread), dtype=bool)
+    return spread <= obj.length
 
 
 def pinch_seeds(hand, obj, options):
