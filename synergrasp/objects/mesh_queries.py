@@ -277,11 +277,9 @@ def _first_hits(origins, directions, v0, normals, e1, e2, d00, d01, d11, inverse
         squared = dx * dx + dy * dy + dz * dz
         best, hit, leaving = np.inf, -1, 0.0
         for f in range(len(v0)):
-            across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
-            if abs(across) <= parallel:
+            across, t = _plane_hit(ox, oy, oz, dx, dy, dz, f, v0, normals, parallel)
+            if across == 0.0:
                 continue
-            t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1]
-                 + (v0[f, 2] - oz) * normals[f, 2]) / across
             ahead = t * squared  # the hit's distance along the ray, times the direction's length
             if ahead <= -behind or ahead > best or (ahead == best and across <= leaving):
                 continue
@@ -300,18 +298,25 @@ def _crossings(points, direction, v0, normals, e1, e2, d00, d01, d11, inverse, p
         ox, oy, oz = points[r, 0], points[r, 1], points[r, 2]
         ahead, behind = 0, 0
         for f in range(len(v0)):
-            across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
-            if abs(across) <= parallel:
-                continue
-            t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1]
-                 + (v0[f, 2] - oz) * normals[f, 2]) / across
-            if t != 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
+            across, t = _plane_hit(ox, oy, oz, dx, dy, dz, f, v0, normals, parallel)
+            if across != 0.0 and t != 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
                                          inverse, barycentric):
                 if t > 0.0:
                     ahead += 1
                 else:
                     behind += 1
         crossings[r, 0], crossings[r, 1] = ahead, behind
+
+
+@helper
+def _plane_hit(ox, oy, oz, dx, dy, dz, f, v0, normals, parallel):
+    """Where the line ``o + t d`` meets triangle ``f``'s plane: ``(across, t)``, with ``across`` the direction's
+    component along the normal, returned as 0 (and ``t`` as 0) when the line runs within ``parallel`` of the plane."""
+    across = dx * normals[f, 0] + dy * normals[f, 1] + dz * normals[f, 2]
+    if abs(across) <= parallel:
+        return 0.0, 0.0
+    t = ((v0[f, 0] - ox) * normals[f, 0] + (v0[f, 1] - oy) * normals[f, 1] + (v0[f, 2] - oz) * normals[f, 2]) / across
+    return across, t
 
 
 @helper
