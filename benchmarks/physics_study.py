@@ -2,11 +2,12 @@
 
 Usage::
 
-    python benchmarks/physics_study.py [--set paper household test] [--meshes DIR [--scale S]]
-                                       [--out DIR] [--quick] [--docs]
+    python benchmarks/physics_study.py [--set paper household train test] [--meshes DIR [--scale S]]
+                                       [--option NAME=VALUE ...] [--out DIR] [--quick] [--docs]
 
 Plans a precision and a power grasp of every object of the chosen sets
-(default options and LP backend), then
+(default options and LP backend, or the planner options given with
+``--option``, as ``generalise.py`` takes them), then
 
 * the LP verdict: the plan succeeded and is verified on the object's true mesh
   (``benchmarks/verification.py``: contacts within 5 mm, force-closed by qhull
@@ -30,12 +31,15 @@ changed at a time (time step, squeeze, servo stiffness, contact model,
 friction): how far the verdicts depend on them.
 
 Sets: ``paper`` (the paper's four objects), ``household`` (the 44 objects of
-``benchmarks/household.py``), and with ``--meshes`` every mesh or point-cloud
-file of a folder (e.g. a benchmark's test split). Writes under ``--out``
+``benchmarks/household.py``), ``train`` and ``test`` (the generalisation
+benchmark's splits: choose a planner option by its physics on ``train``,
+report ``test``), and with ``--meshes`` every mesh or point-cloud file of a
+folder. Writes under ``--out``
 (default ``./bench-out/physics_study``): ``rows.csv``, per case the plan and
 its validations as JSON, and the figures. ``--docs`` also writes
 ``docs/physics-study.md``, its figures in ``docs/figures/physics/`` and the
-rates in the README. ``--quick`` (run by the tests): the ellipsoid only.
+rates in the README (the default planner only). ``--quick`` (run by the
+tests): the ellipsoid only.
 """
 
 from __future__ import annotations
@@ -51,6 +55,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
+from generalise import option_value
 from household import MESHES, household_objects, mesh_files
 from verification import verify
 from synergrasp.physics import ball_pinch, hand_without, pinch_grasp
@@ -94,10 +99,11 @@ def object_sets(names, meshes=None, scale=1.0, quick=False):
         sets["paper"] = {name: sg.objects.get(name) for name in (PAPER[:1] if quick else PAPER)}
     if "household" in names:
         sets["household"] = {**mesh_files(MESHES, 1.0), **household_objects()}
-    if "test" in names:  # the generalisation benchmark's test split (benchmarks/objectset.py)
-        from objectset import select
+    for split in ("train", "test"):  # the generalisation benchmark's splits (benchmarks/objectset.py)
+        if split in names:
+            from objectset import select
 
-        sets["test"] = {e.name: e.make() for e in select("test")}
+            sets[split] = {e.name: e.make() for e in select(split)}
     if meshes is not None:
         sets[str(meshes)] = mesh_files(meshes, scale)
     return sets
@@ -108,14 +114,15 @@ def case_folder(out, group, name, grasp):
     return out / "cases" / "_".join(re.sub(r"[^A-Za-z0-9_]+", "-", part) for part in (group, name, grasp))
 
 
-def study_case(group, name, obj, grasp, out):
-    """Plan one grasp and validate it every way; one row of the study (dict)."""
+def study_case(group, name, obj, grasp, out, options=None):
+    """Plan one grasp (with the planner options ``options``, a dict) and validate it every way; one row of the study
+    (dict)."""
     folder = case_folder(out, group, name, grasp)
     folder.mkdir(parents=True, exist_ok=True)
     row = dict(set=group, object=name, grasp=grasp)
     start = time.perf_counter()
     try:
-        result = sg.plan(obj, grasp)
+        result = sg.plan(obj, grasp, options=sg.planner.PlannerOptions(**(options or {})))
     except ValueError as exc:  # an object the hand cannot hold
         return dict(row, planned=False, lp=False, q=math.nan, plan_s=time.perf_counter() - start, note=str(exc))
     result.save(folder / "plan.json")
@@ -360,15 +367,22 @@ def write_csv(rows, path):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--set", nargs="+", choices=["paper", "household", "test"], default=["paper", "household"],
-                        help="object sets (default paper and household; test: the generalisation benchmark's test split)")
+    parser.add_argument("--set", nargs="+", choices=["paper", "household", "train", "test"],
+                        default=["paper", "household"],
+                        help="object sets (default paper and household; train, test: the generalisation benchmark's "
+                             "splits)")
     parser.add_argument("--meshes", type=Path, help="also every mesh or point-cloud file of this folder")
     parser.add_argument("--scale", type=float, default=1.0, help="scale of the files in --meshes (1000 for metres)")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "physics_study", help="output folder")
+    parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--quick", action="store_true", help="the paper's ellipsoid only, no time-step check")
     parser.add_argument("--docs", action="store_true",
                         help=f"write {PAGE.relative_to(ROOT)}, its figures and the README's physics lines")
     args = parser.parse_args(argv)
+    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    sg.planner.PlannerOptions(**options)  # a bad option fails here, before any work
+    if args.docs and options:
+        parser.error("--docs writes the study of the default planner: drop --option")
     warnings.simplefilter("ignore")
     sets = object_sets(["paper"] if args.quick else args.set, args.meshes, args.scale, args.quick)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -376,7 +390,7 @@ def main(argv=None):
     for group, objects in sets.items():
         for name, obj in objects.items():
             for grasp in GRASPS:
-                rows.append(study_case(group, name, obj, grasp, args.out))
+                rows.append(study_case(group, name, obj, grasp, args.out, options))
                 r = rows[-1]
                 own = r.get("synergrasp", {})
                 print(f"{group:9s} {name:22s} {grasp:9s} LP {'yes' if r['lp'] else 'no ':3s} Q {r['q']:+.3f} "
@@ -394,12 +408,19 @@ def write_docs(rows, lines, changes):
     """The results page, its figure and the README lines."""
     FIGURES.mkdir(parents=True, exist_ok=True)
     plot(rows, FIGURES / "q_vs_held.png")
+    groups = list(dict.fromkeys(r["set"] for r in rows))
+    sizes = {g: len({r["object"] for r in rows if r["set"] == g}) for g in groups}
+    named = {"paper": "the paper's four objects", "household": f"the {sizes.get('household')} household objects",
+             "train": f"the {sizes.get('train')} objects of the generalisation benchmark's train split",
+             "test": f"the {sizes.get('test')} objects of its test split"}
+    objects = [named.get(g, f"the {sizes[g]} files of {g}") for g in groups]
     text = [
         "# Physics study",
         "",
         "Do the planner's grasps hold in MuJoCo, and does the LP verdict (or Q) predict it? Written by",
-        "`python benchmarks/physics_study.py --docs`: a precision and a power grasp of the paper's four",
-        "objects and of the 44 household objects, planned with the default options, each validated as the",
+        f"`python benchmarks/physics_study.py --set {' '.join(groups)} --docs`: a precision and a power grasp of",
+        f"{', '.join(objects[:-1]) + ' and ' if len(objects) > 1 else ''}{objects[-1]}, planned with the default "
+        "options, each validated as the",
         "[physics validation](concepts/physics-validation.md) page describes: under the project's protocol",
         "(`synergrasp`), the DexGraspBench-like preset, both with the hand moved 40 mm back (negative",
         "controls), and under the project's protocol with the overlap check off (`overlap ignored`, with its",

@@ -86,3 +86,25 @@ def test_the_study_s_thresholds_and_roc_areas(monkeypatch):
     row = {"synergrasp": dict(held=True, outcome="held", grip=9.81, mass=0.5)}
     assert grip_ratio(row, "synergrasp") == pytest.approx(2.0)
     assert math.isnan(grip_ratio({"synergrasp": dict(outcome="penetration", grip=0.0, mass=0.5)}, "synergrasp"))
+
+
+def test_the_study_takes_planner_options_but_writes_the_docs_only_for_the_defaults(monkeypatch, tmp_path, capsys):
+    """--option reaches every plan; a bad option fails before any work; --docs refuses a non-default planner."""
+    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
+    import physics_study
+
+    with pytest.raises(SystemExit):
+        physics_study.main(["--quick", "--option", "restarts=3", "--docs", "--out", str(tmp_path)])
+    assert "drop --option" in capsys.readouterr().err
+    with pytest.raises(ValueError, match="restarts"):
+        physics_study.main(["--quick", "--option", "restarts=-1", "--out", str(tmp_path)])
+    assert not list(tmp_path.iterdir())  # refused before anything was planned
+    seen = []
+    monkeypatch.setattr(physics_study, "study_case",
+                        lambda *args: seen.append(args[-1]) or dict(lp=False, q=math.nan, note="stub"))
+    monkeypatch.setattr(physics_study, "summary", lambda rows, sets: [])
+    monkeypatch.setattr(physics_study, "prediction", lambda rows: [])
+    monkeypatch.setattr(physics_study, "write_csv", lambda rows, path: path)
+    monkeypatch.setattr(physics_study, "plot", lambda rows, path: path)
+    physics_study.main(["--quick", "--option", "restarts=3", "--out", str(tmp_path)])
+    assert seen == [{"restarts": 3}, {"restarts": 3}]  # the ellipsoid's precision and power plans
