@@ -412,7 +412,7 @@ def write_docs(rows, lines, changes):
     sizes = {g: len({r["object"] for r in rows if r["set"] == g}) for g in groups}
     named = {"paper": "the paper's four objects", "household": f"the {sizes.get('household')} household objects",
              "train": f"the {sizes.get('train')} objects of the generalisation benchmark's train split",
-             "test": f"the {sizes.get('test')} objects of its test split"}
+             "test": f"the {sizes.get('test')} objects of the generalisation benchmark's test split"}
     objects = [named.get(g, f"the {sizes[g]} files of {g}") for g in groups]
     text = [
         "# Physics study",
