@@ -299,8 +299,8 @@ def _crossings(points, direction, v0, normals, e1, e2, d00, d01, d11, inverse, p
         ahead, behind = 0, 0
         for f in range(len(v0)):
             across, t = _plane_hit(ox, oy, oz, dx, dy, dz, f, v0, normals, parallel)
-            if across != 0.0 and t != 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2, d00, d01, d11,
-                                         inverse, barycentric):
+            if across != 0.0 and t != 0.0 and _in_triangle(ox + dx * t, oy + dy * t, oz + dz * t, f, v0, e1, e2,
+                                                           d00, d01, d11, inverse, barycentric):
                 if t > 0.0:
                     ahead += 1
                 else:
