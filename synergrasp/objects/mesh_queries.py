@@ -25,6 +25,7 @@ from __future__ import annotations
 from functools import cached_property
 
 import numpy as np
+import trimesh
 
 from .._jit import helper, kernel
 
@@ -126,8 +127,6 @@ class MeshQueries:
         triangle : (n,) int
             The face of each nearest point.
         """
-        import trimesh
-
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         if not self.large or not len(points):
             return trimesh.proximity.closest_point(self.mesh, points)
@@ -160,13 +159,11 @@ class MeshQueries:
         the one whose normal points most towards the point (trimesh's rule,
         which weighs only its two nearest: at a corner its pick can differ).
         """
-        import trimesh
-
         feet = trimesh.triangles.closest_point(self.mesh.triangles[faces], points)
         away = points - feet
         squared = np.einsum("ij,ij->i", away, away)
-        heads = np.flatnonzero(np.r_[True, which[1:] != which[:-1]])
-        low = np.minimum.reduceat(squared, heads)[np.cumsum(np.r_[True, which[1:] != which[:-1]]) - 1]
+        first = np.r_[True, which[1:] != which[:-1]]  # each point's first pair
+        low = np.minimum.reduceat(squared, np.flatnonzero(first))[np.cumsum(first) - 1]
         near = squared - low < MERGE
         contest = near & (low > MERGE)  # off the surface: the face facing the point
         facing = np.einsum("ij,ij->i", self.mesh.face_normals[faces], away) / np.sqrt(np.maximum(squared, 1e-300))
@@ -184,8 +181,6 @@ class MeshQueries:
         -------
         (n,) float
         """
-        import trimesh
-
         points = np.asarray(points, dtype=float).reshape(-1, 3)
         if not self.large or not len(points):
             return trimesh.proximity.signed_distance(self.mesh, points)
