@@ -57,6 +57,8 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
 
 def _floats(value) -> np.ndarray:
     """``value`` as floats; numbers only: not text, booleans, complex numbers or masked entries."""
+    if type(value) is np.ndarray and value.dtype == np.float64:  # already floats (the common case)
+        return value
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise TypeError("masked entries")
     raw = np.asarray(value)

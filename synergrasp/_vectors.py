@@ -46,5 +46,5 @@ def cross(a, b):
 
 def unit_rows(v):
     """Rows of ``v`` (..., 3) scaled to unit length; zero rows stay zero."""
-    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    norm = np.sqrt(np.add.reduce(v * v, axis=-1, keepdims=True))  # numpy.linalg.norm's sum, without its dispatch
     return np.divide(v, norm, out=np.zeros_like(v), where=norm > 0)

@@ -589,16 +589,17 @@ class SynergyHand:
             If it has another shape, or a NaN or inf entry.
         """
         try:
-            if np.iscomplexobj(u):
-                raise TypeError("complex")
-            u = np.asarray(u, dtype=float)
+            if not (type(u) is np.ndarray and u.dtype == np.float64):  # (a float array needs no conversion)
+                if np.iscomplexobj(u):
+                    raise TypeError("complex")
+                u = np.asarray(u, dtype=float)
         except (TypeError, ValueError):
             raise TypeError(f"u must be a numeric vector of {self.n_u} numbers [p (3), phi (3), z ({self.n_syn})], "
                             f"got {type(u).__name__}") from None
         if u.shape != (self.n_u,):
             raise ValueError(f"u must have shape ({self.n_u},) = [p (3), phi (3), z ({self.n_syn})], "
                              f"got {u.shape}")
-        if not np.all(np.isfinite(u)):
+        if not np.isfinite(u).all():
             raise ValueError(f"u contains NaN or inf, got {u}")
         return u
 

@@ -51,6 +51,9 @@ def _unit_normals(normals, n_points):
     if not biggest.all():
         raise ValueError(f"normals has zero-length rows {np.flatnonzero(biggest == 0).tolist()}; each contact needs a "
                          "direction")
+    if biggest.min() > 1e-150 and biggest.max() < 1e150:  # no square under- or overflows (the common case)
+        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+        return normals / length[:, None], length
     with np.errstate(over="ignore", under="ignore"):
         length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
     odd = ~(length >= 1e-150) | ~np.isfinite(length)  # the squares under- or overflowed: divide by the largest first
@@ -312,6 +315,8 @@ def _largest_arm(arm):
     top = float(np.abs(arm).max())  # the largest lever arm component
     if top <= 0:
         return 0.0
+    if 1e-150 < top < 1e150:  # no square under- or overflows (the common case)
+        return float(np.sqrt((arm * arm).sum(axis=1).max()))
     with np.errstate(over="ignore", under="ignore"):
         length = float(np.sqrt((arm * arm).sum(axis=1).max()))
     if not 0 < length < np.inf:  # its square overflowed or underflowed: the same length, scaled

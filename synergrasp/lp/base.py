@@ -22,6 +22,8 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
+from .._jit import kernel
+
 #: The statuses an :class:`LPSolution` can carry.
 STATUSES = ("optimal", "infeasible", "unbounded", "failed")
 #: Last optimal bases a backend remembers (one per LP structure), for LPs solved without a given basis.
@@ -161,7 +163,8 @@ class Backend:
             c = np.ascontiguousarray(c, dtype=float)
             b = np.ascontiguousarray(b, dtype=float)
             if isinstance(A, CSC):
-                A = A._replace(data=np.ascontiguousarray(A.data, dtype=float))
+                data = np.ascontiguousarray(A.data, dtype=float)
+                A = A if data is A.data else A._replace(data=data)
                 values = A.data
             else:
                 A = np.ascontiguousarray(A, dtype=float)
@@ -228,6 +231,20 @@ def _hint(basic, n):
     return hint
 
 
+@kernel
+def _well_formed(indptr, indices, m):
+    """Whether ``indptr`` runs from 0 to ``len(indices)`` without decreasing and every index is in ``[0, m)``."""
+    if indptr[0] != 0 or indptr[-1] != len(indices):
+        return False
+    for j in range(len(indptr) - 1):
+        if indptr[j + 1] < indptr[j]:
+            return False
+    for i in indices:
+        if i < 0 or i >= m:
+            return False
+    return True
+
+
 def _checked_csc(A: "CSC") -> "CSC":
     """``A`` (float ``data``) with int32 indices, refused (ValueError) unless it is a well-formed column-compressed
     (m, n) matrix: the backends index with it unchecked."""
@@ -240,8 +257,9 @@ def _checked_csc(A: "CSC") -> "CSC":
                          f"indptr {indptr.dtype}, indices {indices.dtype}, shape {A.shape!r}")
     m, n = shape
     nnz = len(A.data)
-    if indptr.shape != (n + 1,) or indices.shape != (nnz,) or indptr[0] != 0 or indptr[-1] != nnz \
-            or (n and (indptr[1:] < indptr[:-1]).any()) or (nnz and (indices.min() < 0 or indices.max() >= m)):
+    if indptr.dtype != np.int32 or indices.dtype != np.int32:  # lossless (uint64 beyond 2^63 reads < 0: refused)
+        indptr, indices = indptr.astype(np.int64), indices.astype(np.int64)
+    if indptr.shape != (n + 1,) or indices.shape != (nnz,) or not _well_formed(indptr, indices, m):
         raise ValueError(f"malformed CSC matrix of shape {tuple(shape)}: indptr must be n + 1 = {n + 1} non-decreasing "
                          f"offsets from 0 to the {nnz} entries, and indices that many row numbers from 0 to {m - 1}; "
                          f"got indptr of shape {indptr.shape} from {indptr[0] if len(indptr) else None} to "

@@ -376,8 +376,9 @@ class BasisMemory:
     def remember(self, codes, basic):
         """Replace what is kept of the blocks of ``codes`` (n,) by their columns ``basic`` (n,) bool."""
         old = self.codes if len(self.codes) <= 4 * MEMORY_SIZE else self.codes[:0]
-        stale = _members(old // self.SPAN, np.unique(codes // self.SPAN))
-        self.codes = np.sort(np.concatenate([old[~stale], codes[basic]]))
+        new = np.sort(codes[basic])
+        out = np.empty(len(old) + len(new), dtype=np.int64)
+        self.codes = out[:_replace_blocks(old, codes, new, self.SPAN, np.zeros(len(old), dtype=bool), out)]
 
 
 def _members(values, sorted_set):
@@ -386,3 +387,30 @@ def _members(values, sorted_set):
         return np.zeros(len(values), dtype=bool)
     at = np.minimum(np.searchsorted(sorted_set, values), len(sorted_set) - 1)
     return sorted_set[at] == values
+
+
+@kernel
+def _replace_blocks(old, codes, new, span, stale, out):
+    """Into ``out``, merged in order: the sorted codes ``old`` of blocks that have none in ``codes``, and the sorted
+    codes ``new``; returns their number. ``stale`` (len(old),) bool must come all False."""
+    last = -1
+    for i in range(len(codes)):  # a block's codes come together: look each block up once
+        key = codes[i] // span
+        if i > 0 and key == last:
+            continue
+        last = key
+        for j in range(np.searchsorted(old, key * span), np.searchsorted(old, (key + 1) * span)):
+            stale[j] = True
+    i, j, k = 0, 0, 0
+    while i < len(old) or j < len(new):
+        if i < len(old) and stale[i]:
+            i += 1
+        elif j == len(new) or (i < len(old) and old[i] <= new[j]):
+            out[k] = old[i]
+            i += 1
+            k += 1
+        else:
+            out[k] = new[j]
+            j += 1
+            k += 1
+    return k

@@ -94,8 +94,7 @@ class NativeBackend(Backend):
 
     def _solve(self, c, A, b, basic=None):
         m, n = A.shape
-        indptr, indices, data = csc_arrays(A)
-        indptr, indices = indptr.astype(np.int64), indices.astype(np.int64)
+        indptr, indices, data = csc_arrays(A)  # int32 indices (`Backend.solve` checked them)
         c, b, data = _writable(c, float), _writable(b, float), _writable(data, float)  # one signature
         key = None  # the LP's structure, hashed only where a remembered basis is read, stored or dropped
         if not self.warm_start:
@@ -111,7 +110,8 @@ class NativeBackend(Backend):
         sizes = np.zeros(3, dtype=np.int64)  # blocks, most rows, most columns
         _blocks(indptr, indices, np.empty(2 * m + n, dtype=np.int64), order, starts, sizes)
         rows_max, width = int(sizes[1]), int(sizes[1] + sizes[2] + 1)
-        scale = np.array([np.abs(b).max(initial=0.0), np.abs(c).max(initial=0.0), np.abs(data).max(initial=0.0)])
+        scale = np.empty(3)
+        _scale(b, c, data, scale)
         xy, out = np.zeros(n + m), np.zeros(2, dtype=np.int64)  # x then y; status, pivots
         _solve_blocks(indptr, indices, data, c, b, hint, order, np.ascontiguousarray(starts[:, :sizes[0] + 2]), scale,
                       np.empty(m, dtype=np.int64), np.empty((3, rows_max, width)), np.empty((7, width)),
@@ -139,6 +139,16 @@ def _writable(v, dtype):
 def _structure(m, n, indptr, indices):
     """An LP's shape and sparsity pattern, hashed: the key of its remembered basis."""
     return m, n, hash(indptr.tobytes()), hash(indices.tobytes())
+
+
+@kernel
+def _scale(b, c, data, out):
+    """Into ``out`` (3,): the largest ``|b|``, ``|c|`` and ``|A|`` (0 for an empty array)."""
+    for i, v in enumerate((b, c, data)):
+        top = 0.0
+        for e in v:
+            top = max(top, abs(e))
+        out[i] = top
 
 
 @kernel

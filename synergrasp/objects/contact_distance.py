@@ -25,7 +25,7 @@ behind an internal cut between two pieces reads as shallow.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -189,9 +189,13 @@ def group_contact_distance(obj, points, groups, backend="native", *, ids=None) -
     cp = _solve(obj, probe, solver, ids[keep])
     order = np.lexsort((cp.value, groups[keep]))
     ordered = groups[keep][order]
-    picked = order[np.r_[True, ordered[1:] != ordered[:-1]]]
-    taken = {f.name: getattr(cp, f.name)[picked] for f in fields(cp) if f.name != "lp_solves"}
-    return ContactDistance(**taken, lp_solves=cp.lp_solves), keep[picked]
+    first = np.empty(len(order), dtype=bool)
+    first[:1], first[1:] = True, ordered[1:] != ordered[:-1]
+    picked = order[first]
+    return ContactDistance(value=cp.value[picked], grad=cp.grad[picked], nearest=cp.nearest[picked],
+                           normal=cp.normal[picked], piece=cp.piece[picked], inside=cp.inside[picked],
+                           degenerate=cp.degenerate[picked], candidates=cp.candidates[picked],
+                           lp_solves=cp.lp_solves), keep[picked]
 
 
 def _solve(obj, probe: Probe, solver, ids=None) -> ContactDistance:

@@ -15,6 +15,7 @@ analytic point Jacobians; nothing is differentiated numerically.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -22,6 +23,7 @@ import numpy as np
 from .._jit import kernel
 from .._vectors import unit_rows
 from ..hand import SynergyHand
+from ..objects import GraspObject
 from ..objects.contact_distance import group_contact_distance
 from ..quality import q_distance
 
@@ -343,6 +345,19 @@ def status_rows(hand, kind):
     >>> labels[:6], int(contact.sum()), labels[-1]
     (['T0', 'I0', 'M0', 'R0', 'L0', 'T1'], 5, 'P')
     """
+    rows = _ROWS.setdefault(hand, {})
+    if kind not in rows:  # the same for every status of a hand: built once
+        rows[kind] = _status_rows(hand, kind)
+    labels, contact, segment_rows = rows[kind]
+    return list(labels), contact.copy(), segment_rows.copy()
+
+
+#: `status_rows` of each hand that asked, by grasp type.
+_ROWS = weakref.WeakKeyDictionary()
+
+
+def _status_rows(hand, kind):
+    """`status_rows`, built from the hand's point labels."""
     segments, chains = hand.point_labels("power")[:-1], hand.point_chains("power")[:-1]
     if kind == "power":
         return segments + ["P"], np.ones(len(segments) + 1, bool), np.arange(len(segments))
@@ -355,8 +370,6 @@ def status_rows(hand, kind):
 
 def _require(hand, obj):
     """TypeError unless ``hand`` is a SynergyHand and ``obj`` a GraspObject."""
-    from ..objects import GraspObject
-
     if not isinstance(hand, SynergyHand):
         raise TypeError(f"hand must be a SynergyHand, got {type(hand).__name__}")
     if not isinstance(obj, GraspObject):

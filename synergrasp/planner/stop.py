@@ -14,7 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._checks import positive_scalar
+from ..objects import GraspObject
 from ..quality import q_distance
+from .status import Status
 
 
 @dataclass(frozen=True)
@@ -242,9 +244,6 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     >>> check.n_contacts, check.done
     (0, False)
     """
-    from ..objects import GraspObject
-    from .status import Status
-
     if not isinstance(obj, GraspObject) or not isinstance(status, Status):
         raise TypeError(f"check_grasp takes a GraspObject and a Status (grasp_status), got {type(obj).__name__} "
                         f"and {type(status).__name__}")
