@@ -78,9 +78,11 @@ def test_an_infeasible_block_makes_the_lp_infeasible_beside_an_unbounded_column(
     ([0, 1, 2], [0, -1], (1, 2), "from -1 to 0"),
     ([0.0, 1.0, 2.0], [0, 0], (1, 2), "integer indptr"),
 ])
-def test_malformed_csc_is_refused_before_any_solver_sees_it(backend, indptr, indices, shape, match):
+@pytest.mark.parametrize("dtype", [np.int32, np.int64])
+def test_malformed_csc_is_refused_before_any_solver_sees_it(backend, indptr, indices, shape, match, dtype):
     """A row index outside the matrix crashed the native backend's kernel (a segmentation fault)."""
-    A = CSC(np.asarray(indptr), np.asarray(indices), np.array([1.0, 1.0]), shape)
+    indptr = np.asarray(indptr) if np.asarray(indptr).dtype.kind == "f" else np.asarray(indptr, dtype=dtype)
+    A = CSC(indptr, np.asarray(indices, dtype=dtype), np.array([1.0, 1.0]), shape)
     with pytest.raises(ValueError, match="CSC.*" + match if "integer" in match else match):
         sg.lp.get_backend(backend).solve([1.0, 1.0], A, [1.0])
 

@@ -81,6 +81,26 @@ def test_the_memory_replaces_only_the_blocks_it_is_told_of():
     assert memory.basic(np.array([1, 2, 2]) * span + np.array([7, 7, 12])).tolist() == [True, False, True]
 
 
+def test_the_memory_keeps_each_blocks_last_basic_columns(rng):
+    """Against a plain model: a dictionary from block key to the set of its last basic columns."""
+    memory, model, span = BasisMemory(), {}, BasisMemory.SPAN
+    for _ in range(300):
+        keys = rng.choice(40, rng.integers(0, 10), replace=False)
+        columns = [rng.choice(60, rng.integers(1, 9), replace=False) for _ in keys]
+        codes = np.array([k * span + c for k, cs in zip(keys, columns) for c in cs], dtype=np.int64)
+        basic = rng.random(len(codes)) < 0.4
+        memory.remember(codes, basic)
+        for k in keys:
+            model[k] = set()
+        for code, b in zip(codes, basic):
+            if b:
+                model[code // span].add(code % span)
+        probe = np.array([k * span + c for k in range(40) for c in range(60)], dtype=np.int64)
+        expected = [c % span in model.get(c // span, set()) for c in probe]
+        assert memory.basic(probe).tolist() == expected
+        assert len(memory) == sum(len(v) for v in model.values())
+
+
 def _sequence(rng, n=12):
     """LPs of one structure (same sparsity pattern), different data: min c x s.t. A x = b, x >= 0."""
     pattern = rng.random((5, 14)) < 0.6

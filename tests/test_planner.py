@@ -120,6 +120,9 @@ def test_status_rows_of_the_two_grasp_types(hand):
         assert labels[row] == (f"{label[0]}0" if label[1] == "3" else label)
     labels, contact, segment_rows = status_rows(hand, "power")
     assert labels == segments + ["P"] and contact.all() and segment_rows.tolist() == list(range(15))
+    labels.append("X"), contact.fill(False), segment_rows.fill(-1)  # each call's rows are its own
+    labels, contact, segment_rows = status_rows(hand, "power")
+    assert labels == segments + ["P"] and contact.all() and segment_rows.tolist() == list(range(15))
 
 
 @pytest.mark.parametrize("kind", ["precision", "power"])
