@@ -425,7 +425,8 @@ class QDistance:
     lp_solves: int
 
 
-def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="native") -> QDistance:
+def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="native",
+               checked=False) -> QDistance:
     """Q distance of a grasp and its gradients (paper Eqs. 4-10).
 
     Parameters
@@ -445,6 +446,12 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
         ``center``, and at least that over `TORQUE_SCALE_RATIO`.
     backend : str or synergrasp.lp.Backend
         LP backend.
+    checked : bool
+        ``points`` and ``normals`` are finite (n, 3) float arrays, the
+        normals of lengths between 1e-150 and 1e150, and ``center`` and
+        ``torque_scale`` are given and valid, as the library's own geometry
+        makes them (a caller that produced them skips their checks; ``mu``
+        and ``edges`` are checked all the same).
 
     Returns
     -------
@@ -473,7 +480,12 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     >>> r.force_closure
     False
     """
-    arm, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
+    if checked:  # the same arrays as _prepare's for such inputs
+        mu, _ = positive_scalar(mu, "mu", MU_MAX), _angles(edges)
+        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
+        arm, nhat, c, L = points - center, normals / length[:, None], center, float(torque_scale)
+    else:
+        arm, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     W, M, basis, axis, vnorm = _wrenches(nhat, arm, L, mu, edges)
     res = optimum(W, _ORIGIN, backend=backend, checked=True)
     grad_points, grad_normals = np.empty_like(arm), np.empty_like(arm)

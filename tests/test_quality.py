@@ -251,3 +251,19 @@ def test_normals_of_any_length_give_the_same_q(backend):
         assert np.allclose(r.grad_normals * scale, base.grad_normals, atol=1e-7)
     contacts = sg.contact_wrenches(P, np.vstack([N[:1] * 1e-200, N[1:] * 1e200]))
     assert np.allclose(contacts, sg.contact_wrenches(P, N), atol=1e-12)
+
+
+def test_checked_inputs_give_the_same_result_and_mu_is_still_checked(backend):
+    """``checked=True`` (the planner's own contacts) skips the array checks, not the result or mu's check."""
+    P, N = sphere_grasp(np.random.default_rng(2), 5, noise=0.2)
+    N = N * np.linspace(0.5, 3.0, 5)[:, None]  # normals of other lengths are normalised the same way
+    kwargs = dict(mu=0.4, edges=6, center=np.array([1.0, -2.0, 0.5]), torque_scale=45.0, backend=backend)
+    for _ in range(2):  # the second round starts from the same warm state (the LP's last basis and regime)
+        full, fast = sg.q_distance(P, N, **kwargs), sg.q_distance(P, N, checked=True, **kwargs)
+    assert fast.value == full.value and fast.force_closure == full.force_closure
+    for name in ("grad_points", "grad_normals", "wrenches", "center"):
+        assert np.array_equal(getattr(fast, name), getattr(full, name))
+    with pytest.raises(ValueError, match="mu must be"):
+        sg.q_distance(P, N, checked=True, **{**kwargs, "mu": -1.0})
+    with pytest.raises(ValueError, match="edges must be"):
+        sg.q_distance(P, N, checked=True, **{**kwargs, "edges": 2})

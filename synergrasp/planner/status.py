@@ -541,9 +541,8 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         jac_normal = jac_n @ sc.jac_contact
     else:
         normals, jac_normal = sc.normal, sc.jac_normal
-    sq = q_distance(
-        sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend
-    )
+    sq = q_distance(sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
+                    backend=backend, checked=True)
     # d g_sQ / d p_i through the contact carried back to the object and its normal
     grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
     return Status(
@@ -597,7 +596,8 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", 
         normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
     else:
         normals, jac_n = n, np.zeros((len(x), 3, 3))
-    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend)
+    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend,
+                   checked=True)
     slide = (np.eye(3) - n[:, :, None] * n[:, None, :]) @ status.point_jac[contact]  # (c, 3, nu)
     grad_x = q.grad_points + np.einsum("ia,iab->ib", q.grad_normals, jac_n)
     return q.value, np.einsum("ia,iab->b", grad_x, slide)

@@ -259,7 +259,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     q, solves = np.nan, 0
     if n_c:
         res = q_distance(status.nearest[contact], status.normals[contact], mu=mu, edges=edges,
-                         center=obj.center, torque_scale=obj.torque_scale, backend=backend)
+                         center=obj.center, torque_scale=obj.torque_scale, backend=backend, checked=True)
         q, solves = res.value, res.lp_solves
     palm = bool(abs(cp[-1]) < eps_c)
     few, many = CRITERION["power" if kind == "power" else "precision"]
