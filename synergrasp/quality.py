@@ -52,8 +52,7 @@ def _unit_normals(normals, n_points):
         raise ValueError(f"normals has zero-length rows {np.flatnonzero(biggest == 0).tolist()}; each contact needs a "
                          "direction")
     if biggest.min() > 1e-150 and biggest.max() < 1e150:  # no square under- or overflows (the common case)
-        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
-        return normals / length[:, None], length
+        return _normalised(normals)
     with np.errstate(over="ignore", under="ignore"):
         length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
     odd = ~(length >= 1e-150) | ~np.isfinite(length)  # the squares under- or overflowed: divide by the largest first
@@ -66,6 +65,12 @@ def _unit_normals(normals, n_points):
         normals[odd] /= scaled[:, None]
         normals[~odd] /= length[~odd, None]
         return normals, length
+    return normals / length[:, None], length
+
+
+def _normalised(normals):
+    """Unit rows of ``normals`` (n, 3) and their lengths (n,), for lengths whose squares neither under- nor overflow."""
+    length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
     return normals / length[:, None], length
 
 
@@ -482,8 +487,7 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     """
     if checked:  # the same arrays as _prepare's for such inputs
         mu, _ = positive_scalar(mu, "mu", MU_MAX), _angles(edges)
-        length = np.sqrt(np.einsum("ij,ij->i", normals, normals))
-        arm, nhat, c, L = points - center, normals / length[:, None], center, float(torque_scale)
+        (nhat, length), arm, c, L = _normalised(normals), points - center, center, float(torque_scale)
     else:
         arm, nhat, length, mu, c, L = _prepare(points, normals, mu, edges, center, torque_scale)
     W, M, basis, axis, vnorm = _wrenches(nhat, arm, L, mu, edges)
