@@ -305,15 +305,16 @@ class PieceIndex:
         todo = np.nonzero(~out & (cand.sum(axis=1) > 1))[0]
         if len(todo):
             query, request = fcl.CollisionObject(fcl.Sphere(0.0), fcl.Transform()), fcl.DistanceRequest()
-        for i in todo:
-            js = np.nonzero(cand[i])[0]
+        for i in todo.tolist():  # a few pieces per point: Python floats cost less than numpy's calls
+            js = np.flatnonzero(cand[i]).tolist()
             query.setTranslation(probe.P[i])
-            exact = np.array([fcl.distance(query, self.pieces[j].fcl, request, fcl.DistanceResult()) for j in js])
-            np.maximum(exact, 0.0, out=exact)  # fcl reports -1 for a point it finds on or in a piece
-            low = np.maximum(exact, lower[i, js])
-            high = min(GAUGE_RATIO * exact.min(), bound[i]) * (1 + 1e-6) + 1e-6
-            cand[i, js] = low <= high
-            bound[i] = min(bound[i], high)
+            # fcl reports -1 for a point it finds on or in a piece
+            exact = [max(fcl.distance(query, self.pieces[j].fcl, request, fcl.DistanceResult()), 0.0) for j in js]
+            high = min(GAUGE_RATIO * min(exact), float(bound[i])) * (1 + 1e-6) + 1e-6
+            row = lower[i].tolist()
+            for j, e in zip(js, exact):
+                cand[i, j] = max(e, row[j]) <= high
+            bound[i] = min(float(bound[i]), high)
         return cand, bound
 
 
