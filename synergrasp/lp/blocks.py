@@ -399,8 +399,16 @@ def _replace_blocks(old, codes, new, span, stale, out):
         if i > 0 and key == last:
             continue
         last = key
-        for j in range(np.searchsorted(old, key * span), np.searchsorted(old, (key + 1) * span)):
-            stale[j] = True
+        lo, hi = 0, len(old)  # the first kept code of the block (a binary search; numpy's compiles slowly)
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if old[mid] < key * span:
+                lo = mid + 1
+            else:
+                hi = mid
+        while lo < len(old) and old[lo] < (key + 1) * span:
+            stale[lo] = True
+            lo += 1
     i, j, k = 0, 0, 0
     while i < len(old) or j < len(new):
         if i < len(old) and stale[i]:

@@ -95,7 +95,8 @@ class NativeBackend(Backend):
     def _solve(self, c, A, b, basic=None):
         m, n = A.shape
         indptr, indices, data = csc_arrays(A)  # int32 indices (`Backend.solve` checked them)
-        c, b, data = _writable(c, float), _writable(b, float), _writable(data, float)  # one signature
+        indptr, indices = _writable(indptr, np.int32), _writable(indices, np.int32)  # one signature (not read-only)
+        c, b, data = _writable(c, float), _writable(b, float), _writable(data, float)
         key = None  # the LP's structure, hashed only where a remembered basis is read, stored or dropped
         if not self.warm_start:
             hint = np.zeros(n, dtype=bool)
@@ -166,9 +167,9 @@ def _blocks(indptr, indices, scratch, order, starts, sizes):
     for j in range(n):
         if indptr[j + 1] == indptr[j]:
             continue
-        a = _root(parent, indices[indptr[j]])
+        a = _root(parent, np.int64(indices[indptr[j]]))
         for e in range(indptr[j] + 1, indptr[j + 1]):
-            r = _root(parent, indices[e])
+            r = _root(parent, np.int64(indices[e]))
             if r != a:
                 if r < a:
                     parent[a] = r
