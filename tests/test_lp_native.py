@@ -189,3 +189,22 @@ def test_nearly_parallel_columns_terminate_from_every_start():
         hint = np.array([(code >> k) & 1 for k in range(6)], dtype=bool)
         sol = native.solve(c, A, b, basic=hint)
         assert sol.optimal and sol.objective == pytest.approx(reference, rel=1e-8)
+
+
+def test_the_kernels_compile_once_whatever_the_index_arrays():
+    """Read-only, int64 or dense input reaches the simplex kernel as one type: a second signature would make
+    numba compile the largest kernel again in a user's first plan (seconds)."""
+    from synergrasp.lp import native
+    from synergrasp.lp.base import CSC
+
+    backend = NativeBackend()
+    indptr, indices = np.array([0, 1, 2, 3]), np.array([0, 0, 1])
+    read_only = [a.astype(np.int32) for a in (indptr, indices)]
+    for a in read_only:
+        a.setflags(write=False)
+    for A in (CSC(indptr, indices, np.array([1.0, 1.0, 1.0]), (2, 3)),
+              CSC(*read_only, np.array([1.0, 1.0, 1.0]), (2, 3)),
+              np.array([[1.0, 1.0, 0.0], [0.0, 0.0, 1.0]])):
+        assert backend.solve([1.0, 2.0, 1.0], A, [1.0, 2.0]).objective == pytest.approx(3.0)
+    sg.plan(sg.objects.ellipsoid(), "precision", max_iter=5, executable_reach=False)
+    assert len(native._solve_blocks.signatures) == 1 and len(native._blocks.signatures) == 1
