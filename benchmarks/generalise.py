@@ -222,8 +222,16 @@ def _largest(rows, key):
     return float(np.nanmax(values)) if values else float("nan")
 
 
-def option_value(text):
-    """A ``--option NAME=VALUE`` value: a Python literal (number, tuple, bool, None), else the text itself."""
+def planner_options(items):
+    """``--option NAME=VALUE ...`` as a dict of planner options (the scripts' common flag).
+
+    Each value is a Python literal (number, tuple, bool, None), else the text itself.
+    """
+    return {name: _literal(value) for name, value in (item.split("=", 1) for item in items)}
+
+
+def _literal(text):
+    """``text`` as a Python literal, else the text itself."""
     try:
         return ast.literal_eval(text)
     except (ValueError, SyntaxError):
@@ -278,7 +286,7 @@ def main(argv=None):
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise" + ("-sizes" if sweep else "") + ("-cloud" if args.cloud else "")
                                         + ("-posed" if args.pose is not None else ""))
-    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    options = planner_options(args.option)
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
     print("\n".join(summary))

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
-from generalise import option_value
+from generalise import planner_options
 from household import MESHES, household_objects, mesh_files
 from verification import verify
 from synergrasp.physics import ball_pinch, hand_without, pinch_grasp
@@ -379,7 +379,7 @@ def main(argv=None):
     parser.add_argument("--docs", action="store_true",
                         help=f"write {PAGE.relative_to(ROOT)}, its figures and the README's physics lines")
     args = parser.parse_args(argv)
-    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    options = planner_options(args.option)
     sg.planner.PlannerOptions(**options)  # a bad option fails here, before any work
     if args.docs and options:
         parser.error("--docs writes the study of the default planner: drop --option")

@@ -33,7 +33,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from generalise import option_value, placed  # noqa: E402
+from generalise import placed, planner_options  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import PlannerOptions, run_attempt, starts  # noqa: E402
@@ -70,7 +70,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.pose is not None and args.pose < 0:
         parser.error(f"--pose must be a seed >= 0, got {args.pose}")
-    options = {k: option_value(v) for k, v in (item.split("=", 1) for item in args.option)}
+    options = planner_options(args.option)
     PlannerOptions(**options)  # a bad option fails here, before any work
     names = [e.name for e in select(args.split, args.only)]
     start = time.perf_counter()
