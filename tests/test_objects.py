@@ -10,6 +10,7 @@ import synergrasp.objects as so
 from synergrasp.objects import facets
 from synergrasp.objects.contact_distance import cp_bounds, group_contact_distance
 from synergrasp.objects.distance_grid import DistanceGrid
+from synergrasp.planner import forget_warm_starts
 from tests.conftest import BACKENDS, assert_gradient, central_difference
 
 Q = sg.regular_simplex(3)
@@ -344,13 +345,66 @@ def test_group_pruning_keeps_every_group_minimiser(seed):
     groups = rng.integers(0, 4, size=len(pts))
     groups[:4] = np.arange(4)  # every group has a point
     value = obj.contact_distance(pts).value
-    rows, probe = obj.index.group_probe(pts, groups)
+    rows, probe, floor = obj.index.group_probe(pts, groups)
     assert (probe.P == pts[rows]).all()
     for g in range(4):
         members = np.flatnonzero(groups == g)
         best = value[members].min()
         kept = np.intersect1d(members, rows)
         assert len(kept) and value[kept].min() == pytest.approx(best, abs=1e-7 * (1 + abs(best)))
+        assert floor[g] <= best + 1e-7 * (1 + abs(best))  # a lower bound of the group's cP
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1))
+def test_groups_beyond_far_are_dropped_only_when_their_cp_is_beyond_it(seed):
+    """`group_probe(..., far)`: a dropped group's cP exceeds its ``far``; the groups kept lose no point."""
+    obj, rng = _random_object(seed)
+    pts = _probe_points(obj, rng, 16)
+    groups = rng.integers(0, 6, size=len(pts))
+    groups[:6] = np.arange(6)
+    value = obj.contact_distance(pts).value
+    smallest = np.array([value[groups == g].min() for g in range(6)])
+    far = np.r_[np.inf, rng.uniform(0.0, 40.0, size=5)]
+    rows, _, floor = obj.index.group_probe(pts, groups, far)
+    exact_rows, _, _ = obj.index.group_probe(pts, groups)
+    dropped = np.setdiff1d(np.arange(6), groups[rows])
+    assert 0 not in dropped  # an infinite far never drops
+    for g in dropped:
+        assert floor[g] > far[g] and smallest[g] >= floor[g] - 1e-7 * (1 + abs(floor[g]))
+    kept = np.isin(groups, groups[rows])
+    assert np.array_equal(rows, exact_rows[kept[exact_rows]])  # the groups kept lose no point
+
+
+def test_the_group_probe_kernel_compiles_once_whatever_far():
+    """A second signature of the broad phase's kernel would be compiled in a user's first plan."""
+    from synergrasp.objects import broad_phase
+
+    obj = so.ellipsoid()
+    pts, groups = np.array([[0.0, 0.0, 70.0], [0.0, 0.0, 60.0], [0.0, 0.0, 52.0]]), np.array([0, 0, 1])
+    read_only = np.full(2, 5.0)
+    read_only.setflags(write=False)
+    for far in (None, [5.0, np.inf], read_only, np.array([5, 9])):
+        obj.index.group_probe(pts, groups, far)
+    sg.plan(obj, "precision", max_iter=5, executable_reach=False)
+    assert len(broad_phase._group_probe.signatures) == 1
+
+
+def test_far_groups_are_bounded_and_the_others_exact(goblet, backend):
+    """`group_contact_distance(..., far)`: beyond far a group is a lower bound with zero gradient; the rest exact."""
+    rng = np.random.default_rng(5)
+    pts = np.vstack([around(goblet, 6, rng, gap=(1, 4)), around(goblet, 6, rng, gap=(30, 60))])
+    groups = np.repeat(np.arange(4), 3)  # two groups near the surface, two far from it
+    exact, best = group_contact_distance(goblet, pts, groups, backend)
+    forget_warm_starts(sg.lp.get_backend(backend), goblet)
+    r, r_best = group_contact_distance(goblet, pts, groups, backend, far=np.full(4, 10.0))
+    assert (exact.value[:2] < 10.0).all() and (exact.value[2:] > 10.0).all()
+    assert r.value[:2] == pytest.approx(exact.value[:2], abs=1e-9) and r.grad[:2] == pytest.approx(exact.grad[:2], abs=1e-7)
+    assert np.array_equal(r_best[:2], best[:2]) and (r.piece[:2] >= 0).all()
+    assert ((r.value[2:] > 10.0) & (r.value[2:] <= exact.value[2:] + 1e-9)).all()  # a lower bound, beyond far
+    assert (r.grad[2:] == 0.0).all() and np.isnan(r.nearest[2:]).all() and (r.piece[2:] == -1).all()
+    assert r_best[2:].tolist() == [6, 9]  # a bounded group's first point
+    assert r.lp_solves <= exact.lp_solves
 
 
 def test_plane_bounds_are_each_pieces_signed_distance_bound(goblet):

@@ -739,6 +739,28 @@ def test_a_power_attempt_watches_the_capsules_from_its_start(monkeypatch, hand):
     assert len(calls) == r.iterations + 1 == 5  # the start's evaluation and every step's
 
 
+def test_a_precision_attempt_bounds_only_clearance_rows_it_does_not_read(monkeypatch, hand):
+    """The far clearance rows of a precision attempt get no LP: each is a lower bound of its exact cP, beyond
+    eps_c; the fingertips and the rows the last step's residual reads are exact, so the path is the exact one."""
+    cup, opts = so.cup(), PlannerOptions()
+    start = list(itertools.islice(starts(hand, cup, "precision", opts), 2))[-1].u
+    fars = []
+    status = attempt_module.grasp_status
+    monkeypatch.setattr(attempt_module, "grasp_status", lambda *a, far=None, **k: fars.append(far) or status(*a, far=far, **k))
+    r = run_attempt(hand, cup, "precision", start, opts)
+    assert r.success and len(fars) == r.iterations + 1
+    bounded = 0
+    for u, g, far in zip(r.trajectory, r.status, fars):
+        exact = grasp_status(hand, cup, u, "precision").g
+        lazy = np.abs(g[:-1] - exact[:-1]) > 1e-9  # (the exact rows to round-off: the LPs start from other bases)
+        assert np.isfinite(far[:5]).sum() == 0  # the fingertips are always exact
+        assert (np.isfinite(far[lazy])).all() and (g[:-1][lazy] > opts.eps_c).all()
+        assert (g[:-1][lazy] <= exact[:-1][lazy] + 1e-9).all()  # a lower bound of the exact cP
+        np.testing.assert_allclose(g[:-1][~lazy], exact[:-1][~lazy], rtol=0, atol=1e-9)
+        bounded += lazy.sum()
+    assert bounded > 5 * r.iterations  # most of the eleven clearance rows, most of the time
+
+
 def test_the_stall_window_is_per_grasp_kind(hand):
     """The cup's second precision start stands still for 12 iterations, then closes its grasp."""
     cup = so.cup()

@@ -246,20 +246,25 @@ class PieceIndex:
                self.facet_reach, GAUGE_RATIO, VALUE_TOL, planes, np.empty(len(self._members)), PQ, upper, S, lower)
         return Probe(P, PQ, S, lower, upper)
 
-    def group_probe(self, points, groups) -> tuple[np.ndarray, Probe]:
+    def group_probe(self, points, groups, far=None) -> tuple[np.ndarray, Probe, np.ndarray]:
         """The points that can attain their group's smallest cP, and their `Probe`.
 
         A point whose lower bound of cP exceeds the upper bound of another
         point of its group cannot attain the group's minimum (valid bounds, so
         the minima are unchanged). The support bound of every point comes
         first (no facet plane evaluated), then the facet-plane bounds of the
-        points it leaves.
+        points it leaves. With ``far``, a group whose points' support bounds
+        all exceed its ``far`` (beyond round-off) is dropped whole: its cP is
+        known to be larger, and ``floor`` bounds it.
 
         Parameters
         ----------
         points : (n, 3) float
         groups : (n,) int
             Group of each point, ``0 ... G-1``.
+        far : (G,) float, optional
+            The distance beyond which a group may be dropped (inf: never, the
+            default for every group).
 
         Returns
         -------
@@ -267,17 +272,23 @@ class PieceIndex:
             The points kept, ascending.
         probe : Probe
             Their probe (with the facet planes).
+        floor : (G,) float
+            A lower bound of each group's smallest cP (the smallest support
+            bound of its points, or of a dropped group the facet planes' bound).
         """
         P = np.ascontiguousarray(points, dtype=float)
         groups = np.asarray(groups, dtype=np.int64)
-        n = len(P)
+        n, n_groups = len(P), int(groups.max()) + 1
+        far = np.full(n_groups, np.inf) if far is None else np.array(far, dtype=float)  # writable: one compiled signature
         PQ, upper, keep = np.empty((n, 4)), np.empty(n), np.empty(n, dtype=bool)
         S, lower = np.full((n, self.n_pieces), np.inf), np.full((n, self.n_pieces), np.inf)
+        floor = np.full(n_groups, np.inf)
         _group_probe(P, groups, SIMPLEX, self._members, self._cluster_support, self.support, self.planes,
                      self.plane_start, self.facet_reach, GAUGE_RATIO, VALUE_TOL, np.empty(len(self._members)), PQ,
-                     upper, S, lower, np.full(groups.max() + 1, np.inf), np.empty(n), keep)
+                     upper, S, lower, np.full(n_groups, np.inf), np.empty(n), far, floor, np.full(n_groups, np.inf),
+                     keep)
         rows = np.flatnonzero(keep)
-        return rows, Probe(P[rows], PQ[rows], S[rows], lower[rows], upper[rows])
+        return rows, Probe(P[rows], PQ[rows], S[rows], lower[rows], upper[rows]), floor
 
     def candidates(self, probe: Probe) -> tuple[np.ndarray, np.ndarray]:
         """(n, J) bool: the pieces that can be each point's cP minimiser, and an upper bound of each cP.
@@ -448,15 +459,19 @@ def _probe(P, Q, members, cluster_support, support, planes, plane_start, reach, 
 
 @kernel
 def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, low, PQ,
-                 upper, S, lower, smallest, cheap, keep):
-    """`PieceIndex.group_probe` into the `Probe` arrays and ``keep`` (``S``, ``lower``, ``smallest`` inf on entry).
+                 upper, S, lower, smallest, cheap, far, floor, tight, keep):
+    """`PieceIndex.group_probe` into the `Probe` arrays, ``floor`` and ``keep`` (``S``, ``lower``, ``smallest``,
+    ``floor``, ``tight`` inf on entry).
 
     Stage 1, every point: the nearest-vertex upper bound and the support
     lower bound; a point whose lower bound exceeds its group's smallest upper
     bound (within round-off; the point attaining it is always kept) is
-    dropped. Stage 2, the others: the facet planes too (inside a piece the
-    bounds are ``(-inf, 0)``), and the same test against the group's
-    smallest upper bound, now also over the points inside a piece.
+    dropped, and so is every point of a group whose smallest lower bound
+    exceeds its ``far``. Stage 2, the others: the facet planes too (inside a
+    piece the bounds are ``(-inf, 0)``), and the same tests against the
+    group's smallest upper bound, now also over the points inside a piece,
+    and against its ``far`` (into ``tight``, per group: the smallest of these
+    bounds over the points stage 1 kept, the group's cP being theirs).
     """
     n, J = len(P), len(support)
     support_only, with_planes = tol != tol, tol == tol  # not literals: numba would compile _probe_point once more
@@ -468,9 +483,10 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
             cheap[i] = min(cheap[i], lower[i, j])
             lower[i, j] = np.inf
         smallest[groups[i]] = min(smallest[groups[i]], upper[i])
+        floor[groups[i]] = min(floor[groups[i]], cheap[i])
     for i in range(n):
-        s = smallest[groups[i]]
-        keep[i] = cheap[i] <= s * (1 + tol) + tol or upper[i] == s
+        s, g = smallest[groups[i]], groups[i]
+        keep[i] = floor[g] <= far[g] * (1 + tol) + tol and (cheap[i] <= s * (1 + tol) + tol or upper[i] == s)
     for i in range(n):
         if keep[i]:
             _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, with_planes, low,
@@ -489,3 +505,10 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
         up_i = 0.0 if inside else upper[i]
         s = smallest[groups[i]]
         keep[i] = inside or low_i <= s * (1 + tol) + tol or up_i == s
+        tight[groups[i]] = min(tight[groups[i]], -np.inf if inside else low_i)
+    for g in range(len(far)):  # the facet planes' bound may place a group stage 1 kept beyond its far
+        if tight[g] > far[g] * (1 + tol) + tol and tight[g] < np.inf:
+            floor[g] = max(floor[g], tight[g])
+            far[g] = -np.inf  # dropped
+    for i in range(n):
+        keep[i] = keep[i] and far[groups[i]] > -np.inf

@@ -143,13 +143,19 @@ def cp_bounds(obj, points):
     return obj.index.probe(check_points(points)).bounds()
 
 
-def group_contact_distance(obj, points, groups, backend="native", *, ids=None) -> tuple[ContactDistance, np.ndarray]:
+def group_contact_distance(obj, points, groups, backend="native", *, ids=None, far=None
+                           ) -> tuple[ContactDistance, np.ndarray]:
     """The smallest cP in each group of points, and the point attaining it.
 
     A point whose lower bound of cP exceeds the upper bound of another point
     of its group cannot attain the group's minimum and gets no LP (valid
     bounds, so the minima are unchanged; `PieceIndex.group_probe`); the
     bounds of the others are reused by one call of `contact_distance`.
+
+    With ``far``, a group that the broad phase alone places beyond its
+    ``far[g]`` gets no LP at all: its row is a lower bound of its cP (larger
+    than ``far[g]``) with a zero gradient, for a caller that only reads the
+    group when it is nearer (the planner's clearance rows).
 
     Parameters
     ----------
@@ -161,14 +167,19 @@ def group_contact_distance(obj, points, groups, backend="native", *, ids=None) -
     ids : (n,) int, optional
         An identity of each point across calls (see `contact_distance`);
         default: its row in ``points``.
+    far : (G,) float, optional
+        The distance (mm, in the gauge of cP) beyond which a group is only
+        bounded; default: every group exact.
 
     Returns
     -------
     ContactDistance
         One row per group: that of its point with the smallest cP (the first
-        of them on a tie).
+        of them on a tie). A group only bounded has the bound as its value,
+        zero gradients, NaN nearest point and normal, piece -1 and no
+        candidates.
     best : (G,) int
-        That point's row in ``points``.
+        That point's row in ``points`` (a bounded group's first point).
 
     Examples
     --------
@@ -180,22 +191,43 @@ def group_contact_distance(obj, points, groups, backend="native", *, ids=None) -
     >>> r, best = group_contact_distance(objects.ellipsoid(), points, [0, 0, 1])
     >>> r.value.round(2).tolist(), best.tolist()
     ([10.0, 2.0], [1, 2])
+
+    The first group only bounded beyond 5 mm (no LP; over the pole's facet
+    the bound is its cP):
+
+    >>> r, best = group_contact_distance(objects.ellipsoid(), points, [0, 0, 1], far=[5.0, np.inf])
+    >>> r.value.round(2).tolist(), r.piece.tolist(), best.tolist()
+    ([10.0, 2.0], [-1, 0], [0, 2])
     """
     P = check_points(points)
     solver = lp.get_backend(backend)
     groups = np.asarray(groups, dtype=np.int64)
     ids = np.arange(len(P)) if ids is None else np.asarray(ids, dtype=np.int64)
-    keep, probe = obj.index.group_probe(P, groups)
+    keep, probe, floor = obj.index.group_probe(P, groups, far)
     cp = _solve(obj, probe, solver, ids[keep])
     order = np.lexsort((cp.value, groups[keep]))
     ordered = groups[keep][order]
     first = np.empty(len(order), dtype=bool)
     first[:1], first[1:] = True, ordered[1:] != ordered[:-1]
     picked = order[first]
-    return ContactDistance(value=cp.value[picked], grad=cp.grad[picked], nearest=cp.nearest[picked],
-                           normal=cp.normal[picked], piece=cp.piece[picked], inside=cp.inside[picked],
-                           degenerate=cp.degenerate[picked], candidates=cp.candidates[picked],
-                           lp_solves=cp.lp_solves), keep[picked]
+    fields = dict(value=cp.value[picked], grad=cp.grad[picked], nearest=cp.nearest[picked], normal=cp.normal[picked],
+                  piece=cp.piece[picked], inside=cp.inside[picked], degenerate=cp.degenerate[picked],
+                  candidates=cp.candidates[picked])
+    best = keep[picked]
+    if len(picked) < len(floor):  # groups only bounded
+        solved = ordered[first]
+        bounded = dict(value=floor, grad=np.zeros((len(floor), 3)), nearest=np.full((len(floor), 3), np.nan),
+                       normal=np.full((len(floor), 3), np.nan), piece=np.full(len(floor), -1),
+                       inside=np.zeros(len(floor), dtype=bool), degenerate=np.zeros(len(floor), dtype=bool),
+                       candidates=np.zeros(len(floor), dtype=cp.candidates.dtype))
+        for name, column in bounded.items():
+            column[solved] = fields[name]
+        fields = bounded
+        first_point = np.empty(len(floor), dtype=np.int64)
+        first_point[groups[::-1]] = np.arange(len(groups))[::-1]
+        first_point[solved] = best
+        best = first_point
+    return ContactDistance(**fields, lp_solves=cp.lp_solves), best
 
 
 def _solve(obj, probe: Probe, solver, ids=None) -> ContactDistance:

@@ -46,7 +46,7 @@ import numpy as np
 
 from .._jit import clock
 from .starts import pinch_fingertips
-from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only
+from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows
 from .step import limited_step
 from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
 
@@ -247,8 +247,9 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     window = opts.stall_window[1 if power else 0]
     watching = power  # capsules and palm box watched: power from the start, precision once the criterion held with one too deep
 
-    def evaluate(u):
-        st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
+    def evaluate(u, far):
+        st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing,
+                          far=far)
         pen = None
         if watching:
             pen = hand_penetration(hand, obj, u)
@@ -262,13 +263,16 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
             return st.g[-1], st.J[-1]
         return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
 
-    u = np.array(u0, dtype=float)
-    st, chk, pen = evaluate(u)
-    n = len(st.g) - 1
-    contact_rows = st.contact.copy()
+    contact_rows = status_rows(hand, grasp)[1].copy()
     if not power:  # fingertips a small object leaves out are only kept clear
         reach = pinch_fingertips(hand, obj)
         contact_rows[: len(reach)] &= reach
+    # a precision clearance row is read only when nearer than the clearance (the step) or eps_c (the palm in the
+    # criterion): farther, its bound will do, unless the last step's residual reads it
+    beyond = None if power else np.where(contact_rows, np.inf, max(opts.clearance, opts.eps_c))
+    u = np.array(u0, dtype=float)
+    st, chk, pen = evaluate(u, beyond)
+    n = len(st.g) - 1
     palm = n - 1
     row_scale = np.r_[np.full(n, 1.0 / size), 1.0]
     radius, stalled, best = opts.radius, 0, np.inf
@@ -337,7 +341,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
             du *= radius / step
         u_new = u + du * scale_u
         u_new[6:] = np.clip(u_new[6:], hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
-        st_new, chk_new, pen_new = evaluate(u_new)
+        st_new, chk_new, pen_new = evaluate(u_new, None if power else np.where(active[:n], np.inf, beyond))
         solves += st_new.lp_solves + chk_new.lp_solves
         # adaptive step length: compare the achieved with the predicted change of the residual
         before = np.sum(e**2)

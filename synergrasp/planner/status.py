@@ -475,7 +475,7 @@ def _deepest_over_face(vertices, edges, center, axes, half, out):
     return best < np.inf
 
 
-def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None) -> Status:
+def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None, far=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
     All rows come from one cP call: each row is the smallest cP over its skin
@@ -499,6 +499,14 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         LP backend.
     smoothing : float, optional
         Normal smoothing length (mm) of the sQ contacts (`smoothed_normals`).
+    far : (n,) float, optional
+        Per cP row, a distance (mm) beyond which the row may be only bounded:
+        a row that the broad phase alone places beyond it gets no LP, its
+        value is a lower bound of its cP (larger than ``far``), its Jacobian
+        row is zero and its nearest point and normal are NaN
+        (`group_contact_distance`). For a caller that reads a row only when
+        it is nearer than that (the planner's clearance rows). Default: every
+        row exact.
 
     Returns
     -------
@@ -521,6 +529,11 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
     _require(hand, obj)
     points, jac, skin, palm, jac_skin, jac_palm = hand.points_and_skin(u, kind)
     labels, contact, segment_rows = status_rows(hand, kind)
+    if far is not None:
+        far = np.asarray(far, dtype=float)
+        if far.shape != (len(labels),) or np.isnan(far).any():
+            raise ValueError(f"far must be {len(labels)} distances (one per cP row of a {kind} status), not NaN, "
+                             f"got shape {far.shape}")
     k, m = skin.shape[:2]
     face = palm_face_point(hand, obj, u)
     palm, jac_palm = np.vstack([palm, face]), np.concatenate([jac_palm, hand.palm_jacobian(u, face)])
@@ -533,7 +546,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         jacobians.insert(0, jac)
     candidates = np.vstack(candidates)
     ids = np.arange(len(candidates)) + (PRECISION_IDS if kind == "precision" else 0)
-    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend, ids=ids)
+    cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend, ids=ids, far=far)
     point_jac = np.concatenate(jacobians)[best]
     sc = obj.scaled_contacts(points, backend=backend)
     if smoothing:
