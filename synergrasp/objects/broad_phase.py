@@ -412,7 +412,7 @@ def _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start
     J, C = len(support), len(members)
     x, y, z = P[i, 0], P[i, 1], P[i, 2]
     for k in range(4):
-        PQ[i, k] = x * Q[k, 0] + y * Q[k, 1] + z * Q[k, 2]
+        PQ[i, k] = _pq(x, y, z, Q, k)
     pq0, pq1, pq2, pq3 = PQ[i, 0], PQ[i, 1], PQ[i, 2], PQ[i, 3]
     first = 0
     for c in range(C):
@@ -431,7 +431,7 @@ def _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start
     upper[i] = ratio * best
     reach_bound = upper[i] + tol * (1.0 + abs(upper[i]))
     for j in range(J):
-        s = ratio * max(max(pq0 - support[j, 0], pq1 - support[j, 1]), max(pq2 - support[j, 2], pq3 - support[j, 3]))
+        s = _support_bound(pq0, pq1, pq2, pq3, support, j, ratio)
         if not with_planes:
             lower[i, j] = s
             continue
@@ -457,17 +457,30 @@ def _probe(P, Q, members, cluster_support, support, planes, plane_start, reach, 
                      low, PQ, upper, S, lower)
 
 
+@helper
+def _pq(x, y, z, Q, k):
+    """``q_k . p`` of the point ``(x, y, z)``."""
+    return x * Q[k, 0] + y * Q[k, 1] + z * Q[k, 2]
+
+
+@helper
+def _support_bound(pq0, pq1, pq2, pq3, support, j, ratio):
+    """Piece j's support lower bound of cP at the point with ``q_k . p = pq_k``."""
+    return ratio * max(max(pq0 - support[j, 0], pq1 - support[j, 1]), max(pq2 - support[j, 2], pq3 - support[j, 3]))
+
+
 @kernel
 def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, low, PQ,
                  upper, S, lower, smallest, cheap, far, floor, tight, keep):
     """`PieceIndex.group_probe` into the `Probe` arrays, ``floor`` and ``keep`` (``S``, ``lower``, ``smallest``,
     ``floor``, ``tight`` inf on entry).
 
-    Stage 1, every point: the nearest-vertex upper bound and the support
-    lower bound; a point whose lower bound exceeds its group's smallest upper
-    bound (within round-off; the point attaining it is always kept) is
-    dropped, and so is every point of a group whose smallest lower bound
-    exceeds its ``far``. Stage 2, the others: the facet planes too (inside a
+    Stage 0, the points of a group with a finite ``far``: the support lower
+    bound; a group whose smallest bound exceeds its ``far`` (within
+    round-off) is dropped. Stage 1, the points of the other groups: the
+    nearest-vertex upper bound and the support lower bound; a point whose
+    lower bound exceeds its group's smallest upper bound (within round-off;
+    the point attaining it is always kept) is dropped. Stage 2, the others: the facet planes too (inside a
     piece the bounds are ``(-inf, 0)``), and the same tests against the
     group's smallest upper bound, now also over the points inside a piece,
     and against its ``far`` (into ``tight``, per group: the smallest of these
@@ -475,7 +488,19 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
     """
     n, J = len(P), len(support)
     support_only, with_planes = tol != tol, tol == tol  # not literals: numba would compile _probe_point once more
+    for i in range(n):  # stage 0: the groups that the support bounds alone place beyond their far (no vertex search)
+        g = groups[i]
+        if far[g] < np.inf:
+            x, y, z = P[i, 0], P[i, 1], P[i, 2]
+            pq0, pq1, pq2, pq3 = _pq(x, y, z, Q, 0), _pq(x, y, z, Q, 1), _pq(x, y, z, Q, 2), _pq(x, y, z, Q, 3)
+            for j in range(J):
+                floor[g] = min(floor[g], _support_bound(pq0, pq1, pq2, pq3, support, j, ratio))
+    for g in range(len(far)):
+        if far[g] < np.inf and floor[g] > far[g] * (1 + tol) + tol:
+            far[g] = -np.inf  # dropped
     for i in range(n):
+        if far[groups[i]] == -np.inf:
+            continue
         _probe_point(i, P, Q, members, cluster_support, support, planes, plane_start, reach, ratio, tol, support_only, low,
                      PQ, upper, S, lower)
         cheap[i] = np.inf
