@@ -761,6 +761,21 @@ def test_a_precision_attempt_bounds_only_clearance_rows_it_does_not_read(monkeyp
     assert bounded > 5 * r.iterations  # most of the eleven clearance rows, most of the time
 
 
+def test_a_bounded_row_that_a_penetrating_capsule_replaces_is_exact(monkeypatch, hand):
+    """A small box's ring fingertip is only kept clear; once the attempt watches the capsules, its capsule cuts in
+    while its skin points are beyond eps_c: the row becomes a contact of the criterion, with its skin point's nearest
+    point (a bounded row has none), as it would with every row exact."""
+    box = so.from_mesh(trimesh.creation.box((34.48693061, 28.91172075, 18.39664516)), cache=False)
+    opts = PlannerOptions()
+    start = list(itertools.islice(starts(hand, box, "precision", opts), 3))[-1].u
+    lazy = run_attempt(hand, box, "precision", start, opts)
+    status = attempt_module.grasp_status
+    monkeypatch.setattr(attempt_module, "grasp_status", lambda *a, far=None, **k: status(*a, **k))
+    exact = run_attempt(hand, box, "precision", start, opts)
+    assert lazy.outcome is exact.outcome is Outcome.GRASP
+    assert np.isfinite(lazy.final.nearest[lazy.check.contact]).all()
+
+
 def test_the_stall_window_is_per_grasp_kind(hand):
     """The cup's second precision start stands still for 12 iterations, then closes its grasp."""
     cup = so.cup()

@@ -248,11 +248,12 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     watching = power  # capsules and palm box watched: power from the start, precision once the criterion held with one too deep
 
     def evaluate(u, far):
+        pen = hand_penetration(hand, obj, u) if watching else None
+        if pen is not None and far is not None:  # a row that a penetrating shape replaces keeps its skin point's
+            far = np.where(np.isin(np.arange(len(far)), shape_rows[pen.distances < 0.0]), np.inf, far)  # nearest: exact
         st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing,
                           far=far)
-        pen = None
         if watching:
-            pen = hand_penetration(hand, obj, u)
             st = capsule_rows(hand, obj, u, st, pen)
         chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
         return st, chk, pen
@@ -263,7 +264,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
             return st.g[-1], st.J[-1]
         return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
 
-    contact_rows = status_rows(hand, grasp)[1].copy()
+    _, contact_rows, segment_rows = status_rows(hand, grasp)
+    contact_rows, shape_rows = contact_rows.copy(), np.r_[segment_rows, len(contact_rows) - 1]  # capsules, palm box
     if not power:  # fingertips a small object leaves out are only kept clear
         reach = pinch_fingertips(hand, obj)
         contact_rows[: len(reach)] &= reach
