@@ -484,6 +484,8 @@ PLANNER_OPTIONS: list[Case] = [
     _option("contact_band", (1.0, np.inf), "PlannerOptions.contact_band must be"),
     _option("contact_band", None, "PlannerOptions.contact_band must be"),
     _option("clearance", -0.5, "PlannerOptions.clearance must be in"),
+    _option("band_step", 0.0, "PlannerOptions.band_step must be in"),
+    _option("band_step", float("nan"), "PlannerOptions.band_step must be a number"),
     _option("sq_step", float("nan"), "PlannerOptions.sq_step must be a number"),
     _option("sq_step", 0.0, "PlannerOptions.sq_step must be in"),
     _option("smoothing", -1.0, "PlannerOptions.smoothing must be in"),

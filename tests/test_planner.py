@@ -723,10 +723,10 @@ def _watched(monkeypatch):
 
 
 def test_a_precision_attempt_watches_the_capsules_once_a_phalanx_was_too_deep(monkeypatch, hand):
-    cup = so.cup()
-    start = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 7))[-1].u  # the seventh
+    goblet = so.goblet()
+    start = list(itertools.islice(starts(hand, goblet, "precision", PlannerOptions()), 5))[-1].u  # the fifth
     calls = _watched(monkeypatch)
-    r = run_attempt(hand, cup, "precision", start, PlannerOptions())
+    r = run_attempt(hand, goblet, "precision", start, PlannerOptions())
     # not from the start: first when the criterion met a phalanx 6.3 mm deep, then at every evaluation
     assert len(calls) < r.iterations and calls[0].depth > 3.0
 
@@ -774,6 +774,52 @@ def test_a_bounded_row_that_a_penetrating_capsule_replaces_is_exact(monkeypatch,
     exact = run_attempt(hand, box, "precision", start, opts)
     assert lazy.outcome is exact.outcome is Outcome.GRASP
     assert np.isfinite(lazy.final.nearest[lazy.check.contact]).all()
+
+
+def _traced(hand, obj, start, opts, **kwargs):
+    """One precision attempt, with the status (and its Jacobian) and check at its start and after every step."""
+    trace = []
+    r = run_attempt(hand, obj, "precision", start, opts, progress=lambda c, s: trace.append((c, s)), **kwargs)
+    first = grasp_status(hand, obj, start, "precision", smoothing=opts.smoothing * obj.torque_scale)
+    return r, [(check_grasp(obj, first, "precision"), first)] + trace
+
+
+def test_a_precision_step_moves_no_fingertip_in_the_band_by_more_than_band_step(hand):
+    """To first order (the status's Jacobian): every step, and some steps are shortened to exactly band_step."""
+    ellipsoid, opts = so.ellipsoid(), PlannerOptions(band_step=0.5)
+    start = next(starts(hand, ellipsoid, "precision", opts)).u
+    r, trace = _traced(hand, ellipsoid, start, opts)
+    low, high = opts.contact_band
+    moves = []
+    for (_, st), du in zip(trace, np.diff(r.trajectory, axis=0)):
+        held = (st.g[:5] >= low) & (st.g[:5] <= high)
+        if held.any():
+            moves.append(np.abs(st.J[:5][held] @ du).max())
+    assert max(moves) <= 0.5 * (1 + 1e-9)
+    assert sum(np.isclose(moves, 0.5, rtol=1e-9)) >= 2  # the limit binds
+    free = run_attempt(hand, ellipsoid, "precision", start, replace(opts, band_step=50.0))  # never binds
+    n = min(len(free.trajectory), len(r.trajectory))
+    assert np.abs(free.trajectory[:n] - r.trajectory[:n]).max() > 0.1  # another path (mm)
+
+
+def test_a_precision_attempt_closes_its_contacts_by_their_own_q_once_sq_is_closed(monkeypatch, hand):
+    """While g_sQ < 0 with at least three fingertips touching and their g_Q > 0, the last row is their g_Q."""
+    ellipsoid, opts = so.ellipsoid(), PlannerOptions()
+    start = list(itertools.islice(starts(hand, ellipsoid, "precision", opts), 2))[-1].u
+    r, trace = _traced(hand, ellipsoid, start, opts)
+    closing = [i for i, (c, st) in enumerate(trace) if st.g[-1] < 0 and c.n_contacts >= 3 and c.q > 0]
+    done = [i for i, (c, _) in enumerate(trace) if c.done]
+    assert r.success and closing and min(closing) < min(done)
+    calls = []
+    quality = attempt_module.contact_quality
+    monkeypatch.setattr(attempt_module, "contact_quality", lambda *a, **k: calls.append(1) or quality(*a, **k))
+    # up to the first such step: that step's row and its new status's (the trust region's ratio), none before
+    run_attempt(hand, ellipsoid, "precision", start, opts, budget=min(closing) + 1)
+    assert len(calls) == 2
+    calls.clear()
+    monkeypatch.setattr(attempt_module, "CRITERION", {"precision": (6, 6), "power": (4, 6)})  # never six of five
+    run_attempt(hand, ellipsoid, "precision", start, opts, budget=min(closing) + 1)
+    assert not calls
 
 
 def test_the_stall_window_is_per_grasp_kind(hand):

@@ -15,11 +15,16 @@ Each iteration:
    rows that are too close back to ``clearance`` (a precision attempt on an
    object too small for all five fingertips, `pinch_fingertips`, keeps the
    others clear like the phalanges), and the sQ row a step
-   ``sq_step`` below its value (a moving target);
+   ``sq_step`` below its value (a moving target); while a precision
+   attempt's g_sQ predicts a closed grasp and the fingertips touching (at
+   least three) are not closed, that row is their own g_Q instead
+   (`contact_quality`, as in the refinement below);
 4. the step of Eq. 16 with two priorities, sQ and every penetrating or too
    close row first, the contact rows in their null space (`limited_step`),
    within the synergy limits and a trust radius that grows when the linear
-   model predicts the change well and shrinks when not.
+   model predicts the change well and shrinks when not; a precision step is
+   shortened so that no fingertip inside the contact band moves by more
+   than ``band_step`` (to first order).
 
 A power attempt first reaches with the palm (the finger rows only keep the
 fingers out of the object, the synergies shaped by the first level), then
@@ -48,7 +53,7 @@ from .._jit import clock
 from .starts import pinch_fingertips
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows
 from .step import limited_step
-from .stop import GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
+from .stop import CRITERION, GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
 
 
 class Outcome(enum.Enum):
@@ -259,8 +264,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         return st, chk, pen
 
     def quality_row(st, chk):
-        """The last row: g_sQ, or while refining the contacts' own g_Q (its value and gradient)."""
-        if refining is None or chk.n_contacts < 2:
+        """The last row: g_sQ, or the contacts' own g_Q while refining or closing them (its value and gradient)."""
+        if (refining is None and not closing) or chk.n_contacts < 2:
             return st.g[-1], st.J[-1]
         return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
 
@@ -281,6 +286,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     traj, statuses, qs = [u.copy()], [st.g.copy()], [chk.q]
     solves = st.lp_solves + chk.lp_solves
     outcome, bests, touched = Outcome.CAP if budget >= opts.iterations_per_attempt else Outcome.BUDGET, [], False
+    closing, closed_once = False, False  # precision: g_sQ predicts a closed grasp and the fingertips touching are not closed
     kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
     judged, deep = None, 0.0  # while refining: the last grasp judged on the true surface; the hand's depth otherwise
     for _ in range(budget):
@@ -307,6 +313,10 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         if deadline is not None and clock() > deadline:
             outcome = Outcome.BUDGET
             break
+        if not power and refining is None:  # the last row: the contacts' g_Q while sQ is closed and they are not
+            closing = bool(st.g[-1] < 0.0 and chk.n_contacts >= CRITERION["precision"][0] and chk.q > 0.0)
+            if closing and not closed_once:  # the merit (now of that g_Q) starts afresh, once
+                best, stalled, bests, closed_once = np.inf, 0, [], True
         g = st.g[:-1]
         target = np.where(contact_rows, opts.contact_target, opts.clearance)
         active = np.ones(n, bool)
@@ -341,13 +351,19 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         step = np.abs(du).max()
         if step > radius:
             du *= radius / step
+        held = contact_rows & ~active[:n] if not power else np.zeros(n, bool)  # fingertips inside the band
+        if held.any():  # move by at most band_step, to first order
+            move = np.abs(st.J[:n][held] @ (du * scale_u)).max()
+            if move > opts.band_step:
+                du *= opts.band_step / move
         u_new = u + du * scale_u
         u_new[6:] = np.clip(u_new[6:], hand.synergy_limits[:, 0], hand.synergy_limits[:, 1])
         st_new, chk_new, pen_new = evaluate(u_new, None if power else np.where(active[:n], np.inf, beyond))
         solves += st_new.lp_solves + chk_new.lp_solves
         # adaptive step length: compare the achieved with the predicted change of the residual
         before = np.sum(e**2)
-        after = np.sum((active * row_scale * (goal - np.append(st_new.g[:-1], quality_row(st_new, chk_new)[0]))) ** 2)
+        quality_new = quality_row(st_new, chk_new)[0]
+        after = np.sum((active * row_scale * (goal - np.append(st_new.g[:-1], quality_new))) ** 2)
         predicted = np.sum((e - J @ ((u_new - u) / scale_u)) ** 2)
         ratio = (before - after) / max(before - predicted, 1e-15)
         if ratio > 0.75:
@@ -366,7 +382,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         else:
             miss = g[contact_rows] - opts.contact_target
         merit = (np.sum((miss / size) ** 2) + np.sum((np.minimum(g[~contact_rows] - opts.clearance, 0.0) / size) ** 2)
-                 + max(st.g[-1], -0.1))
+                 + max(quality_new if closing else st.g[-1], -0.1))
         if merit < best - 1e-4:
             best, stalled = merit, 0
         else:

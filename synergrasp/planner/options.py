@@ -97,6 +97,11 @@ class PlannerOptions(_Fields):
         left free by the step, one outside is pulled to the band's nearer
         edge. Five fingertips moved by two synergies cannot all sit at one
         distance from a surface; the band lets them settle where they can.
+    band_step : float
+        Precision grasps: a step is shortened so that no fingertip inside the
+        contact band moves by more than this (mm, to first order): a free
+        fingertip is not thrown off the surface or into it by the other rows'
+        step.
     clearance : float
         Clearance rows (precision grasps: the phalanges other than the distal
         ones, and the palm) below this cP (mm) are pushed back to it, with
@@ -210,6 +215,7 @@ class PlannerOptions(_Fields):
     edges: int = 8
     contact_target: float = 3.5
     contact_band: tuple = (1.0, 4.5)
+    band_step: float = 1.0
     clearance: float = 0.5
     sq_step: float = 0.1
     smoothing: float = 0.1
@@ -251,6 +257,7 @@ class PlannerOptions(_Fields):
                              f"({self.eps_c:g}), got {self.contact_band!r}")
         set_(self, "contact_band", band)
         set_(self, "clearance", _number(self.clearance, "clearance", 0, self.eps_c, high_from="eps_c"))
+        set_(self, "band_step", _number(self.band_step, "band_step", 0, 50.0, open_low=True))
         set_(self, "sq_step", _number(self.sq_step, "sq_step", 0, 1.0, open_low=True))
         set_(self, "smoothing", _number(self.smoothing, "smoothing", 0, 1.0))
         set_(self, "radius_min", _number(self.radius_min, "radius_min", 0, 1.0, open_low=True))
