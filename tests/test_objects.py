@@ -336,15 +336,20 @@ def test_cp_bounds_bracket_the_value(seed):
     assert np.all(np.isfinite(upper)) and np.isfinite(lower).any()
 
 
+def _grouped(seed, n, n_groups):
+    """A random object, n points around it in n_groups groups (each with a point), and each point's cP."""
+    obj, rng = _random_object(seed)
+    pts = _probe_points(obj, rng, n)
+    groups = rng.integers(0, n_groups, size=n)
+    groups[:n_groups] = np.arange(n_groups)
+    return obj, rng, pts, groups, obj.contact_distance(pts).value
+
+
 @settings(max_examples=30, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1))
 def test_group_pruning_keeps_every_group_minimiser(seed):
     """`PieceIndex.group_probe` drops only points that cannot attain their group's smallest cP."""
-    obj, rng = _random_object(seed)
-    pts = _probe_points(obj, rng, 12)
-    groups = rng.integers(0, 4, size=len(pts))
-    groups[:4] = np.arange(4)  # every group has a point
-    value = obj.contact_distance(pts).value
+    obj, _, pts, groups, value = _grouped(seed, 12, 4)
     rows, probe, floor = obj.index.group_probe(pts, groups)
     assert (probe.P == pts[rows]).all()
     for g in range(4):
@@ -359,11 +364,7 @@ def test_group_pruning_keeps_every_group_minimiser(seed):
 @given(seed=st.integers(0, 2**31 - 1))
 def test_groups_beyond_far_are_dropped_only_when_their_cp_is_beyond_it(seed):
     """`group_probe(..., far)`: a dropped group's cP exceeds its ``far``; the groups kept lose no point."""
-    obj, rng = _random_object(seed)
-    pts = _probe_points(obj, rng, 16)
-    groups = rng.integers(0, 6, size=len(pts))
-    groups[:6] = np.arange(6)
-    value = obj.contact_distance(pts).value
+    obj, rng, pts, groups, value = _grouped(seed, 16, 6)
     smallest = np.array([value[groups == g].min() for g in range(6)])
     far = np.r_[np.inf, rng.uniform(0.0, 40.0, size=5)]
     rows, _, floor = obj.index.group_probe(pts, groups, far)
