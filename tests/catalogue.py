@@ -25,6 +25,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
+from synergrasp.objects.contact_distance import group_contact_distance
 from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance, recess
 
 
@@ -339,6 +340,7 @@ API = [
     Case("GraspObject.transformed", "a matrix that is a word", lambda tmp: so.ellipsoid().transformed("identity"), TypeError, "matrix must be a (4, 4) array of numbers"),
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
+    Case("objects.group_contact_distance", "far distances of the wrong length", lambda tmp: group_contact_distance(so.ellipsoid(), [[0.0, 0.0, 70.0], [0.0, 0.0, 60.0]], [0, 1], far=[5.0]), ValueError, "far must be one distance per group (2)"),
     Case("planner.grasp_status", "far distances of the wrong length", lambda tmp: grasp_status(HAND, so.ellipsoid(), np.zeros(8), "precision", far=[5.0, 5.0]), ValueError, "far must be 16 distances (one per cP row of a precision status)"),
     Case("planner.check_grasp", "no status", lambda tmp: check_grasp(so.ellipsoid(), None, "precision"), TypeError, "check_grasp takes a GraspObject and a Status"),
     Case("planner.check_grasp", "an unknown grasp kind",

@@ -253,9 +253,10 @@ class PieceIndex:
         point of its group cannot attain the group's minimum (valid bounds, so
         the minima are unchanged). The support bound of every point comes
         first (no facet plane evaluated), then the facet-plane bounds of the
-        points it leaves. With ``far``, a group whose points' support bounds
-        all exceed its ``far`` (beyond round-off) is dropped whole: its cP is
-        known to be larger, and ``floor`` bounds it.
+        points it leaves. With ``far``, a group whose points' bounds all
+        exceed its ``far`` (beyond round-off; the support bounds, then the
+        facet planes' of the points kept) is dropped whole: its cP is known to
+        be larger, and ``floor`` bounds it.
 
         Parameters
         ----------
@@ -280,6 +281,8 @@ class PieceIndex:
         groups = np.asarray(groups, dtype=np.int64)
         n, n_groups = len(P), int(groups.max()) + 1
         far = np.full(n_groups, np.inf) if far is None else np.array(far, dtype=float)  # writable: one compiled signature
+        if far.shape != (n_groups,) or np.isnan(far).any():
+            raise ValueError(f"far must be one distance per group ({n_groups}), not NaN, got shape {far.shape}")
         PQ, upper, keep = np.empty((n, 4)), np.empty(n), np.empty(n, dtype=bool)
         S, lower = np.full((n, self.n_pieces), np.inf), np.full((n, self.n_pieces), np.inf)
         floor = np.full(n_groups, np.inf)
@@ -480,11 +483,12 @@ def _group_probe(P, groups, Q, members, cluster_support, support, planes, plane_
     round-off) is dropped. Stage 1, the points of the other groups: the
     nearest-vertex upper bound and the support lower bound; a point whose
     lower bound exceeds its group's smallest upper bound (within round-off;
-    the point attaining it is always kept) is dropped. Stage 2, the others: the facet planes too (inside a
-    piece the bounds are ``(-inf, 0)``), and the same tests against the
-    group's smallest upper bound, now also over the points inside a piece,
-    and against its ``far`` (into ``tight``, per group: the smallest of these
-    bounds over the points stage 1 kept, the group's cP being theirs).
+    the point attaining it is always kept) is dropped. Stage 2, the others:
+    the facet planes too (inside a piece the bounds are ``(-inf, 0)``), and
+    the same tests against the group's smallest upper bound, now also over
+    the points inside a piece, and against its ``far`` (into ``tight``, per
+    group: the smallest of these bounds over the points stage 1 kept, the
+    group's cP being theirs).
     """
     n, J = len(P), len(support)
     support_only, with_planes = tol != tol, tol == tol  # not literals: numba would compile _probe_point once more
