@@ -255,7 +255,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     def evaluate(u, far):
         pen = hand_penetration(hand, obj, u) if watching else None
         if pen is not None and far is not None:  # a row that a penetrating shape replaces keeps its skin point's
-            far = np.where(np.isin(np.arange(len(far)), shape_rows[pen.distances < 0.0]), np.inf, far)  # nearest: exact
+            far = far.copy()  # nearest point: exact
+            far[shape_rows[pen.distances < 0.0]] = np.inf
         st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing,
                           far=far)
         if watching:
@@ -351,8 +352,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         step = np.abs(du).max()
         if step > radius:
             du *= radius / step
-        held = contact_rows & ~active[:n] if not power else np.zeros(n, bool)  # fingertips inside the band
-        if held.any():  # move by at most band_step, to first order
+        held = contact_rows & ~active[:n]  # precision: the fingertips inside the band move by at most band_step
+        if not power and held.any():  # (to first order)
             move = np.abs(st.J[:n][held] @ (du * scale_u)).max()
             if move > opts.band_step:
                 du *= opts.band_step / move
