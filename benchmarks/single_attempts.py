@@ -53,7 +53,7 @@ def run_object(name, grasp, count, options, posed=None):
         plan_like = SimpleNamespace(success=r.success, u=r.trajectory[-1], contact_points=r.final.nearest[r.check.contact])
         check = verify(plan_like, obj)
         rows.append(dict(name=name, pose=posed, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
-                         verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
+                         reason=r.reason, depth=r.penetration, verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
     return rows
 
 

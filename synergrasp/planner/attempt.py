@@ -20,7 +20,9 @@ Each iteration:
    least three) are not closed, that row is their own g_Q instead
    (`contact_quality`, as in the refinement below);
 4. the step of Eq. 16 with two priorities, sQ and every penetrating or too
-   close row first, the contact rows in their null space (`limited_step`),
+   close row first (a power attempt's sQ only while no row penetrates: the
+   hand gets out of the object before it closes further), the contact rows
+   in their null space (`limited_step`),
    within the synergy limits and a trust radius that grows when the linear
    model predicts the change well and shrinks when not; a precision step is
    shortened so that no fingertip inside the contact band moves by more
@@ -335,7 +337,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         sq_target = max(-1.0, quality - sq_step)
         if power and refining is None and opts.power_sq_hold is not None and quality < opts.power_sq_hold:
             sq_target = quality  # predicted good enough: keep it, the contact rows get the step
-        first = np.append(g < np.where(contact_rows, 0.0, opts.clearance), True)  # sQ and rows in or too near the object
+        inside = g < np.where(contact_rows, 0.0, opts.clearance)  # rows in or too near the object
+        first = np.append(inside, not (power and inside.any()))  # with sQ; a power hand in the object gets out first
         reaching = power and g[palm] >= opts.eps_c
         if power and not reaching:  # wrap: the palm has touched, it stays on the surface
             first[palm] = True

@@ -6,7 +6,8 @@ step is ``du = J^T (J J^T + lambda I)^-1 dg`` with ``lambda = 1e-5`` when the
 smallest eigenvalue of ``J J^T`` is below 1e-5, else 0 (the paper's W^-1 is
 the normalisation). The planner applies it with two priority levels
 (Siciliano and Slotine's task-priority scheme): the sQ row and the rows of
-penetrating hand points first, then the other contact rows in their null space. Synergy variables at a limit that the step
+penetrating hand points first (a power attempt's sQ row only while no row
+penetrates), then the other contact rows in their null space. Synergy variables at a limit that the step
 would push past are frozen and the step recomputed.
 """
 
