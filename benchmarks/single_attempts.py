@@ -12,7 +12,8 @@ first K starts the planner would try (`synergrasp.planner.starts`) each get one 
 grasp that passes the benchmarks' independent check on the true mesh (``verification.py``:
 contacts within 5 mm of it, force-closed by qhull at its normals, no phalanx capsule and not the
 palm box deeper than 3 mm in it). Prints the rate per object and in all, the outcomes of the attempts, and with
-``--out`` writes every attempt (JSON lines). ``--pose SEED`` turns and moves every object as
+``--out`` writes every attempt (JSON lines: its start, outcome and reason, the depth of the hand in the object, the
+contacts, g_sQ and g_Q where it ended). ``--pose SEED`` turns and moves every object as
 ``generalise.py --pose SEED`` does.
 """
 
@@ -53,7 +54,8 @@ def run_object(name, grasp, count, options, posed=None):
         plan_like = SimpleNamespace(success=r.success, u=r.trajectory[-1], contact_points=r.final.nearest[r.check.contact])
         check = verify(plan_like, obj)
         rows.append(dict(name=name, pose=posed, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
-                         reason=r.reason, depth=r.penetration, verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
+                         reason=r.reason, depth=r.penetration, contacts=r.check.n_contacts, sq=float(r.final.g[-1]),
+                         verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
     return rows
 
 

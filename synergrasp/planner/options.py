@@ -179,7 +179,8 @@ class PlannerOptions(_Fields):
         only.
     power_free_reach : bool
         Power grasps: while reaching (before the palm touches), the synergies
-        are free for the first priority level (sQ and penetrating phalanges);
+        are free for the first priority level (sQ, or the phalanges in the
+        object while any is);
         False holds them at the pre-shape.
     power_sq_hold : float or None
         Power grasps: once g_sQ is below this, the sQ row asks only to keep
