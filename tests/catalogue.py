@@ -131,12 +131,12 @@ def _pd(A=A3, B=B3, **kw):
 
 
 
-def _far_status():
-    """The precision status of the paper's ellipsoid at the planner's first start."""
+def _far_status(kind="precision"):
+    """The status of the paper's ellipsoid at the planner's first start."""
     from synergrasp.planner import start_configuration
 
     obj = so.ellipsoid()
-    return grasp_status(HAND, obj, start_configuration(HAND, obj), "precision")
+    return grasp_status(HAND, obj, start_configuration(HAND, obj), kind)
 
 
 API = [
@@ -351,6 +351,15 @@ API = [
     Case("planner.check_grasp", "a NaN contact threshold",
          lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "precision", eps_c=np.nan), ValueError,
          "eps_c must be a finite number > 0"),
+    Case("planner.check_grasp", "no fingertip steered",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "precision", steered=0), ValueError,
+         "steered must be an integer >= 1 (the fingertips the attempt steers), got 0"),
+    Case("planner.check_grasp", "a fraction of a fingertip steered",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status(), "precision", steered=3.5), ValueError,
+         "steered must be an integer >= 1"),
+    Case("planner.check_grasp", "steered fingertips for a power grasp",
+         lambda tmp: check_grasp(so.ellipsoid(), _far_status("power"), "power", steered=3), ValueError,
+         "steered counts the fingertips of a precision grasp: leave it out for a power grasp"),
     Case("planner.recess", "a NaN point", lambda tmp: recess(so.ellipsoid(), [[np.nan, 0.0, 0.0]], [[1.0, 0.0, 0.0]]), ValueError, "points contains NaN or inf at rows [0]"),
     Case("planner.recess", "two points, one normal", lambda tmp: recess(so.ellipsoid(), np.zeros((2, 3)), [[1.0, 0.0, 0.0]]), ValueError, "recess needs one normal per point"),
     Case("planner.recess", "a zero normal", lambda tmp: recess(so.ellipsoid(), [[0.0, 0.0, 50.0]], [[0.0, 0.0, 0.0]]), ValueError,

@@ -323,6 +323,26 @@ def test_precision_stop_criterion(hand, ellipsoid):
     assert far.n_contacts == 2 and not far.done
 
 
+def test_three_fingertips_close_a_grasp_when_only_three_can_reach(hand, ellipsoid):
+    """Three fingertips at 0, 100 and 260 degrees around the equator: force-closed with g_Q about -0.08, short of the
+    paper's -0.1 for three contacts. On an object only the thumb, index and middle fingertips reach (steered = 3)
+    that stops; with four or five steered it does not, and two contacts never do."""
+    rows = np.full(16, 30.0)
+    rows[:3] = [1.0, 2.0, 3.0]
+    status = fake_status(hand, "precision", rows)
+    t = np.radians([0.0, 100.0, 260.0])
+    nearest = status.nearest.copy()
+    nearest[:3] = 40.0 * np.c_[np.cos(t), np.sin(t), np.zeros(3)]
+    status = replace(status, nearest=nearest, points=nearest, row_points=nearest, normals=-nearest / 40.0)
+    paper = check_grasp(ellipsoid, status, "precision")
+    assert paper.n_contacts == 3 and -0.1 < paper.q < -0.05 and not paper.done
+    assert check_grasp(ellipsoid, status, "precision", steered=3).done
+    assert not any(check_grasp(ellipsoid, status, "precision", steered=k).done for k in (4, 5))
+    rows[2] = 6.0
+    two = fake_status(hand, "precision", rows)
+    assert not any(check_grasp(ellipsoid, two, "precision", steered=k).done for k in (1, 2, 3))
+
+
 def test_power_stop_criterion_needs_the_palm(hand, ellipsoid):
     cp = np.full(16, 1.0)
     assert check_grasp(ellipsoid, fake_status(hand, "power", cp), "power").done
@@ -762,17 +782,34 @@ def test_a_precision_attempt_bounds_only_clearance_rows_it_does_not_read(monkeyp
 
 
 def test_a_bounded_row_that_a_penetrating_capsule_replaces_is_exact(monkeypatch, hand):
-    """A small box's ring fingertip is only kept clear; once the attempt watches the capsules, its capsule cuts in
-    while its skin points are beyond eps_c: the row becomes a contact of the criterion, with its skin point's nearest
-    point (a bounded row has none), as it would with every row exact."""
+    """A small box's ring and little fingertips are only kept clear; once the attempt watches the capsules, a capsule
+    cuts in while its skin points are beyond eps_c: its row becomes the capsule's signed distance and keeps its skin
+    point's nearest point, so the attempt asks for that row exactly (``far`` infinite there: a bounded row has no
+    nearest point), and ends as it does with every row exact."""
     box = so.from_mesh(trimesh.creation.box((34.48693061, 28.91172075, 18.39664516)), cache=False)
     opts = PlannerOptions()
     start = list(itertools.islice(starts(hand, box, "precision", opts), 3))[-1].u
+    _, contact_rows, segment_rows = status_rows(hand, "precision")
+    shape_rows = np.r_[segment_rows, len(contact_rows) - 1]
+    penetration, status = attempt_module.hand_penetration, attempt_module.grasp_status
+    last, asked = [], []
+
+    def spy_penetration(hand, obj, u, *a, **k):
+        last[:] = [np.array(u), penetration(hand, obj, u, *a, **k)]
+        return last[1]
+
+    def spy_status(hand, obj, u, *a, far=None, **k):
+        if far is not None and last and np.array_equal(last[0], u):  # watched: the capsules were just tested there
+            asked.extend(far[shape_rows[last[1].distances < 0.0]].tolist())
+        return status(hand, obj, u, *a, far=far, **k)
+
+    monkeypatch.setattr(attempt_module, "hand_penetration", spy_penetration)
+    monkeypatch.setattr(attempt_module, "grasp_status", spy_status)
     lazy = run_attempt(hand, box, "precision", start, opts)
-    status = attempt_module.grasp_status
+    assert asked and np.all(np.isinf(asked))  # the situation arises, and every such row is asked for exactly
     monkeypatch.setattr(attempt_module, "grasp_status", lambda *a, far=None, **k: status(*a, **k))
     exact = run_attempt(hand, box, "precision", start, opts)
-    assert lazy.outcome is exact.outcome is Outcome.GRASP
+    assert lazy.outcome is exact.outcome
     assert np.isfinite(lazy.final.nearest[lazy.check.contact]).all()
 
 
@@ -1013,6 +1050,21 @@ def test_a_small_ball_is_pinched_with_the_fingertips_that_reach_it():
     assert r.success and len(r.attempts) <= 3 and r.final_q < -0.01
     assert "T0" in r.contact_labels
     assert np.all(np.abs(np.linalg.norm(r.contact_points, axis=1) - 20.0) < 1.0)  # on the ball
+
+
+def test_a_small_cylinder_is_held_by_the_three_fingertips_that_reach_it():
+    """A cylinder 24 mm across and 30 mm long: only the thumb, index and middle fingertips reach it, and three
+    contacts force-closed on the true surface end the plan in its first attempts (with the paper's -0.1 for three
+    contacts, all 22 attempts failed)."""
+    cylinder = so.from_mesh(trimesh.creation.cylinder(radius=12.0, height=30.0, sections=32), name="small cylinder",
+                            cache=False)
+    hand = SynergyHand.default()
+    assert sg.planner.pinch_fingertips(hand, cylinder).tolist() == [True, True, True, False, False]
+    r = plan(cylinder, "precision")
+    assert r.success and len(r.attempts) <= 3 and r.final_q < 0.0 and r.surface_q < -0.01
+    assert {"T0", "I0", "M0"} <= set(r.contact_labels)
+    radial = np.linalg.norm(r.contact_points[:, :2], axis=1)
+    assert np.all((np.abs(radial - 12.0) < 1.5) | (np.abs(np.abs(r.contact_points[:, 2]) - 15.0) < 1.5))  # on it
 
 
 def test_the_fingertips_that_reach_an_object_do_not_depend_on_how_it_is_turned():

@@ -263,7 +263,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
                           far=far)
         if watching:
             st = capsule_rows(hand, obj, u, st, pen)
-        chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend)
+        chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
+                          steered=steered)
         return st, chk, pen
 
     def quality_row(st, chk):
@@ -274,9 +275,11 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
 
     _, contact_rows, segment_rows = status_rows(hand, grasp)
     contact_rows, shape_rows = contact_rows.copy(), np.r_[segment_rows, len(contact_rows) - 1]  # capsules, palm box
+    steered = None
     if not power:  # fingertips a small object leaves out are only kept clear
         reach = pinch_fingertips(hand, obj)
         contact_rows[: len(reach)] &= reach
+        steered = int(reach.sum())
     # a precision clearance row is read only when nearer than the clearance (the step) or eps_c (the palm in the
     # criterion): farther, its bound will do, unless the last step's residual reads it
     beyond = None if power else np.where(contact_rows, np.inf, max(opts.clearance, opts.eps_c))

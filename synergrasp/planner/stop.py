@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._checks import positive_scalar
+from .._checks import integer, positive_scalar
 from ..objects import GraspObject
 from ..quality import q_distance
 from .status import Status
@@ -199,13 +199,17 @@ class GraspCheck:
     lp_solves: int
 
 
-def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="native") -> GraspCheck:
+def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="native", steered=None) -> GraspCheck:
     """Evaluate the paper's stop criterion at a status.
 
     Precision: N_c >= 3 and g_Q < -0.1, or N_c >= 4 and g_Q < 0, and no palm
     contact or overlap (N_c counts the fingertips). Power: |g_P| < eps_c first (a palm
     contact), then N_c >= 4 and g_Q < -0.1, or N_c >= 6 and g_Q < 0 (N_c
-    counts the phalanges and the palm). The counts are `CRITERION`'s.
+    counts the phalanges and the palm). The counts are `CRITERION`'s. On an
+    object only three fingertips can reach (``steered``: the thumb, index and
+    middle, `synergrasp.planner.starts.pinch_fingertips`), N_c >= 3 and
+    g_Q < 0 also stops: every fingertip that can touch it then touches it,
+    which is what the paper's N_c >= 4 asks of a hand whose five can.
 
     Parameters
     ----------
@@ -221,6 +225,11 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
         Edges of each cone's polyhedral approximation.
     backend : str or synergrasp.lp.Backend
         LP backend of g_Q.
+    steered : int, optional
+        Precision only: how many fingertips the attempt steers into contact
+        (`pinch_fingertips`); the criterion's second count is at most this,
+        and never below its first (3). Default: all of them (the paper's
+        criterion).
 
     Returns
     -------
@@ -231,8 +240,9 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     TypeError
         If ``obj`` is not a GraspObject or ``status`` not a Status.
     ValueError
-        If ``kind`` is not "precision" or "power", or not the status's, or
-        ``eps_c`` is not a positive number.
+        If ``kind`` is not "precision" or "power", or not the status's,
+        ``eps_c`` is not a positive number, or ``steered`` is given for a power
+        grasp or is not an integer >= 1.
 
     Examples
     --------
@@ -253,6 +263,11 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
         raise ValueError(f"the status is of a {'precision' if kind == 'power' else 'power'} grasp, not a {kind} one: "
                          f"pass the kind it was built for (grasp_status(..., kind))")
     eps_c = positive_scalar(eps_c, "eps_c")
+    few, many = CRITERION[kind]
+    if steered is not None:
+        if kind != "precision":
+            raise ValueError("steered counts the fingertips of a precision grasp: leave it out for a power grasp")
+        many = max(few, min(many, integer(steered, "steered", what="the fingertips the attempt steers")))
     cp = status.g[:-1]
     contact = (cp < eps_c) & status.contact
     n_c = int(contact.sum())
@@ -262,7 +277,6 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
                          center=obj.center, torque_scale=obj.torque_scale, backend=backend, checked=True)
         q, solves = res.value, res.lp_solves
     palm = bool(abs(cp[-1]) < eps_c)
-    few, many = CRITERION["power" if kind == "power" else "precision"]
     closed = (n_c >= few and q < -0.1) or (n_c >= many and q < 0)
     done = palm and closed if kind == "power" else cp[-1] >= eps_c and closed  # precision: the palm clear
     return GraspCheck(contact, n_c, float(q), palm, bool(done), solves)
