@@ -88,18 +88,18 @@ def as_path(value, what: str) -> Path:
     return Path(value)
 
 
-def positive_scalar(value, name: str, maximum: float | None = None) -> float:
-    """Validate a finite, strictly positive number (at most ``maximum`` if given)."""
+def positive_scalar(value, name: str, maximum: float | None = None, *, zero: bool = False) -> float:
+    """Validate a finite, strictly positive number (0 too with ``zero``; at most ``maximum`` if given)."""
     try:
         if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
             raise TypeError(type(value).__name__)
         out = float(value)
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a number, got {type(value).__name__}") from exc
-    if not math.isfinite(out) or out <= 0:
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    if not math.isfinite(out) or out < 0 or (out == 0 and not zero):
+        raise ValueError(f"{name} must be a finite number {'>=' if zero else '>'} 0, got {value!r}")
     if maximum is not None and out > maximum:
-        raise ValueError(f"{name} must be a number in (0, {maximum:g}], got {value!r}")
+        raise ValueError(f"{name} must be a number in {'[' if zero else '('}0, {maximum:g}], got {value!r}")
     return out
 
 

@@ -376,6 +376,7 @@ API = [
     Case("planner.path_clearance", "stop_below of two numbers", lambda tmp: path_clearance(HAND, so.ellipsoid(), [np.zeros(8)], stop_below=[0.0, 1.0]), ValueError, "stop_below must be a number or one per shape (16"),
     Case("planner.executable_reach", "u_grasp of 6 numbers", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(6)), ValueError, "u_grasp must have shape (8,)"),
     Case("planner.executable_reach", "a negative margin", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), margin=-1.0), ValueError, "margin must be a finite number > 0"),
+    Case("planner.executable_reach", "a negative tolerance", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), tolerance=-1.0), ValueError, "tolerance must be a finite number >= 0"),
     Case("planner.executable_reach", "budget = 0", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), budget=0), ValueError, "budget must be an integer >= 1"),
     Case("planner.executable_reach", "an opening of 1.5", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), openings=[0.5, 1.5]), ValueError, "openings must be fractions in [0, 1]"),
     Case("planner.executable_reach", "a trajectory of points", lambda tmp: executable_reach(HAND, so.ellipsoid(), np.zeros(8), trajectory=np.zeros((4, 3))), ValueError, "trajectory has points of dimension 3, expected 8"),

@@ -47,7 +47,7 @@ def cli_reference() -> str:
     lines = [
         "# Command line", "", GENERATED, "",
         f"`pip install .` puts the `synergrasp` command on the path (version {__version__}: `synergrasp --version`); "
-        "`python -m synergrasp.cli` runs the same. This page is the output of `--help` of each command.", "",
+        "`python -m synergrasp` runs the same. This page is the output of `--help` of each command.", "",
         "## Exit status", "", "| status | meaning |", "|---|---|",
     ]
     lines += [f"| {code} | {meaning} |" for code, meaning in EXIT_CODES.items()]

@@ -88,6 +88,17 @@ def test_version(capsys):
     assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"synergrasp {sg.__version__}"
 
 
+def test_python_dash_m_synergrasp_is_the_command_line(capsys, monkeypatch):
+    import runpy
+
+    import synergrasp as sg
+
+    monkeypatch.setattr("sys.argv", ["synergrasp", "--version"])
+    with pytest.raises(SystemExit) as exc:
+        runpy.run_module("synergrasp", run_name="__main__")
+    assert exc.value.code == 0 and capsys.readouterr().out.strip() == f"synergrasp {sg.__version__}"
+
+
 def write_capsule_cloud(path, scale=1.0):
     """Points on a capsule 70 mm wide and 130 mm long, times ``scale`` (0.001: in metres), as .xyz or .npy."""
     import numpy as np

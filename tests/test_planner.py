@@ -675,6 +675,13 @@ def test_a_wrap_pose_that_is_a_grasp_is_yielded_before_the_rest_of_its_batch_is_
     assert [g for g, _ in seen].count(True) == 1 and all(n > 3 for _, n in seen[1:])
 
 
+def test_the_wrap_seeds_check_no_pose_past_the_plans_deadline(hand):
+    """With a slow LP backend a batch of the seeds' checks takes seconds: past the plan's deadline none is made."""
+    cup, opts = so.cup(), PlannerOptions()
+    assert list(wrap_seeds(hand, cup, opts, deadline=sg.planner.clock() - 1.0)) == []
+    assert next(wrap_seeds(hand, cup, opts, deadline=sg.planner.clock() + 600.0)).kind == "wrap"
+
+
 def test_wrap_seeds_lay_the_palm_on_the_surface_with_no_phalanx_in_the_object(hand):
     cup = so.cup()
     opts = PlannerOptions()

@@ -322,6 +322,14 @@ def test_a_plan_returns_its_executable_reach(cup_plan):
     json.dumps(r.reach)  # the summary is JSON as it is
 
 
+def test_a_plan_that_allows_no_penetration_gets_a_reach_held_to_none():
+    """max_penetration = 0 (no phalanx or palm box into the object) is a valid option, and the executable reach takes
+    it as its tolerance."""
+    r = sg.plan(so.ellipsoid(), "precision", max_penetration=0.0)
+    assert r.success and r.reach["tolerance"] == 0.0
+    assert r.collision_free == bool(r.clearance.min() >= 0.0)
+
+
 def test_a_replay_refuses_the_plan_of_another_object(cup_plan):
     """replay_reach checks a result against the object and the hand as sg.validate does."""
     with pytest.raises(ValueError, match=r"planned for another object \('cup'\)"):

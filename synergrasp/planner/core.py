@@ -239,7 +239,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     if u0 is not None:
         queue = iter([Start(_given_start(u0, hand, obj), "given", {})])
     else:
-        queue = starts(hand, obj, grasp, opts, backend=solver)
+        queue = starts(hand, obj, grasp, opts, backend=solver, deadline=deadline)
         if approach is not None:
             direction = as_vector(approach, "approach", 3)
             wide = grasp == "power" and opts.power_wide_preshape is not None  # as the power starts: wide, else cupped

@@ -135,12 +135,14 @@ class PlannerOptions(_Fields):
     max_iter : int
         Most iterations of a plan, over all its attempts.
     time_limit : float or None
-        Most wall-clock seconds of a plan's search (checked every iteration),
-        not counting numba's compilation of the kernels in the first plan
-        after an install (`synergrasp.planner.clock`); None: no limit. A
-        grasp found just before it is still simulated (``validate``), and the
-        executable reach of the returned grasp is computed after it
-        (`PlanResult.time_s` is the search's time).
+        Most wall-clock seconds of a plan's search (checked every iteration
+        and before each pose the power seeds check), not counting numba's
+        compilation of the kernels in the first plan after an install
+        (`synergrasp.planner.clock`); None: no limit. What has begun runs to
+        its end: an iteration, a seed's check (with the cvxpy backend one
+        status evaluation can take a few seconds), a grasp found just before
+        the limit and simulated (``validate``), and the executable reach of
+        the returned grasp (`PlanResult.time_s` is the search's time).
     q_accept : float
         A grasp is accepted when, besides the paper's criterion, its contacts
         moved to the object's true surface have a Q distance below this there

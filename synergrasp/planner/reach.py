@@ -321,9 +321,9 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         If ``hand`` is not a SynergyHand or ``obj`` not a GraspObject.
     ValueError
         A ``u_grasp`` or ``trajectory`` that does not fit the hand, a
-        ``margin``, ``tolerance``, ``max_retreat`` or ``resolution`` that is
-        not a positive number, a ``budget`` below 1, or an opening outside
-        [0, 1].
+        ``margin``, ``max_retreat`` or ``resolution`` that is not a positive
+        number, a negative ``tolerance``, a ``budget`` below 1, or an opening
+        outside [0, 1].
 
     Examples
     --------
@@ -343,7 +343,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     checker = HandClearance(hand, obj)
     u = as_vector(u_grasp, "u_grasp", hand.n_u)
     margin = positive_scalar(margin, "margin")
-    tolerance = positive_scalar(tolerance, "tolerance")
+    tolerance = positive_scalar(tolerance, "tolerance", zero=True)
     max_retreat = positive_scalar(max_retreat, "max_retreat")
     positive_scalar(resolution, "resolution")
     if isinstance(budget, bool) or not isinstance(budget, (int, np.integer)) or budget < 1:

@@ -55,7 +55,9 @@ class PlanResult:
     time_s : float
         Wall-clock time of the search (s): the attempts and, with
         ``validate``, their simulations; not the executable reach nor an
-        annealing plan's status history, computed after it.
+        annealing plan's status history, computed after it. Numba's
+        compilation in a process's first plan after an install is in it
+        (the time limit does not count it).
     lp_solves : int
         LP solver calls made.
     backend : str

@@ -29,6 +29,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from .._checks import as_points, as_vector
+from .._jit import clock
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
 from .status import grasp_status, hand_penetration
@@ -587,7 +588,7 @@ def roll_frames(normals, rolls):
     return np.stack([np.cross(y, z), y, z], axis=-1).reshape(-1, 3, 3)
 
 
-def wrap_seeds(hand, obj, options, *, backend="native"):
+def wrap_seeds(hand, obj, options, *, backend="native", deadline=None):
     """Power starts with the palm on the object and the fingers closed around it (see the module docstring).
 
     The palm point is put `WRAP_STANDOFF` mm off each of `WRAP_SAMPLES`
@@ -608,7 +609,9 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     ends at `WRAP_SEEDS` poses that pass the exact check and are not yet
     grasps, or at four times as many checked, and its seeds are yielded by
     their Q distance before the next batch is checked.
-    The batches go on until every screened pose has been checked.
+    The batches go on until every screened pose has been checked, or until
+    ``deadline``: the seeds kept so far are then yielded and no more poses
+    are checked (with a slow LP backend, a batch's checks can take seconds).
 
     Parameters
     ----------
@@ -617,6 +620,9 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     options : PlannerOptions
     backend : str
         LP backend of the grasp checks.
+    deadline : float, optional
+        `synergrasp.planner.clock` value after which no more poses are
+        checked: the plan's ``time_limit``.
 
     Yields
     ------
@@ -654,6 +660,8 @@ def wrap_seeds(hand, obj, options, *, backend="native"):
     angles = Rotation.from_matrix(R[order]).as_euler("XYZ") if len(order) else np.zeros((0, 3))
     kept, checked, batch = [], 0, 0
     for f, euler in zip(order, angles):
+        if deadline is not None and clock() > deadline:
+            break
         checked += 1
         u = np.r_[t[f], euler, z[best[f]]]
         if hand_penetration(hand, obj, u).depth <= options.max_penetration:
@@ -737,7 +745,7 @@ def preshape(hand, value):
     return hand.clip_synergies(value, "the power pre-shape's synergies")
 
 
-def starts(hand, obj, grasp, options, *, backend="native"):
+def starts(hand, obj, grasp, options, *, backend="native", deadline=None):
     """The starts of a plan in turn: pinch seeds then direction starts (precision), or wrap seeds then `power_schedule`.
 
     Parameters
@@ -748,13 +756,16 @@ def starts(hand, obj, grasp, options, *, backend="native"):
     options : PlannerOptions
     backend : str
         LP backend of the wrap seeds' grasp checks.
+    deadline : float, optional
+        `synergrasp.planner.clock` value after which the wrap seeds check no
+        more poses (`wrap_seeds`).
 
     Yields
     ------
     Start
     """
     if grasp == "power":
-        yield from wrap_seeds(hand, obj, options, backend=backend)
+        yield from wrap_seeds(hand, obj, options, backend=backend, deadline=deadline)
         yield from power_schedule(hand, obj, options)
         return
     yield from pinch_seeds(hand, obj, options)

@@ -1,0 +1,7 @@
+"""``python -m synergrasp``: the command line (`synergrasp.cli`)."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())
