@@ -306,12 +306,15 @@ def local_cluster(workers=None):
     set by default (``distributed.nanny.pre-spawn-environ``): it makes the C
     library return freed memory at once, and a plan's many short-lived arrays
     then cost page faults afresh (``benchmarks/bench_batch.py`` measures the
-    CPU time and page faults with and without it).
+    CPU time and page faults with and without it). Nor do they run Dask's
+    statistical profiler (``distributed.worker.profile``), which samples
+    every worker's stack every 10 ms for a dashboard that is not served.
     """
     import dask
     from distributed import LocalCluster
 
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
+                          "distributed.worker.profile.enabled": False}):
         return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                             host="127.0.0.1", dashboard_address=None,
                             scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
