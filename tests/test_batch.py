@@ -451,14 +451,11 @@ def test_a_local_cluster_starts_no_more_workers_than_tasks(tmp_path):
     assert report.workers == 1 and report.rows[0]["success"]
 
 
-def test_the_local_workers_run_without_dask_s_profiler_and_memory_trimming(cluster):
+def test_the_local_workers_run_without_dask_s_profiler_and_memory_trimming():
     """Neither serves anything here (no dashboard) and both cost a plan's CPU time (bench_batch.py measures it)."""
-    import os
-
     import dask
-    from distributed import Client
 
-    with Client(cluster) as client:
+    with local_cluster(2) as local, distributed.Client(local) as client:
         seen = client.run(lambda: (dask.config.get("distributed.worker.profile.enabled"),
                                    os.environ.get("MALLOC_TRIM_THRESHOLD_")))
     assert len(seen) == 2 and set(seen.values()) == {(False, None)}

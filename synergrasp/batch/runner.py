@@ -308,7 +308,9 @@ def local_cluster(workers=None):
     then cost page faults afresh (``benchmarks/bench_batch.py`` measures the
     CPU time and page faults with and without it). Nor do they run Dask's
     statistical profiler (``distributed.worker.profile``), which samples
-    every worker's stack every 10 ms for a dashboard that is not served.
+    every worker's stack every 10 ms for a dashboard that is not served (a
+    worker its nanny restarts after a crash runs it again: Dask starts it
+    with its default configuration).
     """
     import dask
     from distributed import LocalCluster
