@@ -1,18 +1,21 @@
 """Ray, nearest-point and signed-distance queries on a triangle mesh, quick on large meshes too.
 
 The planner asks the object's true surface (`GraspObject.surface`) where the
-precision seeds' inward rays leave it, where an accepted grasp's contacts are
+seeds' inward rays leave it, where an accepted grasp's contacts are
 nearest it, and how deep a phalanx lies in it. trimesh answers from an R-tree
-of the triangles' boxes, which is quick for the meshes the planner usually
-sees: at most `TREE_FACES` faces, small ones and large closed ones once
-simplified. A larger mesh is mostly one that could not be simplified, an open scan:
-there trimesh's tree takes seconds to build (4 s for 450,000 faces) and a ray
-across the object draws a candidate from every box it crosses (200 rays took
-16 s). `MeshQueries` answers the same questions on such a mesh without it:
+of the triangles' boxes, which is quick for nearest points on the meshes the
+planner usually sees: at most `TREE_FACES` faces, small ones and large closed
+ones once simplified. Its rays are not (one R-tree query per ray: 23 ms for a
+plan's 200 rays into the paper's 1280-face ellipsoid), and a larger mesh is
+mostly one that could not be simplified, an open scan: there trimesh's tree
+takes seconds to build (4 s for 450,000 faces) and a ray across the object
+draws a candidate from every box it crosses (200 rays took 16 s).
+`MeshQueries` answers without the tree:
 
-* rays: every ray against every triangle in a compiled loop, trimesh's tests
-  (the plane intersection, then the barycentric coordinates);
-* nearest points: a k-d tree of the vertices bounds each point's distance by
+* rays, on every mesh: every ray against every triangle in a compiled loop,
+  trimesh's tests (the plane intersection, then the barycentric
+  coordinates);
+* on a mesh of more than `TREE_FACES` faces, nearest points: a k-d tree of the vertices bounds each point's distance by
   its nearest vertex, and only the faces with a corner near enough to hold
   its nearest point are compared with it (trimesh's comparison);
 * signed distance: as trimesh signs it, by the nearest face's normal where the
@@ -29,7 +32,7 @@ import trimesh
 
 from .._jit import helper, kernel
 
-#: Meshes with more faces than this are queried without trimesh's R-tree of the whole mesh.
+#: Meshes with more faces than this are queried for nearest points and signed distances without trimesh's R-tree.
 TREE_FACES = 20000
 #: trimesh's tests: a ray parallel to a plane within this (|d . n|) misses it; a point is in a
 #: triangle within this of its barycentric range; a hit this far behind the origin still counts.
@@ -76,9 +79,8 @@ class MeshQueries:
     def first_hits(self, origins, directions):
         """The first triangle each ray meets, as ``mesh.ray.intersects_location(..., multiple_hits=False)``.
 
-        Of hits at the same distance on a large mesh (coincident faces), the
-        one whose normal runs most along the ray is kept: the face the ray
-        leaves by.
+        Of hits at the same distance (coincident faces), the one whose normal
+        runs most along the ray is kept: the face the ray leaves by.
 
         Parameters
         ----------
@@ -90,17 +92,12 @@ class MeshQueries:
         locations : (h, 3) float
             Where each ray that meets the mesh first meets it (h <= m).
         rays : (h,) int
-            Which ray: ascending on a large mesh, in trimesh's order (by its
-            grouping of the hits, mostly ascending) on others.
+            Which ray, ascending.
         triangles : (h,) int
             The triangle met.
         """
         origins = np.ascontiguousarray(origins, dtype=float).reshape(-1, 3)
         directions = np.ascontiguousarray(directions, dtype=float).reshape(-1, 3)
-        if not self.large:
-            locations, rays, triangles = self.mesh.ray.intersects_location(origins, directions, multiple_hits=False)
-            return (np.asarray(locations, dtype=float).reshape(-1, 3), np.asarray(rays, dtype=np.int64),
-                    np.asarray(triangles, dtype=np.int64))
         distance, met = np.empty(len(origins)), np.empty(len(origins), dtype=np.int64)
         _first_hits(origins, directions, *self._triangles, PARALLEL, BARYCENTRIC, BEHIND, distance, met)
         rays = np.flatnonzero(met >= 0)
