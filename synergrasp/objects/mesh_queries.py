@@ -15,12 +15,14 @@ draws a candidate from every box it crosses (200 rays took 16 s).
 * rays, on every mesh: every ray against every triangle in a compiled loop,
   trimesh's tests (the plane intersection, then the barycentric
   coordinates);
-* on a mesh of more than `TREE_FACES` faces, nearest points: a k-d tree of the vertices bounds each point's distance by
-  its nearest vertex, and only the faces with a corner near enough to hold
-  its nearest point are compared with it (trimesh's comparison);
-* signed distance: as trimesh signs it, by the nearest face's normal where the
-  point projects into that face, else by the parity of a line's crossings on
-  either side of the point (trimesh's `contains_points`).
+* nearest points, on a mesh of more than `TREE_FACES` faces: a k-d tree of
+  the vertices bounds each point's distance by its nearest vertex, and only
+  the faces with a corner near enough to hold its nearest point are compared
+  with it (trimesh's comparison);
+* signed distance, on such a mesh: as trimesh signs it, by the nearest
+  face's normal where the point projects into that face, else by the parity
+  of a line's crossings on either side of the point (trimesh's
+  `contains_points`).
 """
 
 from __future__ import annotations
