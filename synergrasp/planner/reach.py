@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._checks import as_points, as_vector, positive_scalar
+from .._checks import as_points, as_vector, integer, positive_scalar
 from ..hand import rotation_xyz
 from .clearance import HandClearance
 
@@ -346,8 +346,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     tolerance = positive_scalar(tolerance, "tolerance", zero=True)
     max_retreat = positive_scalar(max_retreat, "max_retreat")
     positive_scalar(resolution, "resolution")
-    if isinstance(budget, bool) or not isinstance(budget, (int, np.integer)) or budget < 1:
-        raise ValueError(f"budget must be an integer >= 1 (candidate approaches), got {budget!r}")
+    budget = integer(budget, "budget", what="candidate approaches")
     try:
         openings = np.atleast_1d(np.asarray(openings, dtype=float))
     except (TypeError, ValueError):
