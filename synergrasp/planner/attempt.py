@@ -59,7 +59,6 @@ import enum
 from dataclasses import dataclass, replace
 
 import numpy as np
-
 from scipy.spatial.transform import Rotation
 
 from .._jit import clock
