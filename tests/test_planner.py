@@ -4,10 +4,12 @@ import itertools
 import sys
 import warnings
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import trimesh
+from scipy.spatial.transform import Rotation
 
 import synergrasp as sg
 import synergrasp.objects as so
@@ -931,6 +933,23 @@ def test_regrasp_rolls_the_hand_about_its_pinch(hand):
             angle = np.degrees(np.arctan2(np.cross(a_perp, b_perp) @ axis, a_perp @ b_perp))
             assert abs(angle - degrees) < 1e-6
     np.testing.assert_array_equal(regrasp(hand, u, 30.0)[6:], u[6:])
+    pinched = SimpleNamespace(points=lambda u, kind: np.zeros((5, 3)))  # thumb tip on the fingertips: no line to roll about
+    np.testing.assert_array_equal(regrasp(pinched, u, 30.0), u)
+
+
+def test_a_regrasp_into_the_euler_angles_lock_keeps_the_rotation(hand):
+    """Rolled to where the second XYZ angle is 90 degrees, the pose is still the rolled one, without a warning."""
+    z = np.array([0.2, 0.4])
+    tips = hand.points(np.r_[np.zeros(6), z], "precision")  # the hand's own frame
+    pinch = tips[1:3].mean(axis=0) - tips[0]
+    locked = Rotation.from_euler("XYZ", [0.3, np.pi / 2, -0.2])  # R[0, 2] = 1: the angles' lock
+    start = locked * Rotation.from_rotvec(-np.radians(30.0) * pinch / np.linalg.norm(pinch))
+    u = np.r_[5.0, -7.0, 11.0, start.as_euler("XYZ"), z]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        v = regrasp(hand, u, 30.0)
+    np.testing.assert_allclose(rotation_xyz(v[3:6]), locked.as_matrix(), atol=1e-9)
+    np.testing.assert_allclose(hand.points(v, "precision")[0], hand.points(u, "precision")[0], atol=1e-9)
 
 
 def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):

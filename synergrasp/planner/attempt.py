@@ -56,6 +56,7 @@ accepted configuration is returned. An attempt ends with an `Outcome`.
 from __future__ import annotations
 
 import enum
+import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -63,7 +64,7 @@ from scipy.spatial.transform import Rotation
 
 from .._jit import clock
 from ..hand import rotation_xyz
-from .starts import pinch_fingertips
+from .starts import PARTNERS, pinch_fingertips
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows
 from .step import limited_step
 from .stop import CRITERION, GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
@@ -177,7 +178,9 @@ def regrasp(hand, u, degrees):
     The hand turns rigidly by ``degrees`` about that line, through the
     midpoint of the two ends, its synergies unchanged: the thumb tip and the
     fingertips' centroid stay where they are and the palm and the other
-    fingers swing round the object.
+    fingers swing round the object. The fingers are the thumb's pinch
+    partners (`synergrasp.planner.starts.PARTNERS`). Where the thumb tip
+    and their centroid coincide there is no line: ``u`` comes back as it is.
 
     Parameters
     ----------
@@ -201,13 +204,17 @@ def regrasp(hand, u, degrees):
     (True, True)
     """
     tips = hand.points(u, "precision")
-    thumb, fingers = tips[0], tips[1:3].mean(axis=0)
-    axis = (fingers - thumb) / np.linalg.norm(fingers - thumb)
-    turn = Rotation.from_rotvec(np.radians(degrees) * axis).as_matrix()
-    middle = 0.5 * (thumb + fingers)
+    thumb, fingers = tips[0], tips[list(PARTNERS)].mean(axis=0)
     v = np.array(u, dtype=float)
+    length = np.linalg.norm(fingers - thumb)
+    if length < 1e-9:
+        return v
+    turn = Rotation.from_rotvec(np.radians(degrees) * (fingers - thumb) / length).as_matrix()
+    middle = 0.5 * (thumb + fingers)
     v[:3] = turn @ (v[:3] - middle) + middle
-    v[3:6] = Rotation.from_matrix(turn @ rotation_xyz(u[3:6])).as_euler("XYZ")
+    with warnings.catch_warnings():  # scipy's "gimbal lock detected": the angles it returns are still the rotation's
+        warnings.simplefilter("ignore", UserWarning)
+        v[3:6] = Rotation.from_matrix(turn @ rotation_xyz(u[3:6])).as_euler("XYZ")
     return v
 
 
