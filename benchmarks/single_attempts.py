@@ -55,7 +55,7 @@ def run_object(name, grasp, count, options, posed=None):
         check = verify(plan_like, obj)
         rows.append(dict(name=name, pose=posed, start=start.kind, detail=start.detail, outcome=r.outcome.name.lower(),
                          reason=r.reason, depth=r.penetration, contacts=r.check.n_contacts, sq=float(r.final.g[-1]),
-                         verified=check["verified"], iterations=r.iterations, regrasps=r.regrasps, q=r.check.q, time=time.perf_counter() - t0))
+                         verified=check["verified"], iterations=r.iterations, q=r.check.q, time=time.perf_counter() - t0))
     return rows
 
 

@@ -510,8 +510,6 @@ PLANNER_OPTIONS: list[Case] = [
     _option("crawl_window", 2.5, "PlannerOptions.crawl_window must be an integer"),
     _option("crawl_fraction", 2.0, "PlannerOptions.crawl_fraction must be in"),
     _option("touch_window", -1, "PlannerOptions.touch_window must be in"),
-    _option("regrasps", -1, "PlannerOptions.regrasps must be in [0, inf)"),
-    _option("regrasps", 1.5, "PlannerOptions.regrasps must be an integer"),
     _option("iterations_per_attempt", 0, "PlannerOptions.iterations_per_attempt must be in"),
     _option("restarts", 0, "PlannerOptions.restarts must be in"),
     _option("max_iter", "10", "PlannerOptions.max_iter must be an integer"),

@@ -4,12 +4,10 @@ import itertools
 import sys
 import warnings
 from dataclasses import replace
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 import trimesh
-from scipy.spatial.transform import Rotation
 
 import synergrasp as sg
 import synergrasp.objects as so
@@ -27,7 +25,6 @@ from synergrasp.planner import (
     power_schedule,
     principal_directions,
     recess,
-    regrasp,
     run_attempt,
     smallest_pinch,
     sq_request,
@@ -873,8 +870,8 @@ def test_the_stall_window_is_per_grasp_kind(hand):
     """The cup's second precision start stands still for 12 iterations, then closes its grasp."""
     cup = so.cup()
     pinch = list(itertools.islice(starts(hand, cup, "precision", PlannerOptions()), 2))[-1].u
-    short = run_attempt(hand, cup, "precision", pinch, PlannerOptions(stall_window=12, regrasps=0))
-    default = run_attempt(hand, cup, "precision", pinch, PlannerOptions(regrasps=0))  # (20, 16): precision 20
+    short = run_attempt(hand, cup, "precision", pinch, PlannerOptions(stall_window=12))
+    default = run_attempt(hand, cup, "precision", pinch, PlannerOptions())  # (20, 16): precision 20
     assert PlannerOptions().stall_window == (20, 16) and PlannerOptions(stall_window=12).stall_window == (12, 12)
     assert short.outcome is Outcome.STALLED and short.reason.endswith("(in 12 iterations)")
     assert default.success and default.iterations > short.iterations
@@ -883,73 +880,6 @@ def test_the_stall_window_is_per_grasp_kind(hand):
     stalling = list(itertools.islice(starts(hand, cup, "power", PlannerOptions()), 7))[-1].u  # the seventh power start
     wrap = run_attempt(hand, cup, "power", stalling, PlannerOptions(stall_window=(20, 4)))  # the power window is the second
     assert wrap.outcome is Outcome.STALLED and wrap.reason.endswith("(in 4 iterations)")
-
-
-@pytest.fixture(scope="module")
-def stalling_box():
-    """A 55 x 60 x 100 mm box whose first pinch start stalls unclosed after 27 iterations."""
-    return so.from_mesh(trimesh.creation.box((55.0, 60.0, 100.0)), name="box", cache=False)
-
-
-def test_a_stalled_pinch_regrasps_and_closes(hand, stalling_box):
-    """The attempt goes on from the stall with the hand rolled about its pinch, and closes the grasp."""
-    start = next(iter(starts(hand, stalling_box, "precision", PlannerOptions()))).u
-    ended = run_attempt(hand, stalling_box, "precision", start, PlannerOptions(regrasps=0))
-    rolled = run_attempt(hand, stalling_box, "precision", start, PlannerOptions())
-    assert ended.outcome is Outcome.STALLED and ended.regrasps == 0 and ended.check.q > 0.0
-    assert rolled.success and rolled.regrasps == 1 and rolled.reason.endswith("after 1 regrasp)")
-    k = ended.iterations  # the same path to the stall (to round-off), then the roll as the next iteration's step
-    np.testing.assert_allclose(rolled.trajectory[: k + 1], ended.trajectory, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(rolled.trajectory[k + 1], regrasp(hand, ended.trajectory[-1], 30.0), rtol=0, atol=1e-9)
-    tips = hand.points(rolled.trajectory[k], "precision"), hand.points(rolled.trajectory[k + 1], "precision")
-    assert np.allclose(tips[0][0], tips[1][0]) and not np.allclose(tips[0][3:], tips[1][3:], atol=5.0)
-    result = plan(stalling_box, "precision")
-    assert result.success and [a["regrasps"] for a in result.attempts] == [1]
-
-
-def test_regrasps_stay_within_the_plans_iterations(hand, stalling_box):
-    """A regrasp is an iteration like a step: the plan's max_iter and the attempt's cap hold."""
-    for max_iter in (28, 29, 33):
-        result = plan(stalling_box, "precision", max_iter=max_iter)
-        assert sum(a["iterations"] for a in result.attempts) <= max_iter
-    start = next(iter(starts(hand, stalling_box, "precision", PlannerOptions()))).u
-    capped = run_attempt(hand, stalling_box, "precision", start, PlannerOptions(iterations_per_attempt=30))
-    assert capped.iterations == 30 and capped.regrasps == 1 and capped.outcome is Outcome.CAP
-
-
-def test_regrasp_rolls_the_hand_about_its_pinch(hand):
-    """Thumb tip and the index/middle centroid stay; the other fingertips turn about that line by the angle."""
-    u = np.r_[10.0, -20.0, 30.0, 0.3, -0.2, 0.1, 0.5, -0.5]
-    tips = hand.points(u, "precision")
-    thumb, fingers = tips[0], tips[1:3].mean(axis=0)
-    axis = (fingers - thumb) / np.linalg.norm(fingers - thumb)
-    for degrees in (30.0, -60.0, 90.0):
-        turned = hand.points(regrasp(hand, u, degrees), "precision")
-        assert np.allclose(turned[0], thumb, atol=1e-9) and np.allclose(turned[1:3].mean(axis=0), fingers, atol=1e-9)
-        for before, after in zip(tips[3:], turned[3:]):  # ring and little: the same circle about the axis, turned
-            a, b = before - thumb, after - thumb
-            a_perp, b_perp = a - (a @ axis) * axis, b - (b @ axis) * axis
-            assert abs(a @ axis - b @ axis) < 1e-9 and abs(np.linalg.norm(a_perp) - np.linalg.norm(b_perp)) < 1e-9
-            angle = np.degrees(np.arctan2(np.cross(a_perp, b_perp) @ axis, a_perp @ b_perp))
-            assert abs(angle - degrees) < 1e-6
-    np.testing.assert_array_equal(regrasp(hand, u, 30.0)[6:], u[6:])
-    pinched = SimpleNamespace(points=lambda u, kind: np.zeros((5, 3)))  # thumb tip on the fingertips: no line to roll about
-    np.testing.assert_array_equal(regrasp(pinched, u, 30.0), u)
-
-
-def test_a_regrasp_into_the_euler_angles_lock_keeps_the_rotation(hand):
-    """Rolled to where the second XYZ angle is 90 degrees, the pose is still the rolled one, without a warning."""
-    z = np.array([0.2, 0.4])
-    tips = hand.points(np.r_[np.zeros(6), z], "precision")  # the hand's own frame
-    pinch = tips[1:3].mean(axis=0) - tips[0]
-    locked = Rotation.from_euler("XYZ", [0.3, np.pi / 2, -0.2])  # R[0, 2] = 1: the angles' lock
-    start = locked * Rotation.from_rotvec(-np.radians(30.0) * pinch / np.linalg.norm(pinch))
-    u = np.r_[5.0, -7.0, 11.0, start.as_euler("XYZ"), z]
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        v = regrasp(hand, u, 30.0)
-    np.testing.assert_allclose(rotation_xyz(v[3:6]), locked.as_matrix(), atol=1e-9)
-    np.testing.assert_allclose(hand.points(v, "precision")[0], hand.points(u, "precision")[0], atol=1e-9)
 
 
 def test_a_power_attempt_holds_a_good_enough_sq(monkeypatch):

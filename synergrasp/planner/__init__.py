@@ -2,7 +2,7 @@
 
 from .._jit import clock
 from .annealing import anneal, autograsp, contact_energy, contact_normals
-from .attempt import AttemptResult, Outcome, judge_grasp, regrasp, run_attempt, sq_request
+from .attempt import AttemptResult, Outcome, judge_grasp, run_attempt, sq_request
 from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
 from .core import METHODS, forget_warm_starts, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
@@ -54,7 +54,6 @@ __all__ = [
     "principal_directions",
     "read_only",
     "recess",
-    "regrasp",
     "smallest_pinch",
     "retreat_directions",
     "roll_frames",

@@ -32,15 +32,6 @@ A power attempt first reaches with the palm (the finger rows only keep the
 fingers out of the object, the synergies shaped by the first level), then
 wraps once the palm touches.
 
-A precision attempt that stalls or crawls after a fingertip has touched the
-object regrasps, up to ``regrasps`` times: the hand is rolled by
-`REGRASP_ROLL` about the line from the thumb tip to the index and middle
-fingertips (through its midpoint, so those fingertips stay where they are),
-the other way and twice as far the next time, and the iteration goes on
-from there within the same iteration cap. Where a pinch ends unclosed is a
-local minimum of the step; the same pinch at another roll of the hand
-often closes.
-
 A grasp is accepted when the criterion holds, no phalanx capsule and not the
 palm box is deeper than ``max_penetration`` (in the convex pieces, and the
 capsules also in the object's true surface, its mesh or points,
@@ -56,15 +47,12 @@ accepted configuration is returned. An attempt ends with an `Outcome`.
 from __future__ import annotations
 
 import enum
-import warnings
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from .._jit import clock
-from ..hand import rotation_xyz
-from .starts import PARTNERS, pinch_fingertips
+from .starts import pinch_fingertips
 from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows
 from .step import limited_step
 from .stop import CRITERION, GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
@@ -111,8 +99,6 @@ class AttemptResult:
     lp_solves : int
     surface : SurfaceCheck or None
         The grasp judged on the object's true surface (`surface_check`), None without a grasp.
-    regrasps : int
-        Times the attempt rolled the hand about its pinch and went on (`regrasp`).
     """
 
     outcome: Outcome
@@ -125,7 +111,6 @@ class AttemptResult:
     penetration: float
     lp_solves: int
     surface: SurfaceCheck | None = None
-    regrasps: int = 0
 
     @property
     def iterations(self) -> int:
@@ -165,57 +150,6 @@ def sq_request(sq_step, radius, gradient):
     0.05
     """
     return min(float(sq_step), float(radius) * float(np.linalg.norm(gradient)))
-
-
-#: Roll (degrees) of a precision attempt's first regrasp about its pinch; the k-th rolls k times as far,
-#: alternately either way (`regrasp`).
-REGRASP_ROLL = 30.0
-
-
-def regrasp(hand, u, degrees):
-    """The hand rolled about its pinch: the line from the thumb tip to the index and middle fingertips' centroid.
-
-    The hand turns rigidly by ``degrees`` about that line, through the
-    midpoint of the two ends, its synergies unchanged: the thumb tip and the
-    fingertips' centroid stay where they are and the palm and the other
-    fingers swing round the object. The fingers are the thumb's pinch
-    partners (`synergrasp.planner.starts.PARTNERS`). Where the thumb tip
-    and their centroid coincide there is no line: ``u`` comes back as it is.
-
-    Parameters
-    ----------
-    hand : SynergyHand
-    u : (6 + n_syn,) float
-    degrees : float
-        Right-handed about the thumb-to-fingers direction.
-
-    Returns
-    -------
-    (6 + n_syn,) float
-
-    Examples
-    --------
-    >>> from synergrasp import SynergyHand
-    >>> hand = SynergyHand.default()
-    >>> u = np.r_[10.0, -20.0, 30.0, 0.3, -0.2, 0.1, 0.5, -0.5]
-    >>> v = regrasp(hand, u, 30.0)
-    >>> tips, turned = hand.points(u, "precision"), hand.points(v, "precision")
-    >>> bool(np.allclose(turned[0], tips[0])), bool(np.allclose(turned[1:3].mean(axis=0), tips[1:3].mean(axis=0)))
-    (True, True)
-    """
-    tips = hand.points(u, "precision")
-    thumb, fingers = tips[0], tips[list(PARTNERS)].mean(axis=0)
-    v = np.array(u, dtype=float)
-    length = np.linalg.norm(fingers - thumb)
-    if length < 1e-9:
-        return v
-    turn = Rotation.from_rotvec(np.radians(degrees) * (fingers - thumb) / length).as_matrix()
-    middle = 0.5 * (thumb + fingers)
-    v[:3] = turn @ (v[:3] - middle) + middle
-    with warnings.catch_warnings():  # scipy's "gimbal lock detected": the angles it returns are still the rotation's
-        warnings.simplefilter("ignore", UserWarning)
-        v[3:6] = Rotation.from_matrix(turn @ rotation_xyz(u[3:6])).as_euler("XYZ")
-    return v
 
 
 def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penetration=None):
@@ -359,7 +293,6 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     solves = st.lp_solves + chk.lp_solves
     outcome, bests, touched = Outcome.CAP if budget >= opts.iterations_per_attempt else Outcome.BUDGET, [], False
     closing, closed_once = False, False  # precision: g_sQ predicts a closed grasp and the fingertips touching are not closed
-    regrasps, rolling = 0, False  # precision: rolls about the pinch so far; the next iteration rolls
     kept, refining = None, None  # the best grasp so far (its index, status, check, penetration); refining iterations
     judged, deep = None, 0.0  # while refining: the last grasp judged on the true surface; the hand's depth otherwise
     for _ in range(budget):
@@ -386,18 +319,6 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         if deadline is not None and clock() > deadline:
             outcome = Outcome.BUDGET
             break
-        if rolling:  # a regrasp is this iteration's step
-            u = regrasp(hand, u, REGRASP_ROLL * (regrasps + 1) * (-1) ** regrasps)
-            st, chk, pen = evaluate(u, beyond)
-            solves += st.lp_solves + chk.lp_solves
-            traj.append(u.copy())
-            statuses.append(st.g.copy())
-            qs.append(chk.q)
-            if progress is not None:
-                progress(read_only(chk), read_only(st))
-            regrasps, rolling = regrasps + 1, False
-            radius, best, stalled, bests, closing, closed_once = opts.radius, np.inf, 0, [], False, False
-            continue
         if not power and refining is None:  # the last row: the contacts' g_Q while sQ is closed and they are not
             closing = bool(st.g[-1] < 0.0 and chk.n_contacts >= CRITERION["precision"][0] and chk.q > 0.0)
             if closing and not closed_once:  # the merit (now of that g_Q) starts afresh, once
@@ -480,18 +401,14 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         if grasp == "precision" and opts.touch_window and not touched and len(traj) > opts.touch_window:
             outcome = Outcome.NO_TOUCH
             break
-        ending = None
         if stalled >= window:
-            ending = Outcome.STALLED
-        elif opts.crawl_window and len(bests) > opts.crawl_window:
+            outcome = Outcome.STALLED
+            break
+        if opts.crawl_window and len(bests) > opts.crawl_window:
             earlier = bests[-1 - opts.crawl_window]
             if earlier - best < opts.crawl_fraction * (abs(earlier) + 0.1):
-                ending = Outcome.CRAWLED
-        if ending is not None and not power and touched and regrasps < opts.regrasps:
-            rolling = True  # the next iteration rolls the hand about its pinch
-        elif ending is not None:
-            outcome = ending
-            break
+                outcome = Outcome.CRAWLED
+                break
     surface = None
     if kept is not None:  # the best grasp met on the way
         k, st, chk, pen, surface = kept
@@ -499,14 +416,13 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     elif chk.done and outcome in (Outcome.CAP, Outcome.STALLED, Outcome.CRAWLED):
         outcome = Outcome.PENETRATION
     depth = (pen if pen is not None else hand_penetration(hand, obj, traj[-1])).depth
-    reason = _reason(outcome, opts, window, len(traj) - 1, chk, max(depth, deep), judged, regrasps)
+    reason = _reason(outcome, opts, window, len(traj) - 1, chk, max(depth, deep), judged)
     return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
-                         surface, regrasps)
+                         surface)
 
 
-def _reason(outcome, opts, window, iterations, check, depth, judged, regrasps):
-    """An outcome in words, with its numbers (``window``: the attempt's stall window; ``judged``: the last `SurfaceCheck`, or None;
-    ``regrasps``: the attempt's rolls about its pinch)."""
+def _reason(outcome, opts, window, iterations, check, depth, judged):
+    """An outcome in words, with its numbers (``window``: the attempt's stall window; ``judged``: the last `SurfaceCheck`, or None)."""
     last = "" if judged is None else (f"; the last: Q = {judged.q:.4f} on the true surface (q_accept "
                                       f"{opts.q_accept:g}), contacts up to {judged.gap:.1f} mm off it")
     details = {
@@ -519,5 +435,4 @@ def _reason(outcome, opts, window, iterations, check, depth, judged, regrasps):
         Outcome.PENETRATION: f"{depth:.1f} mm deep",
         Outcome.SURFACE: f"after {opts.refine_iterations} refining iterations{last}",
     }
-    rolled = f", after {regrasps} regrasp{'s' * (regrasps > 1)}" if regrasps else ""
-    return f"{outcome.value} ({details[outcome]}{rolled})"
+    return f"{outcome.value} ({details[outcome]})"

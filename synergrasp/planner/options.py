@@ -128,10 +128,6 @@ class PlannerOptions(_Fields):
     touch_window : int
         A precision attempt with no fingertip within ``eps_c`` of the surface
         after this many iterations has stalled (0: no such test).
-    regrasps : int
-        Most times a precision attempt that has stalled (or crawls) after a
-        fingertip touched rolls the hand about its pinch and goes on
-        (`synergrasp.planner.attempt.regrasp`; 0: it ends there).
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
@@ -233,7 +229,6 @@ class PlannerOptions(_Fields):
     crawl_window: int = 30
     crawl_fraction: float = 0.05
     touch_window: int = 30
-    regrasps: int = 2
     iterations_per_attempt: int = 120
     restarts: int = 40
     max_iter: int = 1500
@@ -284,7 +279,7 @@ class PlannerOptions(_Fields):
             raise ValueError(f"PlannerOptions.stall_window must be an integer in [1, inf) or a (precision, power) pair "
                              f"of them, got {self.stall_window!r}")
         set_(self, "stall_window", windows)
-        for name, low in (("crawl_window", 0), ("touch_window", 0), ("regrasps", 0), ("iterations_per_attempt", 1),
+        for name, low in (("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
                           ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
         set_(self, "q_accept", _number(self.q_accept, "q_accept", -10.0, 0.0))
