@@ -11,7 +11,8 @@ sources, split by shape) and verifies each plan independently of the planner, on
 mesh (``verification.py``: contacts within 5 mm of it, force closure by qhull at its normals, no
 phalanx capsule and not the palm box deeper than 3 mm in it).
 
-Prints, for each grasp type, the verified rate, the median and p90 plan time, the median Q of the
+Prints, for each grasp type, the verified rate, the median and p90 plan time and the plans'
+iterations (the cost of a change to the planner, whatever the machine's load), the median Q of the
 accepted grasps and the share of them with Q > -0.01, the contacts' gap to the true surface, the
 hand's depth in it, how many accepted grasps have a collision-free executable reach, and a
 taxonomy of why every failed attempt ended. With ``--runs R`` every object is planned R times (run
@@ -180,6 +181,7 @@ def summarise(rows, grasp):
     ok, counts = _verified(mine)
     spread = f", median of {len(runs)} runs: {', '.join(map(str, counts))}" if len(runs) > 1 else ""
     times = np.array([r["time"] for r in mine])
+    iterations = np.array([r["iterations"] for r in mine])
     accepted = [r for r in mine if r["success"]]
     q = np.array([r["q_true"] for r in accepted]) if accepted else np.array([np.nan])
     gaps = np.array([r["gap"] for r in accepted]) if accepted else np.array([np.nan])
@@ -187,7 +189,8 @@ def summarise(rows, grasp):
         f"{grasp}: {_count(ok)}/{n} verified ({100.0 * ok / n:.1f}%{spread}), by source: "
         + ", ".join(f"{s} {_count(_verified(mine, s)[0])}/{sum(r['source'] == s for r in mine) // len(runs)}"
                     for s in sorted({r["source"] for r in mine})),
-        f"  plan time: median {np.median(times):.2f} s, p90 {np.percentile(times, 90):.2f} s, max {times.max():.2f} s",
+        f"  plan time: median {np.median(times):.2f} s, p90 {np.percentile(times, 90):.2f} s, max {times.max():.2f} s; "
+        f"iterations per plan: median {np.median(iterations):.0f}, {iterations.sum()} in all",
         f"  accepted {len(accepted)}{f' (the {len(runs)} runs pooled)' if len(runs) > 1 else ''}: median Q on the true surface {np.nanmedian(q):+.3f}, "
         f"Q > -0.01: {np.mean(q > -0.01) * 100:.1f}%, "
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",

@@ -226,8 +226,9 @@ def test_single_attempts_writes_every_attempt(tmp_path, capsys):
     single_attempts.main(["--split", "all", "--only", "household/can", "--starts", "2", "--out", str(out)])
     rows = [json.loads(line) for line in out.read_text().splitlines()]
     assert len(rows) == 2 and {r["start"] for r in rows} == {"pinch"} and all(r["iterations"] > 0 for r in rows)
-    ok = sum(r["verified"] for r in rows)
-    assert f"{ok}/2 single attempts verified" in capsys.readouterr().out
+    ok, spent = sum(r["verified"] for r in rows), sum(r["iterations"] for r in rows)
+    out = capsys.readouterr().out
+    assert f"{ok}/2 single attempts verified" in out and f"{spent} iterations in all, {spent / max(ok, 1):.0f} per verified" in out
     assert all(r["pose"] is None for r in rows)
 
 
@@ -260,13 +261,14 @@ def test_validated_plans_quick(capsys):
 def test_generalise_rows_mode_summarises_an_earlier_run(tmp_path, capsys):
     """--rows plans nothing: the summary of the rows a run wrote, and its figure."""
     rows = [dict(name=f"o{i}", source="procedural", split="test", grasp="precision", success=i < 3, verified=i < 2,
-                 time=0.1 * (i + 1), reason="r", refused=False, q=-0.05, q_true=-0.04, gap=1.0, closed=True, depth=0.5,
+                 time=0.1 * (i + 1), iterations=10 * (i + 1), reason="r", refused=False, q=-0.05, q_true=-0.04, gap=1.0, closed=True, depth=0.5,
                  palm_depth=0.0, collision_free=True, overhang=1.0, attempts=[dict(outcome="stalled", iterations=3)])
             for i in range(4)]
     (tmp_path / "test_precision.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
     generalise.main(["--rows", "--grasp", "precision", "--out", str(tmp_path)])
     out = capsys.readouterr().out
     assert "precision: 2/4 verified (50.0%)" in out and "collision-free executable reach: 3/3" in out
+    assert "iterations per plan: median 25, 100 in all" in out
     generalise.plot(rows, tmp_path / "figure.png")
     assert (tmp_path / "figure.png").stat().st_size > 10_000
 
@@ -275,6 +277,7 @@ def test_generalise_reports_the_median_of_several_runs(tmp_path, capsys):
     """With rows of three runs, the verified count is the median of the runs' counts; the table marks disagreements."""
     verdicts = [(1, 1, 0, 0), (1, 0, 1, 0), (1, 1, 1, 0)]  # 2, 2 and 3 verified
     rows = [dict(name=f"o{i}", source="urdf", split="test", grasp="power", success=True, verified=bool(v), time=1.0 + k,
+                 iterations=40,
                  reason="r", refused=False, q=-0.05, q_true=-0.04, gap=1.0, closed=True, depth=0.5, palm_depth=0.0,
                  collision_free=True, overhang=1.0, attempts=[], run=k)
             for k, verdict in enumerate(verdicts) for i, v in enumerate(verdict)]
