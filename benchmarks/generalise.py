@@ -143,7 +143,7 @@ def plan_row(obj, grasp, options, truth=None, **labels):
         result = sg.plan(obj, grasp, **options)
     except ValueError as exc:  # the planner refuses the object (too large, too thin...)
         return dict(**labels, grasp=grasp, success=False, verified=False, time=time.perf_counter() - start,
-                    reason=str(exc), refused=True, attempts=[])
+                    reason=str(exc), refused=True, iterations=0, attempts=[])
     row = dict(**labels, grasp=grasp, success=result.success,
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),

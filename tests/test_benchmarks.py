@@ -269,6 +269,12 @@ def test_generalise_rows_mode_summarises_an_earlier_run(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "precision: 2/4 verified (50.0%)" in out and "collision-free executable reach: 3/3" in out
     assert "iterations per plan: median 25, 100 in all" in out
+    refused = generalise.plan_row(sg.objects.ellipsoid(400.0, 400.0, 400.0), "precision", {}, name="big", source="x",
+                                  split="test")  # the planner refuses it: no iteration
+    assert refused["refused"] and refused["iterations"] == 0
+    (tmp_path / "test_precision.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows + [refused]))
+    generalise.main(["--rows", "--grasp", "precision", "--out", str(tmp_path)])
+    assert "iterations per plan: median 20, 100 in all" in capsys.readouterr().out
     generalise.plot(rows, tmp_path / "figure.png")
     assert (tmp_path / "figure.png").stat().st_size > 10_000
 
