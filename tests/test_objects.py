@@ -427,6 +427,34 @@ def test_min_plane_bound_is_the_smallest_piece_bound_exactly_and_nan_for_nan(gob
     assert np.isnan(goblet.index.min_plane_bound([[np.nan, 0.0, 0.0], [0.0, np.inf, 0.0]])).all()
 
 
+def test_inside_is_being_within_every_facet_of_some_piece_and_false_for_nan(goblet):
+    """`PieceIndex.inside` (`contains`) leaves a piece at its first facet with the point outside: its verdicts are
+    the signs of the pieces' full bounds (a non-finite point, which `contains` refuses, is outside)."""
+    rng = np.random.default_rng(5)
+    pts = np.vstack([goblet.center + rng.normal(size=(400, 3)) * 40.0,
+                     np.vstack(goblet.pieces) + rng.normal(size=(len(np.vstack(goblet.pieces)), 3)) * 0.5])
+    expected = np.column_stack([p.signed_distance_bound(pts) <= 0 for p in goblet.convex]).any(axis=1)
+    got = goblet.contains(pts)
+    assert got.dtype == bool and 0 < got.sum() < len(got)
+    assert np.array_equal(got, expected)
+    assert not goblet.index.inside(np.array([[np.nan, 0.0, 0.0], [0.0, np.inf, 0.0], [0.0, 0.0, -np.inf]])).any()
+
+
+def test_farthest_point_subset_takes_the_farthest_point_each_time():
+    """Farthest-point sampling by its definition: from the six extremes along the axes, each next point the one
+    farthest from those taken (the first of equals); coordinates on a coarse grid make many ties."""
+    from synergrasp.objects.convex import farthest_point_subset
+
+    rng = np.random.default_rng(6)
+    for points in (rng.normal(size=(300, 3)) * 30.0, np.round(rng.normal(size=(300, 3)) * 2.0)):
+        taken = list(dict.fromkeys(np.sort(np.r_[points.argmin(axis=0), points.argmax(axis=0)]).tolist()))
+        while len(taken) < 40:
+            gaps = ((points[:, None, :] - points[taken][None]) ** 2).sum(axis=2).min(axis=1)
+            taken.append(int(np.flatnonzero(gaps == gaps.max())[0]))
+        assert farthest_point_subset(points, 40).tolist() == sorted(taken)
+    assert farthest_point_subset(points, 500).tolist() == list(range(300))  # fewer points than asked: all
+
+
 def test_broad_phase_prunes_far_pieces(goblet):
     # beside the bowl the foot is far: only the bowl is solved
     r = goblet.contact_distance([[45.0, 0.0, 120.0]])

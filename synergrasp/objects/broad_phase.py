@@ -222,6 +222,27 @@ class PieceIndex:
         _min_plane_bound(P, self.planes, self.plane_start, out)
         return out
 
+    def inside(self, points) -> np.ndarray:
+        """Whether each point is in the union of the pieces: ``min_plane_bound(points) <= 0``, without the bounds.
+
+        A piece is left at its first facet plane with the point outside, and a
+        point at the first piece that holds it: no maximum or minimum is
+        needed, only its sign.
+
+        Parameters
+        ----------
+        points : (n, 3) float
+
+        Returns
+        -------
+        (n,) bool
+            False for a point with a NaN or infinite coordinate.
+        """
+        P = np.ascontiguousarray(points, dtype=float)
+        out = np.empty(len(P), dtype=np.bool_)
+        _inside(P, self.planes, self.plane_start, out)
+        return out
+
     def probe(self, points, planes: bool = True) -> Probe:
         """The broad phase's bounds for points (validated (n, 3) float).
 
@@ -397,6 +418,26 @@ def _min_plane_bound(P, planes, plane_start, out):
                 nearest = j
         out[i] = best
         first = nearest
+
+
+@kernel
+def _inside(P, planes, plane_start, out):
+    J = len(plane_start) - 1
+    for i in range(len(P)):
+        x, y, z = P[i, 0], P[i, 1], P[i, 2]
+        out[i] = False
+        if not (np.isfinite(x) and np.isfinite(y) and np.isfinite(z)):
+            continue
+        for j in range(J):
+            sub = planes[plane_start[j]:plane_start[j + 1]]
+            held = True
+            for f in range(len(sub)):
+                if x * sub[f, 0] + y * sub[f, 1] + z * sub[f, 2] + sub[f, 3] > 0.0:
+                    held = False
+                    break
+            if held:
+                out[i] = True
+                break
 
 
 @helper

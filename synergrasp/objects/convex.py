@@ -20,6 +20,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from .._checks import as_points
+from .._jit import kernel
 
 #: Relative size (to the piece's extent) below which a piece is flat.
 FLAT_TOL = 1e-6
@@ -100,11 +101,25 @@ def farthest_point_subset(points: np.ndarray, k: int) -> np.ndarray:
     chosen[: len(seeds)] = seeds
     diff = points[:, None, :] - points[seeds][None]
     dist = np.einsum("ijk,ijk->ij", diff, diff).min(axis=1)
-    for i in range(len(seeds), k):
-        chosen[i] = int(np.argmax(dist))
-        diff = points - points[chosen[i]]
-        np.minimum(dist, np.einsum("ij,ij->i", diff, diff), out=dist)
+    _farthest(np.ascontiguousarray(points, dtype=float), dist, chosen, len(seeds))
     return np.sort(chosen)
+
+
+@kernel
+def _farthest(points, dist, chosen, start):
+    """``chosen[start:]``: each the point farthest from those before (the first of equals), ``dist`` kept up to date."""
+    for i in range(start, len(chosen)):
+        pick, far = 0, -np.inf
+        for p in range(len(points)):
+            if dist[p] > far:
+                pick, far = p, dist[p]
+        chosen[i] = pick
+        cx, cy, cz = points[pick, 0], points[pick, 1], points[pick, 2]
+        for p in range(len(points)):
+            dx, dy, dz = points[p, 0] - cx, points[p, 1] - cy, points[p, 2] - cz
+            d = dx * dx + dy * dy + dz * dz
+            if d < dist[p]:
+                dist[p] = d
 
 
 class ConvexPiece:

@@ -326,7 +326,7 @@ class GraspObject:
         -------
         (n,) bool
         """
-        return self.index.min_plane_bound(check_points(points)) <= 0
+        return self.index.inside(check_points(points))
 
     def _default_center(self) -> np.ndarray:
         if isinstance(self.mesh, trimesh.Trimesh) and self.mesh.is_watertight and self.mesh.volume > 0:

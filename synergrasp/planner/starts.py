@@ -29,7 +29,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from .._checks import as_points, as_vector
-from .._jit import clock
+from .._jit import clock, kernel
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
 from .status import grasp_status, hand_penetration
@@ -492,10 +492,23 @@ def recess(obj, points, normals):
     slowness = np.where(facing > 1e-9, 1.0 / np.maximum(facing, 1e-9), 1e12)  # a facet not ahead is never reached
     within = normals @ _DIRECTIONS.T >= np.cos(np.radians(RECESS_CONE))  # (m, d)
     way_out = np.full(len(points), np.inf)
-    for d in range(len(_DIRECTIONS)):
-        some = within[:, d]
-        way_out[some] = np.minimum(way_out[some], (gap[some] * slowness[d]).min(axis=1))
+    _way_out(gap, slowness, within, way_out)
     return way_out
+
+
+@kernel
+def _way_out(gap, slowness, within, way_out):
+    """``way_out[i] = min`` over the directions ``d`` within the cone of point i of ``min_f gap[i, f] * slowness[d, f]``."""
+    for i in range(len(gap)):
+        best = way_out[i]
+        for d in range(len(slowness)):
+            if not within[i, d]:
+                continue
+            for f in range(gap.shape[1]):
+                best = min(best, gap[i, f] * slowness[d, f])
+            if best == 0.0:  # gaps are >= 0 and slownesses > 0: nothing is shorter
+                break
+        way_out[i] = best
 
 
 def _straddle(hand, obj, apertures, thumb_at, fingers_at, opening):
