@@ -74,6 +74,9 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.pose is not None and args.pose < 0:
         parser.error(f"--pose must be a seed >= 0, got {args.pose}")
+    if args.out is not None and args.out.is_dir():  # refused before the run, not after it
+        parser.error(f"--out names the file the attempts are written to; {args.out} is a folder: "
+                     f"give a file in it, e.g. {args.out / 'attempts.jsonl'}")
     options = planner_options(args.option)
     PlannerOptions(**options)  # a bad option fails here, before any work
     names = [e.name for e in select(args.split, args.only)]

@@ -247,6 +247,9 @@ def test_single_attempts_turns_the_objects_as_generalise_does(tmp_path, capsys):
     with pytest.raises(SystemExit):
         single_attempts.main(["--pose", "-1"])
     assert "must be a seed >= 0" in capsys.readouterr().err
+    with pytest.raises(SystemExit):  # a folder for the file: refused before any attempt runs
+        single_attempts.main(["--only", "household/can", "--out", str(tmp_path)])
+    assert "is a folder: give a file in it" in capsys.readouterr().err
 
 
 def test_validated_plans_quick(capsys):
