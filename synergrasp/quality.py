@@ -312,6 +312,12 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
             raise ValueError(f"torque_scale {L:g} is more than {TORQUE_SCALE_RATIO:g} times smaller than the contacts' "
                              f"largest lever arm |p_i - c|, {reach:.3g}: the forces would vanish beside the torques and "
                              "the LPs lose their accuracy. It is a length in the points' units; omit it for that default")
+        if not reach / TORQUE_SCALE_WARN <= L <= reach * TORQUE_SCALE_WARN:
+            warnings.warn(f"torque_scale {L:g} is {max(L / reach, reach / L):.3g} times {'larger' if L > reach else 'smaller'} "
+                          f"than the contacts' largest lever arm |p_i - c|, {reach:.3g}: is it in the points' units? (A "
+                          "value in metres for points in mm, or the other way round, is 1000 times off.) Q is a different "
+                          "number for every scale; omit torque_scale for the default, the largest lever arm",
+                          UserWarning, stacklevel=3)
     return arm, nhat, length, mu, c, L
 
 
@@ -336,6 +342,9 @@ FAR_CENTER = 500.0
 FAR_RATIO = 10.0
 #: A given ``torque_scale`` must be at least the contacts' largest lever arm (its default) over this factor.
 TORQUE_SCALE_RATIO = 1e4
+#: A given ``torque_scale`` further than this factor from the contacts' largest lever arm is warned about (a length
+#: in other units than the points'); the library's own calls pass ``checked=True``, which skips the check.
+TORQUE_SCALE_WARN = 100.0
 #: Most wrenches `force_closure_by_hull` takes: qhull's 6-D hull of 160 takes about 0.7 s, of 320 about 8 s.
 MAX_HULL_WRENCHES = 256
 
@@ -475,7 +484,10 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     UserWarning
         Without ``center``, when the contacts lie farther than `FAR_CENTER` mm
         from the origin (and far relative to their spread): the torques are
-        then taken about a point that cannot be the object's centre.
+        then taken about a point that cannot be the object's centre. With a
+        ``torque_scale`` more than `TORQUE_SCALE_WARN` times larger or smaller
+        than the contacts' largest lever arm: a length in other units than
+        the points' (metres for mm) gives a Q 1000 times off.
 
     Examples
     --------

@@ -212,9 +212,25 @@ def test_a_large_torque_scale_is_taken_and_flattens_the_torques(backend):
     """A torque scale far above the lever arms (an object's radius given for contacts near its centre) is taken, and
     consistent: the torque coordinates shrink as 1/L, so the grasp's Q (its depth in them) falls as 1/L, to 0."""
     P, N = sphere_grasp(np.random.default_rng(1), 5)
-    q = {L: sg.q_distance(P, N, torque_scale=L, backend=backend).value for L in (4e3, 4e4, 1e12)}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # beyond 100 times the lever arms: warned of (the test below)
+        q = {L: sg.q_distance(P, N, torque_scale=L, backend=backend).value for L in (4e3, 4e4, 1e12)}
     assert q[4e3] < 0 and q[4e3] * 4e3 == pytest.approx(q[4e4] * 4e4, rel=1e-3)
     assert abs(q[1e12]) < 1e-8
+
+
+def test_a_torque_scale_in_other_units_than_the_points_is_warned_of():
+    """Points in mm with L in metres, or points in metres with L in mm: Q is 1000 times off scale, so a warning says
+    so; within a factor of 100 of the largest lever arm (and by default) nothing is said."""
+    P = np.array([[40.0, 0, 0], [-20, 35, 0], [-20, -35, 0], [0, 0, 40]])
+    N = -P / np.linalg.norm(P, axis=1, keepdims=True)
+    for points, L, word in ((P, 0.04, "smaller"), (P / 1000, 40.0, "larger")):
+        with pytest.warns(UserWarning, match=f"times {word} than the contacts' largest lever arm"):
+            sg.q_distance(points, N, torque_scale=L)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for L in (None, 0.5, 3000.0):
+            sg.q_distance(P, N, torque_scale=L)
 
 
 def test_contacts_at_the_centre_need_a_torque_scale():

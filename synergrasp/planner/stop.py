@@ -95,10 +95,10 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     q = np.nan
     if len(points) >= 2:
         q = q_distance(closest, inward, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
-                       backend=backend).value
+                       backend=backend, checked=True).value
         if obj.point_surface is not None:  # a cloud's normals are estimates: force-closed with the pieces' too
             q = max(q, q_distance(closest, normals, mu=mu, edges=edges, center=obj.center,
-                                  torque_scale=obj.torque_scale, backend=backend).value)
+                                  torque_scale=obj.torque_scale, backend=backend, checked=True).value)
     return SurfaceCheck(closest, inward, float(gap.max()) if len(gap) else 0.0, float(q))
 
 
