@@ -283,6 +283,12 @@ def test_configuration_away_from_the_object_is_refused(pinch):
     (dict(preset="isaac"), ValueError, "unknown protocol preset"),
     (dict(measure_from="start"), ValueError, "measure_from"),
     (dict(solref=(0.005,)), ValueError, "solref must be 2 finite numbers"),
+    (dict(solref=(0.0, 1.0)), ValueError, "solref must be two numbers > 0 .* or two < 0"),  # MuJoCo: "mixed format"
+    (dict(solref=(-1000.0, 1.0)), ValueError, "solref must be two numbers > 0"),
+    (dict(solimp=(2.0, 3.0, 0.0)), ValueError, r"solimp must be \(dmin, dmax, width\) with dmin and dmax in \[0.0001, 0.9999\]"),
+    (dict(solimp=(0.5, 0.99, 0.0)), ValueError, "and width > 0"),
+    (dict(timestep=1e-9), ValueError, "simulates 1.25e.10 time steps .* more than the 5e.06"),  # hours, not a verdict
+    (dict(settle_time=1e6), ValueError, "simulates 1e.09 time steps"),
     (dict(mass=0.0), ValueError, "mass must be None or a finite number > 0"),
     (dict(retreat=float("nan")), ValueError, "retreat must be a finite number"),
     (dict(retreat="40"), ValueError, "retreat must be a finite number of mm, got '40'"),
@@ -304,6 +310,8 @@ def test_bad_configuration_or_object_is_refused(pinch):
         validate(u, box.pieces[0])
     with pytest.raises(TypeError, match="PlanResult or a configuration"):
         validate({"u": u}, box)
+    with pytest.raises(ValueError, match=r"synergies \[6.0, .*\] lie outside the hand's limits"):
+        validate(np.r_[u[:6], 6.0, u[7]], box)  # a pose the hand cannot take is not judged
 
 
 def test_a_name_or_a_file_path_is_refused_with_the_function_that_reads_it(pinch, tmp_path):

@@ -20,6 +20,10 @@ DIRECTIONS = ("-x", "+x", "-y", "+y", "-z", "+z")
 _REFERENCES = ("settled", "planned")
 #: Time steps (s) coarser than this change verdicts (2 ms changes some in the physics study's sensitivity table): a warning says so.
 COARSE_TIMESTEP = 0.001
+#: Most time steps a protocol may simulate (squeeze, settle and six pushes): about 15 s on one core.
+MAX_STEPS = 5_000_000
+#: MuJoCo's range for solimp's dmin and dmax (it clamps values outside it).
+SOLIMP_RANGE = (0.0001, 0.9999)
 
 
 @dataclass(frozen=True)
@@ -152,6 +156,22 @@ class Protocol:
             object.__setattr__(self, name, tuple(float(v) for v in value))
         if self.timestep > self.push_time:
             raise ValueError(f"protocol setting timestep ({self.timestep} s) is longer than push_time ({self.push_time} s)")
+        ref, imp = self.solref, self.solimp
+        if not (ref[0] > 0 and ref[1] > 0 or ref[0] < 0 and ref[1] < 0):
+            raise ValueError(f"protocol setting solref must be two numbers > 0 (MuJoCo's time constant in s and damping "
+                             f"ratio) or two < 0 (stiffness and damping, negated), got {ref!r}: MuJoCo replaces a mixed "
+                             "or zero pair by its default")
+        if not (SOLIMP_RANGE[0] <= imp[0] <= SOLIMP_RANGE[1] and SOLIMP_RANGE[0] <= imp[1] <= SOLIMP_RANGE[1]
+                and imp[2] > 0):
+            raise ValueError(f"protocol setting solimp must be (dmin, dmax, width) with dmin and dmax in "
+                             f"[{SOLIMP_RANGE[0]:g}, {SOLIMP_RANGE[1]:g}] and width > 0 (m), as MuJoCo reads them, "
+                             f"got {imp!r}")
+        steps = (self.squeeze_time + self.settle_time + len(DIRECTIONS) * self.push_time) / self.timestep
+        if steps > MAX_STEPS:
+            raise ValueError(f"this protocol simulates {steps:.3g} time steps (squeeze_time + settle_time + "
+                             f"{len(DIRECTIONS)} x push_time, over timestep), more than the {MAX_STEPS:.0e} synergrasp "
+                             "runs (about 15 s on one core; the default takes 12,500): use a coarser timestep or "
+                             "shorter times")
 
     def to_dict(self) -> dict:
         """The settings as a JSON-serialisable dict (``Protocol(**d)`` rebuilds them)."""
