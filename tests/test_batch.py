@@ -128,6 +128,21 @@ def test_store_rows_come_from_the_result_files(tmp_path):
         ("ellipsoid", "precision", str(result.success))]
 
 
+def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):
+    """Without ``if __name__ == "__main__":`` the workers import the script again and run it: there `run` says to add
+    the guard, and the script itself ends with the same advice (not only distributed's "Nanny failed to start")."""
+    code = f"import synergrasp as sg\nsg.batch.run(['ellipsoid'], ['precision'], {str(tmp_path / 'a')!r}, workers=1, progress=False)\n"
+    with pytest.raises(RuntimeError, match="worker process imported your script again .* put the call under"):
+        exec(compile(code, "script.py", "exec"), {"__name__": "__mp_main__"})  # as a spawned worker runs it
+    assert not (tmp_path / "a").exists()  # refused before anything is written
+    script = tmp_path / "script.py"
+    script.write_text(code.replace("'a'", "'b'"))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert done.returncode != 0
+    assert "put the call under `if __name__" in done.stderr  # a worker's error
+    assert done.stderr.rstrip().endswith("otherwise see the workers' errors printed above")  # the script's own
+
+
 def test_output_folder_is_checked_before_the_scheduler(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("x")

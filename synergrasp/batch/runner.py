@@ -11,6 +11,7 @@ only the plans in flight, and a rerun of the same call plans only what is missin
 
 from __future__ import annotations
 
+import inspect
 import logging
 import math
 import os
@@ -109,6 +110,16 @@ class BatchReport:
         return "\n".join(lines)
 
 
+def _importing_main_again() -> bool:
+    """Whether the caller is the main script's module code, run again by a spawned process (``__mp_main__``)."""
+    frame = inspect.currentframe()
+    while frame is not None:
+        if frame.f_code.co_name == "<module>" and frame.f_globals.get("__name__") == "__mp_main__":
+            return True
+        frame = frame.f_back
+    return False
+
+
 def run(objects, grasps=("precision",), out="batch-out", *, workers=None, scheduler=None, backend="native",
         options=None, time_limit=None, scale=1.0, validate=None, retry_failed=False, progress=True,
         connect_timeout=10.0):
@@ -175,6 +186,9 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         With ``validate``, if MuJoCo is not installed.
     ConnectionError
         If ``scheduler`` does not answer, or has no worker, within ``connect_timeout``.
+    RuntimeError
+        If called from a script without the ``if __name__ == "__main__":``
+        guard, as the local cluster's workers import it again.
     BatchInterrupted
         On Ctrl-C (a ``KeyboardInterrupt``), after the results that arrived were
         written and the summary table rebuilt; its ``report`` says what was done.
@@ -188,6 +202,10 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     >>> run(["ellipsoid", "cup"], ["precision"], report.out, workers=1, progress=False).finished   # all done
     0
     """
+    if _importing_main_again():
+        raise RuntimeError("synergrasp.batch.run was called while a worker process imported your script again (Dask "
+                           "starts its workers with Python's spawn method): put the call under "
+                           "`if __name__ == \"__main__\":`, see the batch how-to")
     tasks = expand(objects, grasps)
     store = ResultStore(out)
     _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate, connect_timeout)
@@ -317,9 +335,14 @@ def local_cluster(workers=None):
 
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
                           "distributed.worker.profile.enabled": False}):
-        return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                            host="127.0.0.1", dashboard_address=None,
-                            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
+        try:
+            return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                                host="127.0.0.1", dashboard_address=None,
+                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
+        except RuntimeError as exc:  # "Nanny failed to start": the workers' own errors are printed above it
+            raise RuntimeError(f"the local Dask cluster's workers did not start ({exc}). A script that calls "
+                               "synergrasp.batch.run needs it under `if __name__ == \"__main__\":` (the workers "
+                               "import the script again); otherwise see the workers' errors printed above") from exc
 
 
 def _connect(workers, scheduler, connect_timeout):
