@@ -79,8 +79,8 @@ def writable_folder(path, what: str = "output folder") -> Path:
     Raises
     ------
     ValueError
-        If the folder cannot be created or written to; the message names the
-        folder and the reason.
+        If the folder cannot be created or written to (the message names the
+        folder and the reason), or its name is empty.
 
     Examples
     --------
@@ -89,6 +89,8 @@ def writable_folder(path, what: str = "output folder") -> Path:
     >>> writable_folder(Path(tempfile.mkdtemp()) / "new" / "folder").is_dir()
     True
     """
+    if isinstance(path, (str, bytes)) and not path:
+        raise ValueError(f"the {what} is an empty name (an unset variable?): name a folder, '.' for the current one")
     path = Path(path)
     try:
         path.mkdir(parents=True, exist_ok=True)

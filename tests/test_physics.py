@@ -230,7 +230,7 @@ def test_result_of_another_object_or_hand_is_refused(pinch):
     result = pinch_result(u, box)
     assert validate(result, box).held  # the result itself is fine
     moved = box.transformed(np.r_[np.c_[np.eye(3), [50.0, 0, 0]], [[0, 0, 0, 1]]])
-    with pytest.raises(ValueError, match="planned for another object") as refused:
+    with pytest.raises(ValueError, match="planned for another scale or pose of it") as refused:  # the same name
         validate(result, moved)
     # the distance it names is Euclidean, to the moved box (not the planner's cP, up to 2.8 times larger): here
     # against 40 000 points spread on the box's faces (about 0.3 mm apart)

@@ -88,6 +88,9 @@ class ResultStore:
     """
 
     def __init__(self, out):
+        if isinstance(out, (str, bytes)) and not out:
+            raise ValueError("the output folder is an empty name (an unset variable?): name a folder, '.' for the "
+                             "current one")
         self.out = Path(out)
         self.results = self.out / "results"
         self.summary_path = self.out / "summary.csv"

@@ -349,7 +349,13 @@ def _from_mesh(
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     what = name or _source or "mesh"
     if isinstance(mesh, trimesh.Scene):
+        if mesh.geometry and not any(isinstance(g, trimesh.Trimesh) and len(g.faces) for g in mesh.geometry.values()):
+            raise ValueError(f"{what} is a scene without faces (its geometry: "
+                             f"{', '.join(sorted({type(g).__name__ for g in mesh.geometry.values()}))}): pass a point cloud "
+                             "to from_points (a trimesh.PointCloud or its vertices), or its file to load()")
         mesh = _scene_mesh(mesh, what)
+    if isinstance(mesh, trimesh.PointCloud):
+        raise TypeError("mesh is a trimesh.PointCloud, not a mesh: load it with from_points(cloud), or load(file)")
     if not isinstance(mesh, trimesh.Trimesh):
         raise TypeError(f"mesh must be a trimesh.Trimesh or Scene, got {type(mesh).__name__}")
     if type(mesh) is not trimesh.Trimesh:  # a subclass (trimesh.primitives.Box, ...): its copy() differs
@@ -713,6 +719,9 @@ def _from_points(
 ) -> GraspObject:
     """Implementation of `from_points` (``_source``: the file, for messages)."""
     what = name or _source or "point cloud"
+    if isinstance(points, trimesh.PointCloud):
+        points = np.asarray(points.vertices)
+    points = _xyz_columns(points)  # (n, 6): x y z, then normals or colours
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
@@ -835,8 +844,10 @@ def from_points(
 
     Parameters
     ----------
-    points : (n, 3) array_like
-        Points on (or in) the object.
+    points : (n, 3) array_like or trimesh.PointCloud
+        Points on (or in) the object. An (n, k) array with k > 3 columns
+        (fewer than its rows: x y z, then normals or colours, as scanners
+        export them) gives its first three.
     scale : float
         Factor applied to the coordinates (``scale=1000`` for metres).
     name : str, optional

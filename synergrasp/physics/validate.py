@@ -59,10 +59,12 @@ def check_match(result, obj, hand, tolerance):
         points = np.asarray(result.contact_points, dtype=float).reshape(-1, 3)
         gap = np.min([trimesh.proximity.closest_point(piece, points)[1] for piece in obj.piece_meshes()], axis=0)
         if gap.max() > tolerance:
+            which = ("another scale or pose of it" if result.object_name == obj.name else
+                     f"another object ({result.object_name!r}), another pose of it or another scale")
             raise ValueError(
                 f"the result's contact points lie up to {gap.max():.1f} mm from the surface of {obj.name!r} (more than "
-                f"{tolerance:g} mm): it was planned for another object ({result.object_name!r}), another pose of it or another "
-                f"scale (an object file in metres or centimetres is loaded with scale=1000 or 10, as it was for the plan)")
+                f"{tolerance:g} mm): it was planned for {which} (an object file in metres or centimetres is loaded "
+                "with scale=1000 or 10, as it was for the plan)")
 
 
 def _check_arguments(result_or_u, obj) -> None:
