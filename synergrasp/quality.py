@@ -360,7 +360,9 @@ def force_closure_by_hull(wrenches, tol=FORCE_CLOSURE_TOL) -> bool:
     wrenches : (k, 6) array_like
         Primitive contact wrenches (``contact_wrenches``).
     tol : float
-        Margin by which the origin must be inside every facet plane.
+        Margin by which the origin must be inside every facet plane, relative
+        to the largest wrench coordinate (the verdict is the same for the
+        wrenches in any unit).
 
     Returns
     -------
@@ -386,8 +388,11 @@ def force_closure_by_hull(wrenches, tol=FORCE_CLOSURE_TOL) -> bool:
         raise ValueError(f"force_closure_by_hull builds the 6-D convex hull of all {len(W)} wrenches, which takes qhull "
                          f"minutes beyond a few hundred; it takes at most {MAX_HULL_WRENCHES} (fewer contacts or cone "
                          "edges: contact_wrenches(..., edges=8)), or use q_distance")
+    scale = float(np.abs(W).max()) if len(W) else 0.0
+    if scale == 0.0:
+        return False
     try:
-        hull = ConvexHull(W)
+        hull = ConvexHull(W / scale)  # the verdict does not depend on the wrenches' unit
     except QhullError:
         return False
     return bool((hull.equations[:, -1] < -tol).all())

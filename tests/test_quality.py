@@ -151,6 +151,7 @@ def test_library_hull_test_matches_the_independent_one(closed):
         if abs(sg.q_distance(P, N).value) < 1e-6:  # on the boundary either answer is within round-off
             continue
         assert sg.force_closure_by_hull(W) == origin_strictly_inside(W), f"trial {trial}"
+        assert sg.force_closure_by_hull(W * 1e-10) == sg.force_closure_by_hull(W * 1e10) == sg.force_closure_by_hull(W)
         checked += 1
     assert checked >= 40
 
