@@ -127,3 +127,13 @@ def test_separate_parts_and_the_widest_gap_that_joins_them():
     handle = trimesh.creation.box((30.0, 8.0, 50.0)).apply_translation([35.0, 0.0, 0.0])
     parts, gap = separate_parts(trimesh.util.concatenate([body, handle]))
     assert parts == 2 and gap < 1.0
+    # a hollow box (a cavity's wall wound inwards, 10-15 mm inside the outer one) is not two parts apart ...
+    outer, cavity = trimesh.creation.box((60.0, 50.0, 70.0)), trimesh.creation.box((30.0, 20.0, 40.0))
+    cavity.invert()
+    assert separate_parts(trimesh.util.concatenate([outer, cavity])) == (2, 0.0)
+    # ... but a box beside it is, and one inside a box that has a hole is not enclosed (its hull is open)
+    assert separate_parts(trimesh.util.concatenate([outer, cavity.copy().apply_translation([70.0, 0.0, 0.0])])) == (
+        2, pytest.approx(25.0, abs=PART_SPACING))
+    holed = outer.copy()
+    holed.update_faces(np.arange(len(holed.faces)) > 1)  # two triangles off: not watertight
+    assert separate_parts(trimesh.util.concatenate([holed, cavity]))[1] > 5.0

@@ -235,8 +235,9 @@ def separate_parts(mesh: trimesh.Trimesh):
     joined by the shortest gaps first (a minimum spanning tree) and the
     widest of those is returned: 0 for parts that touch or overlap, like a
     handle modelled apart from a mug's body; the distance between two
-    objects saved in one file. Only the `MAX_PARTS` largest parts by area
-    are measured.
+    objects saved in one file. A part inside another closed part (the wall
+    of a cavity) is not apart from it. Only the `MAX_PARTS` largest parts
+    by area are measured.
 
     Parameters
     ----------
@@ -264,6 +265,9 @@ def separate_parts(mesh: trimesh.Trimesh):
         return int(len(parts)), 0.0
     area = np.bincount(face_label, weights=mesh.area_faces)
     measured = parts[np.argsort(-area[parts], kind="stable")][:MAX_PARTS]
+    measured = measured[~_enclosed(mesh, face_label, measured)]  # a cavity's wall is not a part apart
+    if len(measured) < 2:
+        return int(len(parts)), 0.0
     count = int(np.clip(area.sum() / PART_SPACING**2, *PART_SAMPLES))
     samples, sampled = trimesh.sample.sample_surface(mesh, count, seed=0)
     points = np.vstack([vertices[np.asarray(mesh.faces).reshape(-1)], samples])
@@ -432,6 +436,21 @@ def union_of_bodies(mesh: trimesh.Trimesh):
         return mesh, 0.0
     out = union.to_mesh64()
     return trimesh.Trimesh(np.asarray(out.vert_properties)[:, :3], np.asarray(out.tri_verts), process=False), overlap
+
+
+def _enclosed(mesh, face_label, labels):
+    """(len(labels),) bool: the parts whose every corner lies inside another, closed part (a cavity's wall; ray
+    parity, whatever the winding)."""
+    faces = np.asarray(mesh.faces)
+    shells = [trimesh.Trimesh(mesh.vertices, faces[face_label == label]) for label in labels]
+    for shell in shells:
+        shell.remove_unreferenced_vertices()
+    out = np.zeros(len(labels), dtype=bool)
+    for i, inner in enumerate(shells):
+        out[i] = any(outer.is_watertight and outer.volume != 0 and len(inner.vertices)
+                     and bool(outer.contains(inner.vertices).all())
+                     for j, outer in enumerate(shells) if j != i and not out[j])
+    return out
 
 
 def _part_labels(mesh):
