@@ -121,8 +121,8 @@ class TimedBackend(Backend):
         """Zero the accumulated time and calls."""
         self.lp_time, self.lp_calls = 0.0, 0
 
-    def solve(self, c, A, b, basic=None):
-        sol = self.inner.solve(c, A, b, basic=basic)
+    def solve(self, c, A, b, basic=None, *, verify=True):
+        sol = self.inner.solve(c, A, b, basic=basic, verify=verify)
         self.lp_time += sol.solve_time
         self.lp_calls += 1
         self.calls += 1

@@ -427,7 +427,9 @@ def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
     backend : str or synergrasp.lp.Backend
     checked : bool
         ``A``, ``B`` and ``simplex`` are already validated finite float
-        arrays (a caller that checked them skips the checks).
+        arrays, scaled as :func:`pseudo_distance` scales them (a caller that
+        checked them skips the checks, and the LP answers' verification,
+        `synergrasp.lp.Backend.solve`'s ``verify``).
 
     Returns
     -------
@@ -475,23 +477,24 @@ def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
     # does not change the result; the regime of the previous call of the same shape goes first.
     solves = 0
     result = None
+    verify = not checked  # the library's callers pass data they scaled (pseudo_distance, q_distance)
     if lay.overlapped_last:
         solves += 1
-        result = _penetration(A, B, Q, lay, solver, zero, solves, strict=False)
+        result = _penetration(A, B, Q, lay, solver, zero, solves, strict=False, verify=verify)
     if result is None:
         solves += 1
-        result = _separation(A, B, Q, lay, solver, zero, solves)
+        result = _separation(A, B, Q, lay, solver, zero, solves, verify=verify)
         if result is None:  # Eq. 1 gave 0: the sets touch or overlap
             solves += 1
-            result = _penetration(A, B, Q, lay, solver, zero, solves, strict=True)
+            result = _penetration(A, B, Q, lay, solver, zero, solves, strict=True, verify=verify)
         if result is None:  # Eq. 1 within round-off of 0 but Eq. 3 infeasible within tolerance: touching
             solves += 1
-            result = _separation(A, B, Q, lay, solver, zero, solves, touching=True)
+            result = _separation(A, B, Q, lay, solver, zero, solves, touching=True, verify=verify)
     lay.overlapped_last = result.kind == "penetration"
     return result
 
 
-def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
+def _separation(A, B, Q, lay, solver, zero, solves, touching=False, verify=True):
     """Eq. 1; None when its value is 0 (the sets touch or overlap), unless ``touching``."""
     (na, d), nb, nq = A.shape, len(B), len(Q)
     # x = [rho (nq), alpha (na), beta (nb)]; rows: d coordinates, sum alpha, sum beta
@@ -499,7 +502,7 @@ def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
     data[: nq * d] = Q.ravel()
     data[nq * d :] = _weight_data(A, B, 1.0)
     G = lp.CSC(lay.sep_ptr, lay.sep_rows, data, (d + 2, nq + na + nb))
-    sol = solver.solve(lay.sep_c, G, lay.sep_h)
+    sol = solver.solve(lay.sep_c, G, lay.sep_h, verify=verify)
     _require_optimal(sol, "separation (Eq. 1)")
     if sol.objective <= zero and not touching:
         return None
@@ -510,7 +513,7 @@ def _separation(A, B, Q, lay, solver, zero, solves, touching=False):
                     x[nq + na :], y[:d], -1)
 
 
-def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
+def _penetration(A, B, Q, lay, solver, zero, solves, strict=True, verify=True):
     """Eqs. 2-3 (the nq LPs stacked block-diagonally); None when infeasible (the sets are apart).
 
     Tried first (``strict=False``), any status but optimal means "not this regime": a
@@ -522,7 +525,7 @@ def _penetration(A, B, Q, lay, solver, zero, solves, strict=True):
     blocks = np.empty((nq, d + (na + nb) * (d + 1)))
     blocks[:, :d], blocks[:, d:] = Q, _weight_data(A, B, -1.0)
     Gp = lp.CSC(lay.pen_ptr, lay.pen_rows, blocks.ravel(), (nq * mk, nq * nk))
-    psol = solver.solve(lay.pen_c, Gp, lay.pen_h)
+    psol = solver.solve(lay.pen_c, Gp, lay.pen_h, verify=verify)
     if psol.status == "infeasible" or (not strict and not psol.optimal):
         return None
     _require_optimal(psol, "penetration (Eq. 3)")

@@ -5,7 +5,7 @@ import pytest
 
 import synergrasp as sg
 from synergrasp.lp import CSC, Backend, LPSolution
-from synergrasp.lp.base import csc_arrays
+from synergrasp.lp.base import csc_arrays, optimality_gaps
 
 
 def random_lp(rng, m=5, n=12):
@@ -55,6 +55,34 @@ def test_backends_agree(rng):
     for sol in sols[1:]:
         assert sol.objective == pytest.approx(sols[0].objective, abs=1e-7)
         assert np.allclose(sol.y, sols[0].y, atol=1e-6)
+
+
+@pytest.mark.parametrize("c, A, b, value", [
+    ([1.0], [[1.0]], [1e21], 1e21),  # a huge right-hand side
+    ([1.0, 1.0], [[1.0, -1.0]], [2e-9], 2e-9),  # a tiny one
+    ([1e-9, 2e-9], [[1.0, 1.0]], [1.0], 1e-9),  # tiny costs
+])
+def test_an_answer_on_badly_scaled_data_is_right_or_not_called_optimal(backend, c, A, b, value):
+    """Solvers' tolerances are absolute: on such data HiGHS, Clarabel and cvxpy returned wrong optima as optimal
+    (1e19 for 1e21, x = 0 breaking the row, twice the least cost). Each answer is now checked, whatever backend."""
+    sol = sg.lp.get_backend(backend).solve(c, A, b)
+    if sol.optimal:
+        assert sol.objective == pytest.approx(value, rel=1e-6)
+        assert max(optimality_gaps(np.array(c), np.array(A), np.array(b), sol.x, sol.y).values()) <= 1e-6
+    else:
+        assert sol.status == "failed" and np.isnan(sol.objective)
+    unchecked = sg.lp.get_backend(backend).solve(c, A, b, verify=False)  # the library's own, scaled LPs
+    assert unchecked.status in ("optimal", "failed")
+
+
+def test_optimality_gaps_of_an_exact_and_of_wrong_answers():
+    c, A, b = np.array([1.0, 2.0]), np.array([[1.0, 1.0]]), np.array([1.0])
+    assert optimality_gaps(c, A, b, np.array([1.0, 0.0]), np.array([1.0])) == {
+        "rows": 0.0, "bounds": 0.0, "reduced costs": 0.0, "gap": 0.0}
+    gaps = optimality_gaps(c, A, b, np.array([0.0, 1.0]), np.array([2.0]))  # feasible, not optimal
+    assert gaps["rows"] == 0.0 and gaps["reduced costs"] == pytest.approx(0.5) and gaps["gap"] == 0.0
+    assert optimality_gaps(c, sg.lp.CSC([0, 1, 2], [0, 0], [1.0, 1.0], (1, 2)), b, np.array([2.0, 0.0]),
+                           np.array([1.0]))["rows"] == pytest.approx(0.5)  # a CSC matrix alike
 
 
 def test_infeasible_and_unbounded_are_statuses(backend):

@@ -124,7 +124,7 @@ class Backend:
     basis_hints: ClassVar[bool] = False
     max_columns: ClassVar[int | None] = None
 
-    def solve(self, c, A, b, basic=None) -> LPSolution:
+    def solve(self, c, A, b, basic=None, *, verify=True) -> LPSolution:
         """Solve ``min c @ x  s.t.  A @ x == b, x >= 0``.
 
         Parameters
@@ -142,6 +142,14 @@ class Backend:
             completing the basis with row logicals; the others ignore it. It
             changes only the solver's path: the value is the LP's (where the
             optimum is not unique, which optimal vertex comes back may differ).
+        verify : bool
+            Check an optimal answer (`optimality_gaps`): a solution that breaks
+            the constraints, a reduced cost below 0 or a duality gap, each by
+            more than `VERIFY_TOL` of the data's scale, comes back as
+            ``"failed"`` with the gaps in its message. Solvers' tolerances are
+            absolute (HiGHS's 1e-7), so on badly scaled data (entries of 1e12,
+            costs of 1e-9) they can call a wrong answer optimal. The library's
+            own LPs, scaled by their callers, skip it (``verify=False``).
 
         Returns
         -------
@@ -207,6 +215,15 @@ class Backend:
                 raise ValueError(f"backend {self.name!r}: _solve returned x of shape {x.shape} and y of shape {y.shape} "
                                  f"for an LP of {m} rows and {n} columns; they must be ({n},) and ({m},)")
             objective = float(c @ x)
+            if verify:
+                gaps = optimality_gaps(c, A, b, x, y)
+                if max(gaps.values()) > VERIFY_TOL:
+                    status, message = "failed", (
+                        f"{self.name} called it optimal ({message}), but its answer is off by "
+                        + ", ".join(f"{v:.2g} ({k})" for k, v in gaps.items() if v > VERIFY_TOL)
+                        + " relative to the data's scale: the LP is badly scaled for the solver's tolerances; "
+                        "rescale its rows, columns or costs")
+                    x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")
         else:
             x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")
         return LPSolution(status, x, objective, y, int(iterations), elapsed, self.name, message)
@@ -221,6 +238,60 @@ class Backend:
 
     def _solve(self, c, A, b):  # pragma: no cover - abstract
         raise NotImplementedError
+
+
+#: Largest relative gap (`optimality_gaps`) of an answer `Backend.solve` calls optimal.
+VERIFY_TOL = 1e-6
+
+
+def optimality_gaps(c, A, b, x, y) -> dict:
+    """How far ``x`` and ``y`` are from optimal for ``min c @ x, A @ x == b, x >= 0``, relative to the data's scale.
+
+    Parameters
+    ----------
+    c : (n,) float
+    A : (m, n) float ndarray or CSC
+    b : (m,) float
+    x : (n,) float
+    y : (m,) float
+        Duals, ``c - A.T @ y >= 0`` at the optimum.
+
+    Returns
+    -------
+    dict
+        ``"rows"``: the largest ``|A @ x - b|``, over the largest of ``|b|``
+        and ``|A_rj x_j|``; ``"bounds"``: the most negative ``x``, over the
+        largest ``|x|``; ``"reduced costs"``: the most negative ``c - A.T @ y``,
+        over the largest of ``|c|`` and ``|A_rj y_r|``; ``"gap"``:
+        ``|c @ x - b @ y|`` over the largest of ``|c @ x|``, ``|b @ y|`` and
+        the terms of both. 0 for an exact optimum.
+
+    Examples
+    --------
+    >>> optimality_gaps(np.array([1.0]), np.array([[1.0]]), np.array([1e21]), np.array([1e19]), np.array([1.0]))["rows"]
+    0.99
+    """
+    if isinstance(A, CSC):
+        cols = np.repeat(np.arange(A.shape[1]), np.diff(A.indptr))
+        ax_terms = A.data * x[cols]
+        ax = np.bincount(A.indices, weights=ax_terms, minlength=A.shape[0])
+        aty_terms = A.data * y[A.indices]
+        aty = np.bincount(cols, weights=aty_terms, minlength=A.shape[1])
+    else:
+        ax_terms, aty_terms = A * x, A * y[:, None]
+        ax, aty = ax_terms.sum(axis=1), aty_terms.sum(axis=0)
+
+    def ratio(value, *scales):
+        scale = max((float(np.abs(s).max()) for s in scales if np.size(s)), default=0.0)
+        return float(value) / scale if scale > 0 else (0.0 if value == 0 else math.inf)
+
+    reduced = c - aty
+    return {
+        "rows": ratio(np.abs(ax - b).max() if len(b) else 0.0, b, ax_terms),
+        "bounds": ratio(max(-float(x.min()), 0.0) if len(x) else 0.0, x),
+        "reduced costs": ratio(max(-float(reduced.min()), 0.0) if len(c) else 0.0, c, aty_terms),
+        "gap": ratio(abs(float(c @ x) - float(b @ y)), c * x, b * y),
+    }
 
 
 def _hint(basic, n):

@@ -217,7 +217,7 @@ def solve_blocks(solver, blocks: Blocks, memory: BasisMemory | None = None, what
 
 
 def _solve_one(solver, c, A, b, hint, what):
-    sol = solver.solve(c, A, b) if hint is None else solver.solve(c, A, b, basic=hint)
+    sol = solver.solve(c, A, b, basic=hint, verify=False)  # geometry in mm, unit costs: well scaled
     if not sol.optimal:
         raise LPError(
             f"the {what} LP was not solved: backend {sol.backend!r} returned status "
