@@ -248,6 +248,17 @@ def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_a
     assert hand_clearance(HAND, obj, reach.path[reach.deepest_row]).min() == pytest.approx(-reach.depth)
 
 
+def test_a_margin_no_pre_grasp_clears_is_said(plate):
+    """With a margin of 100 mm no retreat within max_retreat (100 mm) clears the plate by it: the reach still comes
+    back (the best candidate), and its reason says the margin was not met and how far the path starts."""
+    obj, u = plate
+    reach = executable_reach(HAND, obj, u, margin=100.0, max_retreat=100.0)
+    assert np.isnan(reach.retreat) and reach.clearance[0] < 100.0
+    assert f"no pre-grasp clears the object by the margin of 100 mm within max_retreat 100 mm: the path starts " \
+           f"{reach.clearance[0]:.1f} mm from it" in reach.reason
+    assert "margin" not in executable_reach(HAND, obj, u).reason  # met: nothing said
+
+
 def test_a_grasp_deeper_than_the_tolerance_is_never_collision_free(plate):
     obj, u = plate
     sunk = u + [0.0, 0.0, 7.0, 0, 0, 0, 0, 0]  # the fingers on the plate's top face pressed 7 mm into it

@@ -32,6 +32,8 @@ PALM = "palm"
 _ARC = 1.02
 #: Deepest bisection of one interval (2**_MAX_DEPTH pieces at most).
 _MAX_DEPTH = 16
+#: Most pieces (each turning no angle more than ``max_angle``) a checked path may be cut into: about a minute's work.
+MAX_PIECES = 100_000
 
 
 def hand_and_object(hand, obj):
@@ -297,9 +299,14 @@ class HandClearance:
         def below(row):  # a shape under its floor: stop there
             return floors is not None and row[4] < 0.0
 
+        pieces = [_pieces(self.hand, u_a, u_b, max_angle) for u_a, u_b in zip(path[:-1], path[1:])]
+        if sum(pieces) > MAX_PIECES:
+            raise ValueError(f"the path turns a joint or an Euler angle by {sum(pieces) * max_angle:.3g} rad in all, "
+                             f"{sum(pieces):.3g} pieces of at most max_angle = {max_angle:g} rad, more than the "
+                             f"{MAX_PIECES:.0e} synergrasp checks (minutes of fcl queries): give a path of plausible "
+                             "poses (angles in rad, synergies within their limits) or a larger max_angle")
         rows, given = [sample(path[0])], [True]
-        for u_a, u_b in zip(path[:-1], path[1:]):
-            n = _pieces(self.hand, u_a, u_b, max_angle)
+        for (u_a, u_b), n in zip(zip(path[:-1], path[1:]), pieces):
             for i in range(1, n + 1):
                 if below(rows[-1]):
                     break

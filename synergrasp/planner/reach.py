@@ -322,8 +322,8 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     ValueError
         A ``u_grasp`` or ``trajectory`` that does not fit the hand, a
         ``margin``, ``max_retreat`` or ``resolution`` that is not a positive
-        number, a negative ``tolerance``, a ``budget`` below 1, or an opening
-        outside [0, 1].
+        number, a ``margin`` above ``max_retreat``, a negative ``tolerance``,
+        a ``budget`` below 1, or an opening outside [0, 1].
 
     Examples
     --------
@@ -345,6 +345,10 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     margin = positive_scalar(margin, "margin")
     tolerance = positive_scalar(tolerance, "tolerance", zero=True)
     max_retreat = positive_scalar(max_retreat, "max_retreat")
+    if margin > max_retreat:
+        raise ValueError(f"margin ({margin:g} mm) is more than max_retreat ({max_retreat:g} mm): the open hand's clearance "
+                         "grows at most as fast as it moves back from the grasp, so no pre-grasp could clear the object "
+                         "by the margin; raise max_retreat or lower the margin")
     positive_scalar(resolution, "resolution")
     budget = integer(budget, "budget", what="candidate approaches")
     try:
@@ -386,6 +390,9 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         else:
             reason = (f"not collision-free: none of {tried} candidate approaches stays within {tolerance:g} mm of "
                       f"the object; the best goes {where}")
+        if failed and np.isnan(retreat):
+            reason += (f"; no pre-grasp clears the object by the margin of {margin:g} mm within max_retreat "
+                       f"{max_retreat:g} mm: the path starts {check.clearance[0]:.1f} mm from it")
         return Reach(path=check.path, clearance=check.clearance, closest=[check.labels[i] for i in check.closest],
                      pregrasp=check.path[0].copy(), collision_free=free, depth=depth, deepest=shape, deepest_row=deepest,
                      source=source, direction=np.asarray(direction, float), retreat=float(retreat),
