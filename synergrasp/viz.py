@@ -95,8 +95,11 @@ def status_figure(result, labels=None, attempts=None):
     ----------
     result : PlanResult
     labels : list of str, optional
-        Names of the cP rows; default the paper's hand's point labels of ``result.grasp``
-        (pass ``hand.point_labels(result.grasp)`` for another hand).
+        Names of the cP rows plotted, the first ``len(labels)`` (non-empty
+        names); default the paper's hand's point labels of ``result.grasp``
+        (the five fingertips for a precision grasp, every segment and the palm
+        for a power grasp; pass ``hand.point_labels(result.grasp)`` for
+        another hand).
     attempts : {"all", "last"}, optional
         Show every attempt's status trace, or the returned reach only. Default:
         every attempt for a plan that found no grasp (so the figure shows what
@@ -115,7 +118,8 @@ def status_figure(result, labels=None, attempts=None):
     ValueError
         If ``attempts`` is not "all", "last" or None, or without ``labels``
         for a result of another hand than the paper's (`PlanResult.hand`), or
-        with more labels than the status has cP rows.
+        with more labels than the status has cP rows, an empty one, or a
+        string instead of a list.
 
     Examples
     --------
@@ -138,6 +142,10 @@ def status_figure(result, labels=None, attempts=None):
             raise ValueError(f"the result was planned with hand {result.hand!r}, whose status rows are not the paper "
                              "hand's: pass labels=hand.point_labels(result.grasp) of that hand")
         labels = paper.point_labels(result.grasp)
+    if isinstance(labels, str) or not all(isinstance(label, str) and label for label in labels):
+        raise ValueError(f"labels must be a list of non-empty names, one per cP row, got {labels!r}: pass the planning "
+                         "hand's hand.point_labels(result.grasp)")
+    labels = list(labels)
     if len(labels) >= np.shape(result.status)[1]:
         raise ValueError(f"{len(labels)} labels for the {np.shape(result.status)[1] - 1} cP rows of the result's status: "
                          "pass the planning hand's hand.point_labels(result.grasp)")

@@ -187,7 +187,9 @@ class Backend:
                 "expected c (n,), A (m, n), b (m,)"
             )
         # any NaN or inf makes the sum non-finite (finite entries can only overflow it: then check each)
-        if not math.isfinite(c.sum() + values.sum() + b.sum()) and not (
+        with np.errstate(over="ignore", invalid="ignore"):  # finite entries near 1e308 may overflow the sum
+            total = c.sum() + values.sum() + b.sum()
+        if not math.isfinite(total) and not (
             np.isfinite(c).all() and np.isfinite(values).all() and np.isfinite(b).all()
         ):
             raise ValueError("LP data contains NaN or inf; check the geometry passed in")
