@@ -289,8 +289,11 @@ class SynergyHand:
         if self.finger_radius <= 0:
             spec.fail("finger_radius", "must be positive")
         self.contact_offset = float(spec.array(data, "contact_offset", "contact_offset", ())) if "contact_offset" in data else 0.0
-        if self.contact_offset < 0:
-            spec.fail("contact_offset", "must be >= 0")
+        if not 0 <= self.contact_offset <= self.finger_radius:
+            spec.fail("contact_offset", f"must be between 0 (the segment axes) and finger_radius, {self.finger_radius:g} "
+                      f"(the skin), got {self.contact_offset:g}: farther, the hand points would be in the air")
+        if not isinstance(data.get("description", ""), str):
+            spec.fail("description", f"must be a string, got {data['description']!r}")
         palm = spec.get(data, "palm", "palm")
         spec.known(palm, ("center", "size", "point"), "palm")
         self._palm_center = spec.array(palm, "center", "palm.center", (3,))
