@@ -265,8 +265,8 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         and ``|A_rj x_j|``; ``"bounds"``: the most negative ``x``, over the
         largest ``|x|``; ``"reduced costs"``: the most negative ``c - A.T @ y``,
         over the largest of ``|c|`` and ``|A_rj y_r|``; ``"gap"``:
-        ``|c @ x - b @ y|`` over the largest of ``|c @ x|``, ``|b @ y|`` and
-        the terms of both. 0 for an exact optimum.
+        ``|c @ x - b @ y|`` over the larger of ``max|c| max|x|`` and
+        ``max|b| max|y|``. 0 for an exact optimum.
 
     Examples
     --------
@@ -292,8 +292,13 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         "rows": ratio(np.abs(ax - b).max() if len(b) else 0.0, b, ax_terms),
         "bounds": ratio(max(-float(x.min()), 0.0) if len(x) else 0.0, x),
         "reduced costs": ratio(max(-float(reduced.min()), 0.0) if len(c) else 0.0, c, aty_terms),
-        "gap": ratio(abs(float(c @ x) - float(b @ y)), c * x, b * y),
+        "gap": ratio(abs(float(c @ x) - float(b @ y)), _top(c) * _top(x), _top(b) * _top(y)),
     }
+
+
+def _top(v) -> float:
+    """The largest magnitude of an array, 0 if it is empty."""
+    return float(np.abs(v).max()) if np.size(v) else 0.0
 
 
 def _hint(basic, n):
