@@ -327,6 +327,9 @@ class SynergyHand:
                 if not isinstance(jname, str) or not jname:
                     spec.fail(f"{jf}.name", "must be a non-empty string")
                 axis = spec.array(joint, "axis", f"{jf}.axis", (3,))
+                if np.abs(axis).max() > 1e150:  # its length would overflow
+                    spec.fail(f"{jf}.axis", f"must be a direction of moderate length (its length overflows), got "
+                              f"{axis.tolist()}: a unit vector will do")
                 if np.linalg.norm(axis) < 1e-9:
                     spec.fail(f"{jf}.axis", "must be a non-zero vector")
                 length = float(spec.array(joint, "length", f"{jf}.length", ()))

@@ -419,6 +419,8 @@ API = [
     Case("SynergyHand", "a misspelt optional field",
          lambda tmp: sg.SynergyHand({**{k: v for k, v in _hand_dict().items() if k != "contact_offset"}, "contact_ofset": 8.0}),
          ValueError, "field 'contact_ofset' is not a field of a hand file (did you mean 'contact_offset'?)"),
+    Case("SynergyHand", "a joint axis whose length overflows", lambda tmp: sg.SynergyHand(_with_joint_field("axis", [1e308, 1e308, 0.0])),
+         ValueError, "field 'fingers[1].joints[0].axis' must be a direction of moderate length (its length overflows)"),
     Case("SynergyHand", "a joint axis along its link", lambda tmp: sg.SynergyHand(_with_joint_field("axis", [0.0, 2.0, 0.0])),
          ValueError, "field 'fingers[1].joints[0].axis' must not be along the link"),
     Case("SynergyHand", "an unknown field of a joint",
