@@ -445,11 +445,12 @@ def _enclosed(mesh, face_label, labels):
     shells = [trimesh.Trimesh(mesh.vertices, faces[face_label == label]) for label in labels]
     for shell in shells:
         shell.remove_unreferenced_vertices()
+    boxes = np.array([shell.bounds for shell in shells])  # (parts, 2, 3)
     out = np.zeros(len(labels), dtype=bool)
     for i, inner in enumerate(shells):
-        out[i] = any(outer.is_watertight and outer.volume != 0 and len(inner.vertices)
-                     and bool(outer.contains(inner.vertices).all())
-                     for j, outer in enumerate(shells) if j != i and not out[j])
+        within = np.flatnonzero((boxes[:, 0] <= boxes[i, 0]).all(axis=1) & (boxes[:, 1] >= boxes[i, 1]).all(axis=1))
+        out[i] = any(outer.is_watertight and outer.volume != 0 and bool(outer.contains(inner.vertices).all())
+                     for outer in (shells[j] for j in within if j != i and not out[j]))  # boxes first: cheap
     return out
 
 
