@@ -48,6 +48,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=int, default=400, help="grasps per backend and size (cvxpy gets a tenth)")
     args = parser.parse_args(argv)
+    if args.repeats < 1:
+        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     print(f"q_distance with value + gradients, 8 cone edges; median / p95 per call in ms")
     for n in (5, 16):
         print(f"\n{n} contacts")

@@ -52,6 +52,8 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5, help="validations per case (default 5)")
     parser.add_argument("--quick", action="store_true", help="the constructed grasps only, 2 repeats")
     args = parser.parse_args(argv)
+    if args.repeats < 1:
+        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     warnings.simplefilter("ignore")
     repeats = 2 if args.quick else args.repeats
     medians = []

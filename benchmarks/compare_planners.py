@@ -49,6 +49,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.planner import ObjectRefused  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import select  # noqa: E402
 
@@ -111,7 +112,7 @@ def run(name, group, obj, grasp, method, options, physics):
     cpu = time.process_time()
     try:
         result = sg.plan(obj, grasp, method=method, **options)
-    except ValueError as exc:  # the planner refuses the object (too large, too thin...)
+    except ObjectRefused as exc:  # the planner refuses the object (too large, too thin...)
         return dict(name=name, group=group, grasp=grasp, method=method, refused=True, reason=str(exc),
                     success=False, verified=False, held=None), None
     cpu = time.process_time() - cpu

@@ -51,6 +51,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.planner import ObjectRefused  # noqa: E402
 from objectset import SPLITS, URDF_SIZES, select  # noqa: E402
 from verification import true_surface, verify  # noqa: E402
 
@@ -141,7 +142,7 @@ def plan_row(obj, grasp, options, truth=None, **labels):
     start = time.perf_counter()
     try:
         result = sg.plan(obj, grasp, **options)
-    except ValueError as exc:  # the planner refuses the object (too large, too thin...)
+    except ObjectRefused as exc:  # the planner refuses the object (too large, too thin...)
         return dict(**labels, grasp=grasp, success=False, verified=False, time=time.perf_counter() - start,
                     reason=str(exc), refused=True, iterations=0, attempts=[])
     row = dict(**labels, grasp=grasp, success=result.success,
@@ -228,9 +229,22 @@ def _largest(rows, key):
 def planner_options(items):
     """``--option NAME=VALUE ...`` as a dict of planner options (the scripts' common flag).
 
-    Each value is a Python literal (number, tuple, bool, None), else the text itself.
+    Each value is a Python literal (number, tuple, bool, None), else the text itself. ValueError for an
+    item without ``=``.
     """
+    bad = [item for item in items if "=" not in item]
+    if bad:
+        raise ValueError(f"--option takes NAME=VALUE items, got {bad}")
     return {name: _literal(value) for name, value in (item.split("=", 1) for item in items)}
+
+
+def check_options(options):
+    """Refuse (ValueError, TypeError) options `sg.plan` would refuse, before any object is planned: a refused
+    option would otherwise read as a refused object on every row. The planner checks them on a built-in
+    object's first iteration."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sg.plan(sg.objects.ellipsoid(), "precision", **{"max_iter": 1, "time_limit": 0.1, **options, "executable_reach": False})
 
 
 def _literal(text):
@@ -273,6 +287,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.runs < 1:
         parser.error(f"--runs must be at least 1, got {args.runs}")
+    if args.jobs < 1:
+        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
     if not all(size > 0 for size in args.urdf_sizes):
         parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
     args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
@@ -289,7 +305,13 @@ def main(argv=None):
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise" + ("-sizes" if sweep else "") + ("-cloud" if args.cloud else "")
                                         + ("-posed" if args.pose is not None else ""))
-    options = planner_options(args.option)
+    try:
+        options = planner_options(args.option)
+        check_options(options)
+        if args.only and not args.quick:
+            select(args.split, args.only, tuple(args.urdf_sizes))
+    except (TypeError, ValueError) as exc:
+        parser.error(str(exc))
     rows = _read_rows(args.out, args.split, args.grasp) if args.rows else _plan_all(args, options)
     summary = [line for grasp in args.grasp for line in summarise(rows, grasp)]
     print("\n".join(summary))

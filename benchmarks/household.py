@@ -34,6 +34,7 @@ import trimesh
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.planner import ObjectRefused  # noqa: E402
 from verification import verify  # noqa: E402
 
 #: The committed modelled and scanned meshes (mm).
@@ -118,7 +119,7 @@ def _run(group, name, obj, grasp):
     try:
         result = sg.plan(obj, grasp)
         ok, why = verify(result, obj)["verified"], result.reason
-    except ValueError as exc:  # e.g. an object the hand cannot hold
+    except ObjectRefused as exc:  # an object the hand cannot hold
         result, ok, why = None, False, str(exc)
     row = dict(group=group, name=name, grasp=grasp, ok=ok, time=time.perf_counter() - start, reason=why,
                result=result, obj=obj)

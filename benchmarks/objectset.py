@@ -319,7 +319,8 @@ def select(split="all", only=None, urdf_sizes=URDF_SIZES) -> list[Entry]:
     ----------
     split : str
     only : sequence of str, optional
-        Names or name prefixes (``"urdf/"``) to keep.
+        Names or name prefixes (``"urdf/"``) to keep; one that names no object of the split is refused
+        (ValueError).
     urdf_sizes : sequence of float
         See `catalogue`.
 
@@ -331,6 +332,11 @@ def select(split="all", only=None, urdf_sizes=URDF_SIZES) -> list[Entry]:
         raise ValueError(f"split must be one of {SPLITS + ('all',)}, got {split!r}")
     chosen = [e for e in catalogue(urdf_sizes) if split == "all" or e.split == split]
     if only:
+        unknown = [o for o in only if not any(e.name == o or e.name.startswith(o) for e in chosen)]
+        if unknown:
+            raise ValueError(f"{unknown} name no object of the {split!r} split: give names such as "
+                             f"{', '.join(e.name for e in chosen[:: max(1, len(chosen) // 3)][:3])}, or prefixes such "
+                             "as urdf/ (python benchmarks/objectset.py lists them)")
         chosen = [e for e in chosen if any(e.name == o or e.name.startswith(o) for o in only)]
     return chosen
 

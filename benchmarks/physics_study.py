@@ -55,6 +55,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.planner import ObjectRefused
 from generalise import planner_options
 from household import MESHES, household_objects, mesh_files
 from verification import verify
@@ -123,7 +124,7 @@ def study_case(group, name, obj, grasp, out, options=None):
     start = time.perf_counter()
     try:
         result = sg.plan(obj, grasp, options=sg.planner.PlannerOptions(**(options or {})))
-    except ValueError as exc:  # an object the hand cannot hold
+    except ObjectRefused as exc:  # an object the hand cannot hold
         return dict(row, planned=False, lp=False, q=math.nan, plan_s=time.perf_counter() - start, note=str(exc))
     result.save(folder / "plan.json")
     row.update(planned=True, lp=verify(result, obj)["verified"], q=result.final_q, phalanx_penetration=result.penetration,

@@ -132,9 +132,10 @@ def main(argv=None):
                                                             cache=False)),
                    ("cup", "-", sg.objects.get("cup"))]
     else:
-        objects = [(e.name, e.split, e.make()) for e in select("all", only=args.only)]
-        if not objects:
-            parser.error(f"no object of benchmarks/objectset.py matches --only {' '.join(args.only)}")
+        try:
+            objects = [(e.name, e.split, e.make()) for e in select("all", only=args.only)]
+        except ValueError as exc:
+            parser.error(str(exc))
     table = hand_table(hand, args.grid)
     rows = []
     for name, split, obj in objects:

@@ -28,7 +28,7 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
-from synergrasp.planner import executable_reach  # noqa: E402
+from synergrasp.planner import ObjectRefused, executable_reach  # noqa: E402
 
 
 def main(argv=None):
@@ -39,13 +39,19 @@ def main(argv=None):
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
     parser.add_argument("--out", type=Path, default=Path("bench-out") / "reach_budget")
     args = parser.parse_args(argv)
+    if not all(b >= 1 for b in args.budgets):
+        parser.error(f"--budgets must be counts of candidate approaches >= 1, got {args.budgets}")
+    try:
+        entries = select(args.split, args.only)
+    except ValueError as exc:
+        parser.error(str(exc))
     warnings.simplefilter("ignore")
     hand, rows = sg.SynergyHand.default(), []
-    for entry in select(args.split, args.only):
+    for entry in entries:
         obj = entry.make()
         try:
             result = sg.plan(obj, args.grasp, executable_reach=False)
-        except ValueError:  # an object the hand cannot hold
+        except ObjectRefused:  # an object the hand cannot hold
             continue
         if not result.success:
             continue

@@ -77,9 +77,14 @@ def main(argv=None):
     if args.out is not None and args.out.is_dir():  # refused before the run, not after it
         parser.error(f"--out names the file the attempts are written to; {args.out} is a folder: "
                      f"give a file in it, e.g. {args.out / 'attempts.jsonl'}")
-    options = planner_options(args.option)
-    PlannerOptions(**options)  # a bad option fails here, before any work
-    names = [e.name for e in select(args.split, args.only)]
+    if args.jobs < 1:
+        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
+    try:
+        options = planner_options(args.option)
+        PlannerOptions(**options)  # a bad option fails here, before any work
+        names = [e.name for e in select(args.split, args.only)]
+    except (TypeError, ValueError) as exc:
+        parser.error(str(exc))
     start = time.perf_counter()
     with ProcessPoolExecutor(args.jobs) as pool:
         results = list(pool.map(run_object, names, *zip(*[(args.grasp, args.starts, options, args.pose)] * len(names))))

@@ -21,6 +21,7 @@ physical success rate (``physics_study.py``).
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 import warnings
@@ -32,6 +33,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.planner import ObjectRefused  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 
 CASES = tuple((o, g) for g in ("precision", "power") for o in ("ellipsoid", "cup", "bell", "goblet"))
@@ -44,7 +46,7 @@ def plan_case(name, grasp, time_limit, split=None):
     start = time.perf_counter()
     try:
         result = sg.plan(obj, grasp, validate=True, time_limit=time_limit)
-    except ValueError as exc:  # an object the hand cannot hold
+    except ObjectRefused as exc:  # an object the hand cannot hold
         return dict(object=name, grasp=grasp, success=False, held=False, attempts=0,
                     time=time.perf_counter() - start, note=str(exc))
     return dict(object=name, grasp=grasp, success=result.success, held=bool(result.held),
@@ -60,6 +62,10 @@ def main(argv=None):
     parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"])
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (with --split)")
     args = parser.parse_args(argv)
+    if args.time_limit is not None and not (math.isfinite(args.time_limit) and args.time_limit > 0):
+        parser.error(f"--time-limit must be a positive number of seconds, got {args.time_limit}")
+    if args.jobs < 1:
+        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
     warnings.simplefilter("ignore")
     limit = args.time_limit if args.time_limit is not None else (10.0 if args.split else 30.0)
     if args.split:
@@ -67,7 +73,7 @@ def main(argv=None):
     else:
         tasks = [(o, g, limit) for o, g in ((("ellipsoid", "power"),) if args.quick else CASES) if g in args.grasp]
     rows = []
-    with ProcessPoolExecutor(max(1, args.jobs)) as pool:
+    with ProcessPoolExecutor(args.jobs) as pool:
         for r in pool.map(plan_case, *zip(*tasks)):
             rows.append(r)
             print(f"{r['object']:28s} {r['grasp']:9s} accepted {'yes' if r['success'] else 'no':3s} "

@@ -102,6 +102,8 @@ def main(argv=None):
     parser.add_argument("--docs", action="store_true",
                         help="write the README's and docs' tables, docs/results/ and docs/figures/paper/ instead of --out")
     args = parser.parse_args(argv)
+    if args.repeats < 1:
+        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     if args.docs and args.quick:
         parser.error("--docs needs the full run: drop --quick")
     warnings.simplefilter("ignore")

@@ -171,6 +171,19 @@ def test_verification_is_on_the_true_surface():
     assert deep["closed"] and max(deep["depth"], deep["palm_depth"]) > 3.0 and not deep["verified"]
 
 
+@pytest.mark.parametrize("argv, says", [
+    (["--option", "max_iter=0"], "PlannerOptions.max_iter must be in [1, inf), got 0"),  # not "refused" on every row
+    (["--option", "foo=1"], "unknown planner options ['foo']"),
+    (["--option", "max_iter"], "--option takes NAME=VALUE items"),
+    (["--jobs", "0"], "--jobs must be at least 1"),
+    (["--only", "nosuch"], "['nosuch'] name no object of the 'train' split"),
+])
+def test_generalise_refuses_bad_arguments_before_any_plan(tmp_path, capsys, argv, says):
+    with pytest.raises(SystemExit):
+        generalise.main(["--split", "train", "--grasp", "precision", "--out", str(tmp_path), *argv])
+    assert says in capsys.readouterr().err and not list(tmp_path.iterdir())
+
+
 def test_generalise_quick(tmp_path, capsys):
     generalise.main(["--quick", "--grasp", "precision", "--out", str(tmp_path)])
     rows = [json.loads(line) for line in (tmp_path / "test_precision.jsonl").read_text().splitlines()]

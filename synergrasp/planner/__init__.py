@@ -4,7 +4,7 @@ from .._jit import clock
 from .annealing import anneal, autograsp, contact_energy, contact_normals
 from .attempt import AttemptResult, Outcome, judge_grasp, run_attempt, sq_request
 from .clearance import HandClearance, PathClearance, clearance_labels, hand_and_object, hand_clearance, path_clearance
-from .core import METHODS, forget_warm_starts, plan
+from .core import METHODS, ObjectRefused, forget_warm_starts, plan
 from .options import GRASPS, AnnealingOptions, PlannerOptions
 from .reach import OPENINGS, Reach, executable_reach, open_synergies, retreat_directions, widest_opening
 from .result import PlanResult
@@ -22,6 +22,7 @@ __all__ = [
     "AnnealingOptions",
     "AttemptResult",
     "GraspCheck",
+    "ObjectRefused",
     "HandClearance",
     "Outcome",
     "PathClearance",

@@ -72,6 +72,12 @@ def _pinch_words(hand):
     return f"the {first} and the {second} and {third} fingertips"
 
 
+class ObjectRefused(ValueError):
+    """The hand cannot hold the object (too large for its opening, too thin or too small for its fingertips): `plan`
+    refuses it before any attempt, with the measured reason. A `ValueError`, so that a bad argument and a refused
+    object are both caught as one; catch this class to tell them apart."""
+
+
 def _check_object(obj, hand):
     """The object as a GraspObject, refused early when the hand cannot hold it."""
     if isinstance(obj, (str, os.PathLike)):
@@ -84,17 +90,17 @@ def _check_object(obj, hand):
     width, opening = obj.width, hand_opening(hand)
     if width < MIN_WIDTH:
         if obj.size < objects.loading.SIZE_RANGE[0]:  # small every way: most likely in metres
-            raise ValueError(
+            raise ObjectRefused(
                 f"{obj.name} is too small to grasp: its smallest width is {width:.2g} mm "
                 f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
             )
-        raise ValueError(
+        raise ObjectRefused(
             f"{obj.name} is too thin to grasp: it is {width:.2g} mm thin, less than the {MIN_WIDTH:g} mm "
             f"the fingertips need between them, while it is {obj.size:.0f} mm long (a sheet or a wire: its units "
             "are plausible, its shape is not one this hand can hold)"
         )
     if width > opening:
-        raise ValueError(
+        raise ObjectRefused(
             f"{obj.name} is too large for the hand: its smallest width is {width:.0f} mm "
             f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
             "(sg.objects.load(path, scale=...)) or use a larger hand file."
@@ -193,8 +199,10 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     ValueError
         Unknown object name, grasp type or method (the message lists the
         methods), an option of the other method (named), an option out of its range, bad
-        ``u0`` or ``approach`` (or both given), unknown backend, or an object the hand cannot
-        hold (too small, or wider than its opening).
+        ``u0`` or ``approach`` (or both given), unknown backend.
+    ObjectRefused
+        A `ValueError`: an object the hand cannot hold (too small, too thin, or
+        wider than its opening).
 
     Examples
     --------
