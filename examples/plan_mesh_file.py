@@ -18,6 +18,8 @@ Usage::
 """
 
 import argparse
+import math
+import sys
 import tempfile
 from pathlib import Path
 
@@ -34,11 +36,18 @@ def main(argv=None):
     parser.add_argument("--mesh", help="a mesh or point-cloud file to grasp (default: a generated capsule)")
     parser.add_argument("--scale", type=float, default=1.0, help="factor to millimetres (1000 for metres)")
     args = parser.parse_args(argv)
+    if not (math.isfinite(args.scale) and args.scale > 0):
+        parser.error(f"--scale must be a positive factor (1000 for metres), got {args.scale}")
+    if args.scale != 1.0 and not args.mesh:
+        parser.error("--scale applies to a --mesh file; the generated capsule is in mm")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
 
     if args.mesh:
-        obj = sg.objects.load(args.mesh, scale=args.scale)
+        try:
+            obj = sg.objects.load(args.mesh, scale=args.scale)
+        except (OSError, TypeError, ValueError) as exc:  # no such file, not a mesh, no volume...
+            parser.error(str(exc))
     else:
         with tempfile.TemporaryDirectory() as folder:
             path = Path(folder) / "capsule.stl"
@@ -52,9 +61,8 @@ def main(argv=None):
     hand = sg.SynergyHand.default()
     try:
         result = sg.plan(obj, "precision", hand=hand)
-    except ValueError as exc:          # e.g. an object too large for the hand, or in the wrong units
-        print(f"cannot plan: {exc}")
-        return
+    except sg.planner.ObjectRefused as exc:  # e.g. an object too large for the hand, or in the wrong units
+        sys.exit(f"cannot plan: {exc}")
     if result.success:
         print(f"success: {result.reason}")
         print(f"contacts {', '.join(result.contact_labels)}, g_Q {result.final_q:+.4f}, "
