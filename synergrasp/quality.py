@@ -388,7 +388,7 @@ def force_closure_by_hull(wrenches, tol=FORCE_CLOSURE_TOL) -> bool:
         raise ValueError(f"force_closure_by_hull builds the 6-D convex hull of all {len(W)} wrenches, which takes qhull "
                          f"minutes beyond a few hundred; it takes at most {MAX_HULL_WRENCHES} (fewer contacts or cone "
                          "edges: contact_wrenches(..., edges=8)), or use q_distance")
-    scale = float(np.abs(W).max()) if len(W) else 0.0
+    scale = float(np.abs(W).max())  # (as_points refuses an empty array)
     if scale == 0.0:
         return False
     try:

@@ -284,12 +284,12 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         ax, aty = ax_terms.sum(axis=1), aty_terms.sum(axis=0)
 
     def ratio(value, *scales):
-        scale = max((float(np.abs(s).max()) for s in scales if np.size(s)), default=0.0)
+        scale = max(map(_top, scales))
         return float(value) / scale if scale > 0 else (0.0 if value == 0 else math.inf)
 
     reduced = c - aty
     return {
-        "rows": ratio(np.abs(ax - b).max() if len(b) else 0.0, b, ax_terms),
+        "rows": ratio(_top(ax - b), b, ax_terms),
         "bounds": ratio(max(-float(x.min()), 0.0) if len(x) else 0.0, x),
         "reduced costs": ratio(max(-float(reduced.min()), 0.0) if len(c) else 0.0, c, aty_terms),
         "gap": ratio(abs(float(c @ x) - float(b @ y)), _top(c) * _top(x), _top(b) * _top(y)),

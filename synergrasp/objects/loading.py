@@ -349,10 +349,6 @@ def _from_mesh(
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     what = name or _source or "mesh"
     if isinstance(mesh, trimesh.Scene):
-        if mesh.geometry and not any(isinstance(g, trimesh.Trimesh) and len(g.faces) for g in mesh.geometry.values()):
-            raise ValueError(f"{what} is a scene without faces (its geometry: "
-                             f"{', '.join(sorted({type(g).__name__ for g in mesh.geometry.values()}))}): pass a point cloud "
-                             "to from_points (a trimesh.PointCloud or its vertices), or its file to load()")
         mesh = _scene_mesh(mesh, what)
     if isinstance(mesh, trimesh.PointCloud):
         raise TypeError("mesh is a trimesh.PointCloud, not a mesh: load it with from_points(cloud), or load(file)")
@@ -959,8 +955,12 @@ def _xyz_columns(data, rows=False):
 
 
 def _scene_mesh(scene, what):
-    """A scene's meshes as one mesh; a warning names the geometry without faces that is left out."""
+    """A scene's meshes as one mesh; a warning names the geometry without faces that is left out (ValueError when
+    none has faces: a point cloud)."""
     left = [type(g).__name__ for g in scene.geometry.values() if not (isinstance(g, trimesh.Trimesh) and len(g.faces))]
+    if left and len(left) == len(scene.geometry):
+        raise ValueError(f"{what} is a scene without faces (its geometry: {', '.join(sorted(set(left)))}): pass a point "
+                         "cloud to from_points (a trimesh.PointCloud or its vertices), or its file to load()")
     if left:
         _warn(f"{what}: {len(left)} of the scene's geometries have no faces ({', '.join(sorted(set(left)))}) and are "
               "left out; only its meshes make the object")
