@@ -48,6 +48,7 @@ from pathlib import Path
 
 import synergrasp as sg
 from synergrasp.batch import ResultStore, expand, load_object, local_cluster, plan_task
+from synergrasp.cli import output_folder
 
 ROOT = Path(__file__).resolve().parents[1]
 MESHES = ROOT / "benchmarks" / "meshes"
@@ -157,7 +158,7 @@ def loop_cost(quick, out, trim):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="the three built-ins only (6 plans)")
-    parser.add_argument("--out", default="bench-out/batch", help="output folder (default bench-out/batch)")
+    parser.add_argument("--out", type=output_folder, default="bench-out/batch", help="output folder (default bench-out/batch)")
     parser.add_argument("--loop-cost", metavar="DIR", help=argparse.SUPPRESS)  # step 6, in a fresh process
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
@@ -169,7 +170,7 @@ def main(argv=None):
         loop(tasks, args.loop_cost)
         print(json.dumps([time.process_time() - cpu, resource.getrusage(resource.RUSAGE_SELF).ru_minflt - faults]))
         return
-    out = Path(args.out)
+    out = args.out.resolve()  # the timed child runs in the repository's folder
     for name in ("loop", "dask-1", "dask-2", "interrupted", "malloc"):
         shutil.rmtree(out / name, ignore_errors=True)
     for task in tasks:  # fill the decomposition cache before any clock starts

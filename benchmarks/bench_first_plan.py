@@ -25,6 +25,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from synergrasp.cli import output_folder
+
 ROOT = Path(__file__).resolve().parents[1]
 
 STEPS = r'''
@@ -62,7 +64,7 @@ def main(argv=None) -> dict:
     parser.add_argument("--object", default="ellipsoid")
     parser.add_argument("--grasp", default="precision", choices=["precision", "power"])
     parser.add_argument("--quick", action="store_true", help="plans capped at 3 iterations")
-    parser.add_argument("--out", type=Path, default=Path("bench-out"), help="output folder (default ./bench-out)")
+    parser.add_argument("--out", type=output_folder, default="bench-out", help="output folder (default ./bench-out)")
     args = parser.parse_args(argv)
     max_iter = 3 if args.quick else 1500
     with tempfile.TemporaryDirectory() as cache:
@@ -78,7 +80,6 @@ def main(argv=None) -> dict:
     print(f"  files in the cache after the first / second process: {files[0]} / {files[1]}")
     row = {"object": args.object, "grasp": args.grasp, "max_iter": max_iter, "cold": cold, "warm": warm,
            "cache_files": files}
-    args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "first_plan.json").write_text(json.dumps(row, indent=1))
     return row
 

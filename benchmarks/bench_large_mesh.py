@@ -27,6 +27,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from synergrasp.cli import output_folder, positive
+
 #: What the child process runs: load, plan, measure. argv: path, scale, grasp.
 CHILD = r"""
 import json, resource, sys, time, warnings
@@ -77,15 +79,15 @@ def measure(path, scale=1.0, grasp="precision") -> dict:
 
 def main(argv=None) -> dict:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--faces", type=int, default=330_000, help="triangles of the generated torus (default 330000)")
+    parser.add_argument("--faces", type=positive(int), default=330_000, help="triangles of the generated torus (default 330000)")
     parser.add_argument("--mesh", type=Path, help="a mesh file to measure instead of the torus")
-    parser.add_argument("--scale", type=float, default=1.0, help="scale of --mesh to mm (1000 for metres)")
+    parser.add_argument("--scale", type=positive(float), default=1.0, help="scale of --mesh to mm (1000 for metres)")
     parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
     parser.add_argument("--open", action="store_true",
                         help="two faces of the torus removed, touching at a vertex (an open scan that can be neither "
                         "capped nor simplified)")
     parser.add_argument("--quick", action="store_true", help="a 5000-face torus")
-    parser.add_argument("--out", type=Path, default=Path("bench-out"), help="output folder (default ./bench-out)")
+    parser.add_argument("--out", type=output_folder, default="bench-out", help="output folder (default ./bench-out)")
     args = parser.parse_args(argv)
     if args.open and args.mesh is not None:
         parser.error("--open removes faces of the generated torus: it does not take --mesh")
@@ -101,7 +103,6 @@ def main(argv=None) -> dict:
           f"load {row['load_s']:.1f} s wall ({row['load_cpu_s']:.1f} s CPU), {args.grasp} plan {row['plan_s']:.1f} s wall "
           f"({row['plan_cpu_s']:.1f} s CPU, {row['iterations']} iterations, {'success' if row['success'] else 'no grasp'}); "
           f"whole process {row['total_s']:.1f} s, peak memory {row['peak_rss_mb']:.0f} MB")
-    args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "large_mesh.json").write_text(json.dumps(row, indent=1))
     return row
 

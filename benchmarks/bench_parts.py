@@ -42,6 +42,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from objectset import select  # noqa: E402
 from synergrasp.objects import DistanceGrid  # noqa: E402
 from synergrasp.planner import (PlannerOptions, forget_warm_starts, pinch_seeds, run_attempt, starts,  # noqa: E402
@@ -111,13 +112,11 @@ def measure(objects, hand, options, repeats):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--stride", type=int, default=6, help="every N-th train object")
-    parser.add_argument("--repeats", type=int, default=3, help="passes; the smallest time is kept")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "parts")
+    parser.add_argument("--stride", type=positive(int), default=6, help="every N-th train object")
+    parser.add_argument("--repeats", type=positive(int), default=3, help="passes; the smallest time is kept")
+    parser.add_argument("--out", type=output_folder, default="bench-out/parts")
     parser.add_argument("--quick", action="store_true", help="three objects, one pass (the test suite)")
     args = parser.parse_args(argv)
-    if args.stride < 1 or args.repeats < 1:
-        parser.error(f"--stride and --repeats must be at least 1, got {args.stride} and {args.repeats}")
     warnings.simplefilter("ignore")
     entries = select("train")[:: args.stride]
     entries, repeats = (entries[:3], 1) if args.quick else (entries, args.repeats)
@@ -131,7 +130,6 @@ def main(argv=None):
              "contact": "ms per call", "precision": "ms per iteration", "power": "ms per iteration"}
     for part, count, ms, fingerprint in rows:
         print(f"{part:10s} {ms:8.3f} {units[part]:26s} over {count:5d}  fingerprint {fingerprint}")
-    args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / "parts.csv", "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["part", "count", "ms", "fingerprint"])

@@ -19,16 +19,15 @@ import warnings
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import positive
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=positive(int), default=5)
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
     parser.add_argument("--backend", default="native")
     args = parser.parse_args(argv)
-    if args.repeats < 1:
-        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     warnings.simplefilter("ignore")
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]
     print(f"{'object':10s} {'grasp':10s} {'success':8s} {'median s':>9s} {'ms/iter':>8s} {'iters':>6s} {'attempts':>8s} {'LPs':>6s}")

@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import positive
 
 
 def grasp_sequence(n_contacts, length, seed=0):
@@ -46,10 +47,8 @@ def time_backend(backend, grasps):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=400, help="grasps per backend and size (cvxpy gets a tenth)")
+    parser.add_argument("--repeats", type=positive(int), default=400, help="grasps per backend and size (cvxpy gets a tenth)")
     args = parser.parse_args(argv)
-    if args.repeats < 1:
-        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     print(f"q_distance with value + gradients, 8 cone edges; median / p95 per call in ms")
     for n in (5, 16):
         print(f"\n{n} contacts")

@@ -48,6 +48,7 @@ import numpy as np
 from reach_sampling import sampled_clearance
 
 import synergrasp as sg
+from synergrasp.cli import output_folder, positive
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "executable-reach.md"
@@ -176,8 +177,8 @@ def write_docs(rows, lines):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=3, help="timed plans per case, with and without (default 3)")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "reach", help="output folder")
+    parser.add_argument("--repeats", type=positive(int), default=3, help="timed plans per case, with and without (default 3)")
+    parser.add_argument("--out", type=output_folder, default="bench-out/reach", help="output folder")
     parser.add_argument("--quick", action="store_true", help="the cup's two cases, one repeat, no trajectory check")
     parser.add_argument("--docs", action="store_true", help="also write docs/results/reach.csv, the docs table and the README summary")
     args = parser.parse_args(argv)

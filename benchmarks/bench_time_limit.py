@@ -20,6 +20,7 @@ import warnings
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import positive
 
 TARGET = 0.10  # largest overrun, as a fraction of the limit
 LIMITS = (0.2, 0.5, 1.0, 2.0)
@@ -39,7 +40,7 @@ def overrun(obj, grasp, limit):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=positive(int), default=3)
     parser.add_argument("--quick", action="store_true", help="one plan (the tests run it)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

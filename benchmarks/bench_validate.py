@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import positive
 from synergrasp.physics import ball_pinch, hand_without, pinch_grasp
 
 TARGET = 1.0  # s of CPU per validation
@@ -49,11 +50,9 @@ def cases(quick):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=5, help="validations per case (default 5)")
+    parser.add_argument("--repeats", type=positive(int), default=5, help="validations per case (default 5)")
     parser.add_argument("--quick", action="store_true", help="the constructed grasps only, 2 repeats")
     args = parser.parse_args(argv)
-    if args.repeats < 1:
-        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     warnings.simplefilter("ignore")
     repeats = 2 if args.quick else args.repeats
     medians = []

@@ -49,6 +49,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import select  # noqa: E402
@@ -276,11 +277,11 @@ def tables(figures, physics):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--subset", type=int, help="only N test objects, evenly spaced in the split's order")
+    parser.add_argument("--subset", type=positive(int), help="only N test objects, evenly spaced in the split's order")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="case names or prefixes (paper/, household/...)")
     parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
     parser.add_argument("--no-physics", action="store_true", help="skip the MuJoCo test of the verified grasps")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "compare_planners", help="folder of the rows")
+    parser.add_argument("--out", type=output_folder, default="bench-out/compare_planners", help="folder of the rows")
     parser.add_argument("--docs", action="store_true", help=f"write {PAGE.relative_to(ROOT)} and its figure")
     parser.add_argument("--quick", action="store_true", help="the ellipsoid's precision grasp only (tests)")
     parser.add_argument("--resume", action="store_true",
@@ -292,7 +293,6 @@ def main(argv=None):
     physics = not args.no_physics
     grasps = ["precision"] if args.quick else args.grasp
     options = {"gradient": dict(SEARCH_ONLY), "annealing": {**SEARCH_ONLY, **(QUICK_ANNEALING if args.quick else {})}}
-    args.out.mkdir(parents=True, exist_ok=True)
     rows, kept = [], None
     done = {}
     if args.resume and (args.out / "rows.jsonl").exists():

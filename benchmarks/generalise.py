@@ -51,6 +51,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from objectset import SPLITS, URDF_SIZES, select  # noqa: E402
 from verification import true_surface, verify  # noqa: E402
@@ -261,9 +262,9 @@ def main(argv=None):
     parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes (e.g. urdf/)")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
-    parser.add_argument("--runs", type=int, default=1, help="plan every object this many times (a median count)")
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
-    parser.add_argument("--out", type=Path, default=None,
+    parser.add_argument("--runs", type=positive(int), default=1, help="plan every object this many times (a median count)")
+    parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes")
+    parser.add_argument("--out", type=output_folder, default=None,
                         help="folder of the rows (default bench-out/generalise, and bench-out/generalise-sizes for "
                              "--urdf-sizes other than the benchmark's)")
     parser.add_argument("--docs", action="store_true",
@@ -281,16 +282,10 @@ def main(argv=None):
                              "from the origin, "
                              "from SEED and its name (the planner should not care where an object is, nor how it is "
                              "turned)")
-    parser.add_argument("--urdf-sizes", nargs="+", type=float, default=list(URDF_SIZES), metavar="MM",
+    parser.add_argument("--urdf-sizes", nargs="+", type=positive(float), default=list(URDF_SIZES), metavar="MM",
                         help="sizes of the random_urdfs shapes (default: the benchmark's); with --only urdf/, a sweep "
                              "of sizes, split by shape as the benchmark")
     args = parser.parse_args(argv)
-    if args.runs < 1:
-        parser.error(f"--runs must be at least 1, got {args.runs}")
-    if args.jobs < 1:
-        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
-    if not all(size > 0 for size in args.urdf_sizes):
-        parser.error(f"--urdf-sizes must be positive sizes in mm, got {args.urdf_sizes}")
     args.urdf_sizes = list(dict.fromkeys(args.urdf_sizes))
     sweep = tuple(args.urdf_sizes) != URDF_SIZES
     if args.docs and (sweep or args.cloud is not None or args.pose is not None):
@@ -300,7 +295,7 @@ def main(argv=None):
         parser.error(f"--pose must be a seed >= 0, got {args.pose}")
     if args.cloud is not None and args.cloud < 100:
         parser.error(f"--cloud must be at least 100 points, got {args.cloud}")
-    if args.noise < 0 or (args.noise and args.cloud is None):
+    if not args.noise >= 0 or (args.noise and args.cloud is None):
         parser.error(f"--noise must be >= 0 mm and needs --cloud, got {args.noise}")
     if args.out is None:  # a sweep's rows never replace the benchmark's (which --rows --docs would document)
         args.out = Path("bench-out") / ("generalise" + ("-sizes" if sweep else "") + ("-cloud" if args.cloud else "")

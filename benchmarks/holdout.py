@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import io
-import math
 import subprocess
 import sys
 import warnings
@@ -38,6 +37,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from generalise import plan_row, print_row, summarise, write_rows  # noqa: E402
 from objectset import MESHES, URDFS  # noqa: E402
 
@@ -107,20 +107,20 @@ def run(path, size, grasp):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--count", type=int, default=40, help="objects drawn")
-    parser.add_argument("--size", type=float, default=100.0, help="largest extent (mm)")
+    parser.add_argument("--count", type=positive(int), default=40, help="objects drawn")
+    parser.add_argument("--size", type=positive(float), default=100.0, help="largest extent (mm)")
     parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
     parser.add_argument("--wheel", type=Path, help="the pybullet wheel (default: downloaded into --out)")
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "holdout", help="folder of the rows")
+    parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes")
+    parser.add_argument("--out", type=output_folder, default="bench-out/holdout", help="folder of the rows")
     args = parser.parse_args(argv)
-    if not (math.isfinite(args.size) and args.size > 0):
-        parser.error(f"--size must be a positive number of mm, got {args.size}")
+    if args.wheel is not None and not zipfile.is_zipfile(args.wheel):
+        parser.error(f"--wheel {args.wheel} is not a wheel (a zip file): pass the pybullet {VERSION} wheel, or leave "
+                     "--wheel out to download it")
     try:
         numbers = draw(args.count)
     except ValueError as exc:
         parser.error(str(exc))
-    args.out.mkdir(parents=True, exist_ok=True)
     wheel = args.wheel if args.wheel is not None else fetch_wheel(args.out)
     paths = extract(wheel, numbers, args.out / "meshes")
     tasks = [(path, grasp) for grasp in args.grasp for path in paths]

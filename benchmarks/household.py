@@ -34,6 +34,7 @@ import trimesh
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import positive  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from verification import verify  # noqa: E402
 
@@ -81,13 +82,15 @@ def household_objects():
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--meshes", type=Path, help="a folder of mesh or point-cloud files to add")
-    parser.add_argument("--scale", type=float, default=1.0, help="scale of the files in --meshes (1000 for metres)")
+    parser.add_argument("--scale", type=positive(float), default=1.0, help="scale of the files in --meshes (1000 for metres)")
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="plan only these objects")
     parser.add_argument("--docs", action="store_true",
                         help=f"write the table to {PAGE.relative_to(ROOT)}, the galleries to {FIGURES.relative_to(ROOT)} "
                              "and the rates to the README")
     args = parser.parse_args(argv)
+    if args.meshes is not None and not args.meshes.is_dir():
+        parser.error(f"--meshes {args.meshes} is not a folder: name a folder of mesh or point-cloud files")
     warnings.simplefilter("ignore")
     groups = {"meshes": mesh_files(MESHES, 1.0), "shapes": household_objects()}
     if args.meshes:

@@ -32,6 +32,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from generalise import true_surface  # noqa: E402
 from objectset import select  # noqa: E402
 from synergrasp.objects.loading import ONE_SIDED  # noqa: E402
@@ -73,14 +74,14 @@ def measure(points, noise, rng):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--split", choices=["train", "test"], default="train")
-    parser.add_argument("--stride", type=int, default=3, help="every N-th object of the split")
+    parser.add_argument("--stride", type=positive(int), default=3, help="every N-th object of the split")
     parser.add_argument("--views", type=int, default=3, help="camera views per object")
     parser.add_argument("--noise", type=float, default=0.0, help="Gaussian noise (mm) added to every coordinate")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "one_sided")
+    parser.add_argument("--out", type=output_folder, default="bench-out/one_sided")
     parser.add_argument("--quick", action="store_true", help="the first object, one view (the test suite)")
     args = parser.parse_args(argv)
-    if args.stride < 1 or args.views < 0 or args.noise < 0:
-        parser.error(f"--stride must be >= 1, --views and --noise >= 0; got {args.stride}, {args.views}, {args.noise}")
+    if args.views < 0 or not args.noise >= 0:
+        parser.error(f"--views and --noise must be >= 0; got {args.views}, {args.noise}")
     entries = select(args.split)[:: args.stride]
     entries, views = (entries[:1], 1) if args.quick else (entries, args.views)
     rng = np.random.default_rng(1)
@@ -96,7 +97,6 @@ def main(argv=None):
             rows.append(row)
             shown = row["error"][:70] if row["error"] else f"{row['net']:.3f}{' warned' if row['warned'] else ''}"
             print(f"{entry.name:32s} {kind:7s} {shown}  {row['method'] or ''}", flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / f"one_sided_{args.split}.jsonl", "w") as f:
         f.writelines(json.dumps(row) + "\n" for row in rows)
     for kind, test in (("whole clouds", lambda r: r["cloud"] == "whole"), ("camera views", lambda r: r["cloud"] != "whole")):

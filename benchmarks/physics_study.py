@@ -55,6 +55,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import output_folder, positive
 from synergrasp.planner import ObjectRefused
 from generalise import planner_options
 from household import MESHES, household_objects, mesh_files
@@ -373,8 +374,8 @@ def main(argv=None):
                         help="object sets (default paper and household; train, test: the generalisation benchmark's "
                              "splits)")
     parser.add_argument("--meshes", type=Path, help="also every mesh or point-cloud file of this folder")
-    parser.add_argument("--scale", type=float, default=1.0, help="scale of the files in --meshes (1000 for metres)")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "physics_study", help="output folder")
+    parser.add_argument("--scale", type=positive(float), default=1.0, help="scale of the files in --meshes (1000 for metres)")
+    parser.add_argument("--out", type=output_folder, default="bench-out/physics_study", help="output folder")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--quick", action="store_true", help="the paper's ellipsoid only, no time-step check")
     parser.add_argument("--docs", action="store_true",
@@ -386,7 +387,6 @@ def main(argv=None):
         parser.error("--docs writes the study of the default planner: drop --option")
     warnings.simplefilter("ignore")
     sets = object_sets(["paper"] if args.quick else args.set, args.meshes, args.scale, args.quick)
-    args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     for group, objects in sets.items():
         for name, obj in objects.items():

@@ -39,6 +39,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from objectset import select  # noqa: E402
 from synergrasp.planner import PlannerOptions, roll_frames, surface_samples  # noqa: E402
 
@@ -118,10 +119,10 @@ def most_phalanges(hand, obj, table, options, samples, rolls, seed=0):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--only", nargs="+", default=["procedural/small_"], help="object name prefixes")
-    parser.add_argument("--grid", type=int, default=9, help="synergy values per synergy")
-    parser.add_argument("--samples", type=int, default=32, help="surface points")
-    parser.add_argument("--rolls", type=int, default=12, help="rolls of the palm about each normal")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "power_reach")
+    parser.add_argument("--grid", type=positive(int), default=9, help="synergy values per synergy")
+    parser.add_argument("--samples", type=positive(int), default=32, help="surface points")
+    parser.add_argument("--rolls", type=positive(int), default=12, help="rolls of the palm about each normal")
+    parser.add_argument("--out", type=output_folder, default="bench-out/power_reach")
     parser.add_argument("--quick", action="store_true", help="a 30 mm ball and the paper's cup, coarser")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")  # the loader's notes on each mesh
@@ -143,7 +144,6 @@ def main(argv=None):
         rows.append(dict(name=name, split=split, size_mm=round(float(obj.size), 1), most_phalanges=n))
         said = f"at most {n} phalanges with the palm on it" if n >= 0 else "no pose with the palm on it keeps out of it"
         print(f"{name:32s} {split:5s} {obj.size:6.1f} mm  {said}", flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / "power_reach.csv", "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()

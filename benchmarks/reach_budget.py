@@ -27,6 +27,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder, positive  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import ObjectRefused, executable_reach  # noqa: E402
 
@@ -35,12 +36,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--split", default="train", choices=SPLITS + ("all",))
     parser.add_argument("--grasp", default="power", choices=["precision", "power"])
-    parser.add_argument("--budgets", nargs="+", type=int, default=[12, 24, 40])
+    parser.add_argument("--budgets", nargs="+", type=positive(int), default=[12, 24, 40])
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "reach_budget")
+    parser.add_argument("--out", type=output_folder, default="bench-out/reach_budget")
     args = parser.parse_args(argv)
-    if not all(b >= 1 for b in args.budgets):
-        parser.error(f"--budgets must be counts of candidate approaches >= 1, got {args.budgets}")
     try:
         entries = select(args.split, args.only)
     except ValueError as exc:
@@ -63,7 +62,6 @@ def main(argv=None):
         rows.append(row)
         print(f"{entry.name:32s} " + "  ".join(f"{b}: {'yes' if row[str(b)]['collision_free'] else 'no ':3s} "
                                                f"{row[str(b)]['cpu']:5.2f} s" for b in args.budgets), flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"reach_budget_{args.split}_{args.grasp}.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
     for budget in args.budgets:
         cpu = np.array([r[str(budget)]["cpu"] for r in rows])

@@ -32,6 +32,8 @@ def main(argv=None):
     parser.add_argument("--set", nargs="+", choices=["paper", "household", "test"], default=["paper", "household", "test"])
     parser.add_argument("--variants", nargs="+", choices=sorted(VARIANTS), default=["synergrasp", "dexgraspbench"])
     args = parser.parse_args(argv)
+    if not args.folder.is_dir():
+        parser.error(f"{args.folder} is not a folder: name the --out folder of a physics_study.py run")
     warnings.simplefilter("ignore")
     totals = {v: dict(cases=0, before=0, after=0, changed=0, cpu_before=0.0, cpu_after=0.0) for v in args.variants}
     for group, objects in object_sets(args.set).items():
@@ -59,6 +61,9 @@ def main(argv=None):
                         t["changed"] += 1
                         print(f"{group} {name} {grasp} [{variant}]: {before.outcome} -> {after.outcome}  "
                               f"({before.reason[:70]} -> {after.reason[:70]})", flush=True)
+    if not any(t["cases"] for t in totals.values()):
+        raise SystemExit(f"{args.folder} holds no validated plan of the sets {args.set}: name the --out folder of a "
+                         "physics_study.py run of those sets")
     for variant, t in totals.items():
         print(f"{variant}: {t['cases']} validations, held {t['before']} before and {t['after']} now, "
               f"{t['changed']} outcomes changed; CPU {t['cpu_before']:.1f} s before, {t['cpu_after']:.1f} s now")

@@ -36,6 +36,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import positive  # noqa: E402
 from generalise import placed, planner_options  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
@@ -65,11 +66,11 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--split", default="train", choices=SPLITS + ("all",))
     parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
-    parser.add_argument("--starts", type=int, default=4, help="starts per object (the planner's first K)")
+    parser.add_argument("--starts", type=positive(int), default=4, help="starts per object (the planner's first K)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--pose", type=int, default=None, metavar="SEED", help="turn and move every object (a seed >= 0)")
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes")
+    parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes")
     parser.add_argument("--out", type=Path, help="write every attempt here (JSON lines)")
     args = parser.parse_args(argv)
     if args.pose is not None and args.pose < 0:
@@ -77,8 +78,6 @@ def main(argv=None):
     if args.out is not None and args.out.is_dir():  # refused before the run, not after it
         parser.error(f"--out names the file the attempts are written to; {args.out} is a folder: "
                      f"give a file in it, e.g. {args.out / 'attempts.jsonl'}")
-    if args.jobs < 1:
-        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
     try:
         options = planner_options(args.option)
         PlannerOptions(**options)  # a bad option fails here, before any work

@@ -21,11 +21,11 @@ import argparse
 import json
 import time
 import warnings
-from pathlib import Path
 
 import trimesh
 
 import synergrasp as sg
+from synergrasp.cli import output_folder, positive
 
 #: Each shape's mesh at size d (mm).
 SHAPES = {
@@ -37,10 +37,10 @@ SHAPES = {
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", nargs="+", type=float, default=[20.0, 30.0, 40.0, 50.0])
+    parser.add_argument("--sizes", nargs="+", type=positive(float), default=[20.0, 30.0, 40.0, 50.0])
     parser.add_argument("--shapes", nargs="+", choices=sorted(SHAPES), default=["sphere", "cube", "cylinder"])
     parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"])
-    parser.add_argument("--out", type=Path, default=Path("bench-out") / "small_objects")
+    parser.add_argument("--out", type=output_folder, default="bench-out/small_objects")
     parser.add_argument("--quick", action="store_true", help="the 50 mm sphere's precision grasp only")
     args = parser.parse_args(argv)
     if args.quick:
@@ -61,7 +61,6 @@ def main(argv=None):
     for grasp in args.grasp:
         mine = [r for r in rows if r["grasp"] == grasp]
         print(f"{grasp}: {sum(r['success'] for r in mine)}/{len(mine)} grasped")
-    args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / "small_objects.jsonl", "w") as f:
         for row in rows:
             f.write(json.dumps(row) + "\n")

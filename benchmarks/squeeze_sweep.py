@@ -25,6 +25,7 @@ import warnings
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import positive
 from synergrasp.physics import protocol
 from synergrasp.physics.simulate import simulate
 
@@ -49,9 +50,9 @@ def sweep(obj, u, hand, kp, directions, sizes, mass=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--kp", type=float, nargs="+", default=[5.0, 25.0], help="servo stiffnesses (N m/rad)")
-    parser.add_argument("--mass", type=float, default=None, help="the object's mass (kg; default: from its volume)")
-    parser.add_argument("--directions", type=int, default=12, help="directions in the synergy plane")
+    parser.add_argument("--kp", type=positive(float), nargs="+", default=[5.0, 25.0], help="servo stiffnesses (N m/rad)")
+    parser.add_argument("--mass", type=positive(float), default=None, help="the object's mass (kg; default: from its volume)")
+    parser.add_argument("--directions", type=positive(int), default=12, help="directions in the synergy plane")
     parser.add_argument("--quick", action="store_true", help="the ellipsoid, 4 directions, the size 0.4")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

@@ -21,7 +21,6 @@ physical success rate (``physics_study.py``).
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
 import warnings
@@ -33,6 +32,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import positive  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 
@@ -55,17 +55,13 @@ def plan_case(name, grasp, time_limit, split=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--time-limit", type=float, default=None,
+    parser.add_argument("--time-limit", type=positive(float), default=None,
                         help="seconds per plan (default 30 on the paper's cases, 10 on a split)")
     parser.add_argument("--quick", action="store_true", help="the ellipsoid's power grasp only")
     parser.add_argument("--split", choices=SPLITS, help="the benchmark's split instead")
     parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"])
-    parser.add_argument("--jobs", type=int, default=1, help="worker processes (with --split)")
+    parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes (with --split)")
     args = parser.parse_args(argv)
-    if args.time_limit is not None and not (math.isfinite(args.time_limit) and args.time_limit > 0):
-        parser.error(f"--time-limit must be a positive number of seconds, got {args.time_limit}")
-    if args.jobs < 1:
-        parser.error(f"--jobs must be at least 1 (worker processes), got {args.jobs}")
     warnings.simplefilter("ignore")
     limit = args.time_limit if args.time_limit is not None else (10.0 if args.split else 30.0)
     if args.split:

@@ -21,21 +21,20 @@ Usage::
 
 import argparse
 import json
-from pathlib import Path
 
 import numpy as np
 
 import synergrasp as sg
 from synergrasp import viz
+from synergrasp.cli import output_folder, positive
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
-    parser.add_argument("--factor", type=float, default=1.2, help="finger length factor (default 1.2)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--factor", type=positive(float), default=1.2, help="finger length factor (default 1.2)")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     paper = sg.SynergyHand.default()
     data = paper.to_dict()                                  # a deep copy: editing it is safe

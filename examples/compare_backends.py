@@ -16,11 +16,11 @@ Usage::
 import argparse
 import csv
 import time
-from pathlib import Path
 
 import numpy as np
 
 import synergrasp as sg
+from synergrasp.cli import output_folder, positive
 
 RADIUS = 40.0
 
@@ -48,11 +48,10 @@ def timed(points, normals, backend, seconds):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
-    parser.add_argument("--seconds", type=float, default=0.2, help="time spent repeating each backend (s)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--seconds", type=positive(float), default=0.2, help="time spent repeating each backend (s)")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     points, normals = grasp()
     backends = sg.lp.available_backends()

@@ -17,7 +17,6 @@ Usage::
 """
 
 import argparse
-from pathlib import Path
 
 import matplotlib
 
@@ -26,6 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder  # noqa: E402
 
 RADIUS = 40.0  # mm
 MU = 0.3
@@ -59,10 +59,9 @@ def project(points):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     # a thumb at azimuth 0 and three fingers bunched together on the far side
     points, normals = on_sphere([0.0, 146.0, 186.0, 189.0], [-22.0, -17.0, -10.0, 4.0])

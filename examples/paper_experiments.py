@@ -30,6 +30,7 @@ import numpy as np
 
 import synergrasp as sg
 from synergrasp import viz
+from synergrasp.cli import output_folder, positive
 
 ROOT = Path(__file__).resolve().parents[1]
 OBJECTS = ("ellipsoid", "cup", "bell", "goblet")
@@ -95,20 +96,18 @@ def write_between_markers(path, text):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", default="examples-out/paper", help="output folder (default ./examples-out/paper)")
-    parser.add_argument("--repeats", type=int, default=3, help="plans per case for the median time (default 3)")
+    parser.add_argument("--out", type=output_folder, default="examples-out/paper", help="output folder (default ./examples-out/paper)")
+    parser.add_argument("--repeats", type=positive(int), default=3, help="plans per case for the median time (default 3)")
     parser.add_argument("--no-figures", action="store_true", help="skip the figures")
     parser.add_argument("--quick", action="store_true", help="one case (ellipsoid, precision), planned once")
     parser.add_argument("--docs", action="store_true",
                         help="write the README's and docs' tables, docs/results/ and docs/figures/paper/ instead of --out")
     args = parser.parse_args(argv)
-    if args.repeats < 1:
-        parser.error(f"--repeats must be at least 1, got {args.repeats}")
     if args.docs and args.quick:
         parser.error("--docs needs the full run: drop --quick")
     warnings.simplefilter("ignore")
     hand = sg.SynergyHand.default()
-    out = Path(args.out)
+    out = args.out
     figures, results = (ROOT / "docs" / "figures" / "paper", ROOT / "docs" / "results") if args.docs else (out, out)
     for folder in (figures, results):
         folder.mkdir(parents=True, exist_ok=True)

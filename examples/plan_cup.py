@@ -17,19 +17,18 @@ Usage::
 """
 
 import argparse
-from pathlib import Path
 
 import synergrasp as sg
 from synergrasp import viz
+from synergrasp.cli import output_folder
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
     parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     cup = sg.objects.get("cup")
     hand = sg.SynergyHand.default()

@@ -18,7 +18,6 @@ Usage::
 """
 
 import argparse
-import math
 import sys
 import tempfile
 from pathlib import Path
@@ -27,21 +26,18 @@ import trimesh
 
 import synergrasp as sg
 from synergrasp import viz
-from synergrasp.cli import output_stem
+from synergrasp.cli import output_folder, output_stem, positive
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
     parser.add_argument("--mesh", help="a mesh or point-cloud file to grasp (default: a generated capsule)")
-    parser.add_argument("--scale", type=float, default=1.0, help="factor to millimetres (1000 for metres)")
+    parser.add_argument("--scale", type=positive(float), default=1.0, help="factor to millimetres (1000 for metres)")
     args = parser.parse_args(argv)
-    if not (math.isfinite(args.scale) and args.scale > 0):
-        parser.error(f"--scale must be a positive factor (1000 for metres), got {args.scale}")
     if args.scale != 1.0 and not args.mesh:
         parser.error("--scale applies to a --mesh file; the generated capsule is in mm")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     if args.mesh:
         try:

@@ -22,7 +22,6 @@ Usage::
 
 import argparse
 import itertools
-from pathlib import Path
 
 import matplotlib
 
@@ -31,6 +30,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import synergrasp as sg  # noqa: E402
+from synergrasp.cli import output_folder  # noqa: E402
 from synergrasp.hand import rotation_xyz  # noqa: E402
 
 CUBE = 10.0 * np.array(list(itertools.product([-1.0, 1.0], repeat=3)))    # (8, 3), side 20 mm
@@ -53,10 +53,9 @@ def report(label, s):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
     args = parser.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = args.out
 
     r, slope = report("separated", 35.0)
     print(f"{'':>13}witness points: on A {np.round(r.point_a, 2)}, on B {np.round(r.point_b, 2)}")

@@ -21,6 +21,7 @@ import numpy as np  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
 from synergrasp.hand import SynergyHand  # noqa: E402
+from synergrasp.cli import output_folder  # noqa: E402
 
 DOCS_FIGURES = Path(__file__).resolve().parents[1] / "docs" / "figures"
 FINGER_COLOURS = {"T": "tab:red", "I": "tab:orange", "M": "tab:green", "R": "tab:purple", "L": "tab:brown"}
@@ -89,10 +90,10 @@ def synergy_plane(hand, path, values=(-1.0, 0.0, 1.0), view=(20.0, -135.0)):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default="examples-out", help="output folder (default ./examples-out)")
+    parser.add_argument("--out", type=output_folder, default="examples-out", help="output folder (default ./examples-out)")
     parser.add_argument("--docs", action="store_true", help=f"write the documentation's figure in {DOCS_FIGURES} instead")
     args = parser.parse_args(argv)
-    out = (DOCS_FIGURES if args.docs else Path(args.out)) / "synergy_plane.png"
+    out = (DOCS_FIGURES if args.docs else args.out) / "synergy_plane.png"
     synergy_plane(SynergyHand.default(), out)
     print(f"wrote {out}")
 

@@ -72,6 +72,7 @@ import numpy as np
 
 import synergrasp as sg
 from benchmarks.bench_quality import grasp_sequence  # the same grasps as the benchmark
+from synergrasp.cli import output_folder, positive
 from synergrasp.lp import Backend
 
 from .references import LinprogBackend, PlainCvxpyBackend, TimedBackend
@@ -753,12 +754,12 @@ def main(argv=None) -> dict:
     """Run the comparison; returns the tables (``lp``, ``plan``, ``summary``, ``ratios``) and paths."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="reduced run: few calls, one short plan per backend")
-    parser.add_argument("--out", type=Path, default=None,
+    parser.add_argument("--out", type=output_folder, default=None,
                         help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick; "
                              "with --docs solvers/results)")
     parser.add_argument("--docs", action="store_true",
                         help="write the committed results (solvers/results), docs/solver-comparison.md and its figure")
-    parser.add_argument("--max-iter", type=int, default=None, help="plan iteration cap (600; quick: 8)")
+    parser.add_argument("--max-iter", type=positive(int), default=None, help="plan iteration cap (600; quick: 8)")
     parser.add_argument("--slow-subset", action="store_true",
                         help=f"run the cvxpy-based backends' plans on {len(SLOW_PLAN_CASES)} cases only (a shorter run)")
     parser.add_argument("--quiet", action="store_true")

@@ -46,6 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
+from synergrasp.cli import output_folder, positive
+
 ROOT = Path(__file__).resolve().parents[1]
 #: The committed results (written with --docs).
 COMMITTED = ROOT / "solvers" / "results"
@@ -296,14 +298,14 @@ def report(before: dict | None, after: dict, ref: str) -> tuple[str, list]:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--out", type=Path, default=None,
+    parser.add_argument("--out", type=output_folder, default=None,
                         help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick)")
     parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
     parser.add_argument("--backend", default="native",
                         help="LP backend (default native, the library's; the baseline without it uses highs)")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
-    parser.add_argument("--repeats", type=int, default=3, help="timed plans per case and round")
-    parser.add_argument("--rounds", type=int, default=2, help="before/after measurement rounds, alternating")
+    parser.add_argument("--repeats", type=positive(int), default=3, help="timed plans per case and round")
+    parser.add_argument("--rounds", type=positive(int), default=2, help="before/after measurement rounds, alternating")
     parser.add_argument("--quick", action="store_true", help="one case, one repeat, one round, no baseline")
     args = parser.parse_args(argv)
     quick_out = DEFAULT_OUT.with_name(DEFAULT_OUT.name + "-quick")

@@ -53,6 +53,32 @@ def positive(kind):
     return parse
 
 
+def output_folder(text):
+    """An argparse type: a folder to write in, created if needed; a clear usage error if it cannot be.
+
+    Parameters
+    ----------
+    text : str
+        The ``--out`` argument (argparse also passes a string default through it).
+
+    Returns
+    -------
+    pathlib.Path
+        The folder, which exists and takes a new file.
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        If the name is empty, names a file, or the folder cannot be created or written to.
+    """
+    from ._files import writable_folder
+
+    try:
+        return writable_folder(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+
+
 #: ``--units``: the factor that turns each unit into millimetres.
 UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 #: Exit status of the ``synergrasp`` command.

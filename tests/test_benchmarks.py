@@ -113,7 +113,7 @@ def test_a_sweep_of_urdf_sizes_keeps_each_shape_in_its_split(tmp_path, capsys):
     assert {e.base for e in swept} == {e.base for e in usual} and all(e.name.endswith("@60") for e in swept)
     obj = swept[0].make()
     assert obj.mesh.extents.max() == pytest.approx(60.0)
-    for argv, message in ((["--urdf-sizes", "0"], "positive sizes"), (["--urdf-sizes", "60", "--docs"], "--docs writes")):
+    for argv, message in ((["--urdf-sizes", "0"], "argument --urdf-sizes: expected a finite number > 0"), (["--urdf-sizes", "60", "--docs"], "--docs writes")):
         with pytest.raises(SystemExit):
             generalise.main([*argv, "--out", str(tmp_path)])
         assert message in capsys.readouterr().err
@@ -175,7 +175,7 @@ def test_verification_is_on_the_true_surface():
     (["--option", "max_iter=0"], "PlannerOptions.max_iter must be in [1, inf), got 0"),  # not "refused" on every row
     (["--option", "foo=1"], "unknown planner options ['foo']"),
     (["--option", "max_iter"], "--option takes NAME=VALUE items"),
-    (["--jobs", "0"], "--jobs must be at least 1"),
+    (["--jobs", "0"], "argument --jobs: expected an integer > 0, got '0'"),
     (["--only", "nosuch"], "['nosuch'] name no object of the 'train' split"),
 ])
 def test_generalise_refuses_bad_arguments_before_any_plan(tmp_path, capsys, argv, says):
@@ -340,3 +340,41 @@ def test_one_sided_quick(tmp_path, capsys):
     assert rows[0]["net"] < 0.1 and not rows[0]["warned"]
     assert rows[1]["net"] > 0.3 and rows[1]["warned"]
     assert "camera views: 1, warned as seen from one side 1" in capsys.readouterr().out
+
+
+# --------------------------------------------------------------------------- the scripts' shared argument types
+
+from pathlib import Path  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SCRIPT_MODULES = sorted(f"{p.parent.name}.{p.stem}" for folder in ("benchmarks", "solvers") for p in (ROOT / folder).glob("*.py")
+                        if "type=output_folder" in p.read_text())
+
+
+@pytest.mark.parametrize("module", SCRIPT_MODULES)
+def test_an_output_folder_that_is_a_file_is_a_usage_error(module, tmp_path, capsys):
+    """Every benchmark's --out: a file there is refused by argparse (exit 2) before any work, not by a traceback after it."""
+    import importlib
+
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(SystemExit) as exit_:
+        importlib.import_module(module).main(["--out", str(tmp_path / "file")])
+    assert exit_.value.code == 2
+    assert "cannot write to the output folder" in capsys.readouterr().err
+
+
+def test_script_inputs_that_are_not_what_they_claim_are_usage_errors(tmp_path, capsys):
+    """holdout's --wheel that is no zip file, household's --meshes that is no folder, revalidate's folder that is missing."""
+    from benchmarks import holdout, household, revalidate
+
+    (tmp_path / "notes.whl").write_text("not a zip file")
+    cases = [(holdout.main, ["--count", "1", "--wheel", str(tmp_path / "notes.whl"), "--out", str(tmp_path / "o")],
+              "is not a wheel (a zip file)"),
+             (household.main, ["--meshes", str(tmp_path / "missing")], "is not a folder: name a folder of mesh"),
+             (revalidate.main, [str(tmp_path / "missing")], "is not a folder: name the --out folder of a physics_study")]
+    for main, argv, says in cases:
+        with pytest.raises(SystemExit) as exit_:
+            main(argv)
+        assert exit_.value.code == 2 and says in capsys.readouterr().err
+    with pytest.raises(SystemExit, match="holds no validated plan"):  # a folder, but not a study's
+        revalidate.main([str(tmp_path), "--set", "paper"])

@@ -225,3 +225,21 @@ def test_exit_codes_are_documented(capsys):
             main(argv + ["--help"])
         text = " ".join(capsys.readouterr().out.split())
         assert all(f"{code} {' '.join(meaning.split())}" in text for code, meaning in EXIT_CODES.items())
+
+
+def test_output_folder_and_positive_are_usage_errors(tmp_path):
+    """The argparse types the example and benchmark scripts share: a folder is made, a file or a bad number refused."""
+    import argparse
+
+    from synergrasp.cli import output_folder, positive
+
+    assert output_folder(str(tmp_path / "a" / "b")) == tmp_path / "a" / "b" and (tmp_path / "a" / "b").is_dir()
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(argparse.ArgumentTypeError, match="it is a file, not a folder"):
+        output_folder(str(tmp_path / "file"))
+    with pytest.raises(argparse.ArgumentTypeError, match="empty name"):
+        output_folder("")
+    assert positive(int)("3") == 3 and positive(float)("0.5") == 0.5
+    for kind, text in [(int, "0"), (int, "-2"), (int, "1.5"), (float, "nan"), (float, "inf"), (float, "0")]:
+        with pytest.raises(argparse.ArgumentTypeError, match="> 0"):
+            positive(kind)(text)

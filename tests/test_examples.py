@@ -165,3 +165,13 @@ def test_example_runs(name, tmp_path):
 def test_example_has_a_docstring(name):
     text = (EXAMPLES / name).read_text()
     assert text.startswith('"""'), f"{name} should open with a module docstring saying what it shows"
+
+
+@pytest.mark.parametrize("name", [n for n in SCRIPTS if "type=output_folder" in (EXAMPLES / n).read_text()])
+def test_an_output_folder_that_is_a_file_is_a_usage_error(name, tmp_path):
+    """--out naming a file: argparse's usage error (exit 2) that says so, before any work, not a traceback."""
+    (tmp_path / "file").write_text("x")
+    proc = subprocess.run([sys.executable, str(EXAMPLES / name), "--out", str(tmp_path / "file")], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=TIMEOUT, env=dict(os.environ, MPLBACKEND="Agg"))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    assert "cannot write to the output folder" in proc.stderr and "it is a file, not a folder" in proc.stderr
