@@ -103,9 +103,11 @@ def load_record(cls, path, tag, arrays, optional=()) -> dict:
 def _array(value, shape, where):
     """``value`` as a float array of ``shape`` (-1: any length; None: any shape); ValueError naming ``where``."""
     try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged lists
         arr = None
+    if arr is not None:  # numbers only: JSON's strings, true/false and null are not read as numbers
+        arr = arr.astype(float) if arr.size == 0 or arr.dtype.kind in "iuf" else None
     if arr is not None and shape is not None:
         if arr.size == 0:  # an empty list reads back as shape (0,)
             arr = arr.reshape([0 if n == -1 else n for n in shape])

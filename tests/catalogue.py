@@ -25,6 +25,7 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
+from synergrasp.physics import probes
 from synergrasp.objects.contact_distance import group_contact_distance
 from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance, recess
 
@@ -247,6 +248,10 @@ API = [
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
     Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be an array of numbers of shape (n,)"),
+    Case("sg.PlanResult.load", "numbers written as strings in u", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u=["1"] * 8)),
+         ValueError, "field 'u' must be an array of numbers of shape (n,), got ['1', '1'"),
+    Case("sg.PlanResult.load", "true/false in u", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u=[True] * 8)),
+         ValueError, "field 'u' must be an array of numbers of shape (n,), got [True, True"),
     Case("sg.PlanResult.load", "success = \"maybe\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, success="maybe")), ValueError, "field 'success' must be true or false"),
     Case("sg.PlanResult.load", "iterations = -3", lambda tmp: sg.PlanResult.load(_plan_file(tmp, iterations=-3)), ValueError, "field 'iterations' must be an integer >= 0"),
     Case("sg.PlanResult.load", "a NaN penetration", lambda tmp: sg.PlanResult.load(_plan_file(tmp, penetration=float("nan"))), ValueError, "field 'penetration' must be a finite number"),
@@ -398,6 +403,16 @@ API = [
     Case("sg.replay_reach", "speed = 0.1 (m/s meant?)", lambda tmp: sg.replay_reach([np.zeros(8)], so.ellipsoid(), speed=0.1), ValueError, "speed is in mm/s (default 100), not m/s"),
     Case("sg.replay_reach", "a path of 7 columns", lambda tmp: sg.replay_reach(np.zeros((2, 7)), so.ellipsoid()), ValueError, "path has points of dimension 7, expected 8"),
     Case("sg.replay_reach", "a trimesh for the object", lambda tmp: sg.replay_reach([np.zeros(8)], trimesh.creation.box()), TypeError, "obj must be a GraspObject"),
+    Case("physics.pinch_grasp", "a hand's name for the hand", lambda tmp: probes.pinch_grasp(hand="paper"), TypeError,
+         "hand must be a SynergyHand (None: the paper's hand), got str 'paper'"),
+    Case("physics.pinch_grasp", "a NaN gap", lambda tmp: probes.pinch_grasp(gap=np.nan), ValueError,
+         "gap must be a finite number of mm (negative: the fingertips overlap the object), got nan"),
+    Case("physics.pinch_grasp", "a gap wider than the fingertips' room (a box turned inside out)",
+         lambda tmp: probes.pinch_grasp(gap=100.0), ValueError, "gap 100 mm leaves no room between the fingertips"),
+    Case("physics.pinch_grasp", "side = 0", lambda tmp: probes.pinch_grasp(side=0.0), ValueError,
+         "side (mm of the box's cross-section) must be a finite number > 0, got 0.0"),
+    Case("physics.ball_pinch", "a position of 2 numbers", lambda tmp: probes.ball_pinch(position=(0.0, 0.0)), ValueError,
+         "position (mm) must have shape (3,), got shape (2,)"),
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
     Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
@@ -427,6 +442,8 @@ API = [
          lambda tmp: sg.SynergyHand(_with_joint_field("lenght", 1.0)), ValueError,
          "field 'fingers[1].joints[0].lenght' is not a field of a hand file (did you mean 'length'?)"),
     Case("sg.lp.get_backend", "an unknown name", lambda tmp: sg.lp.get_backend("gurobi"), ValueError, "unknown LP backend 'gurobi'; available"),
+    Case("sg.lp.get_backend", "a number, not a name", lambda tmp: sg.lp.get_backend(3), TypeError,
+         "an LP backend is a name (['highs'"),
     Case("Backend.solve", "mismatched shapes", lambda tmp: sg.lp.get_backend("highs").solve([1.0, 1.0], [[1.0, 1.0, 1.0]], [1.0]), ValueError, "LP data of mismatched shapes"),
     Case("Backend.solve", "a NaN cost", lambda tmp: sg.lp.get_backend("highs").solve([np.nan, 1.0], [[1.0, 1.0]], [1.0]), ValueError, "LP data contains NaN or inf"),
     Case("Backend.solve", "a cost that is a word", lambda tmp: sg.lp.get_backend("highs").solve("cheap", [[1.0, 1.0]], [1.0]), TypeError, "LP data c, A and b must be numeric"),

@@ -71,6 +71,8 @@ def get_backend(name: str | Backend = "native") -> Backend:
 
     Raises
     ------
+    TypeError
+        If ``name`` is neither a string nor a Backend.
     ValueError
         If the name is unknown or its solver is not installed; the message
         lists the available backends and the package to install.
@@ -84,7 +86,10 @@ def get_backend(name: str | Backend = "native") -> Backend:
     """
     if isinstance(name, Backend):
         return name
-    if not isinstance(name, str) or name not in _REGISTRY:
+    if not isinstance(name, str):
+        raise TypeError(f"an LP backend is a name ({available_backends()}) or a Backend object, got "
+                        f"{type(name).__name__} {name!r}")
+    if name not in _REGISTRY:
         raise ValueError(
             f"unknown LP backend {name!r}; available: {available_backends()} "
             f"(registered: {sorted(_REGISTRY)})"

@@ -17,6 +17,7 @@ import itertools
 import numpy as np
 import trimesh
 
+from .._checks import as_vector, positive_scalar
 from ..hand import SynergyHand, rotation_xyz
 from ..objects import GraspObject
 
@@ -26,19 +27,30 @@ __all__ = ["pinch_grasp", "ball_pinch", "hand_without", "PINCH_Z"]
 PINCH_Z = (0.2, 0.3)
 
 
-def _configuration(hand, z, position, angles):
-    if hand.n_syn != len(z):
-        raise ValueError(f"these grasps are built for a hand with {len(z)} synergies, {hand.name!r} has {hand.n_syn}")
-    return np.r_[np.asarray(position, float), np.asarray(angles, float), z]
+def _pinch(hand, position, angles, gap):
+    """The hand, the pinch configuration, the centres of the thumb's and index's round tips, and the free length.
 
-
-def _pinch(hand, position, angles):
-    """The hand, the pinch configuration and the centres of the thumb's and index's round tips."""
+    The free length is what the object may fill between the tips: their
+    centres' distance less a finger radius and ``gap`` on each side.
+    """
     hand = SynergyHand.default() if hand is None else hand
-    u = _configuration(hand, PINCH_Z, position, angles)
+    if not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be a SynergyHand (None: the paper's hand), got {type(hand).__name__} {hand!r}")
+    if hand.n_syn != len(PINCH_Z):
+        raise ValueError(f"these grasps are built for a hand with {len(PINCH_Z)} synergies, {hand.name!r} has {hand.n_syn}")
+    if isinstance(gap, (bool, np.bool_)) or not isinstance(gap, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(gap):
+        raise ValueError(f"gap must be a finite number of mm (negative: the fingertips overlap the object), got {gap!r}")
+    u = np.r_[as_vector(position, "position (mm)", 3), as_vector(angles, "angles (rad)", 3), PINCH_Z]
     geo = hand.segments(u)
     last = {chain: ends[1] for chain, ends in zip(hand.point_chains("power")[:-1], geo.capsules)}
-    return hand, u, last[0], last[1]  # the thumb's and the index's (the first two fingers)
+    a, b = last[0], last[1]  # the thumb's and the index's (the first two fingers)
+    free = np.linalg.norm(b - a) - 2.0 * (hand.finger_radius + gap)
+    if free <= 0.0:
+        room = np.linalg.norm(b - a) - 2.0 * hand.finger_radius
+        raise ValueError(f"gap {gap:g} mm leaves no room between the fingertips ({room:.1f} mm between their round "
+                         f"ends): choose a gap under {room / 2.0:.1f} mm")
+    return hand, u, a, b, free
 
 
 def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), gap=1.0, side=20.0):
@@ -56,9 +68,11 @@ def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), 
     position, angles : (3,) float
         Pose of the palm (mm, XYZ Euler angles in rad).
     gap : float
-        Distance (mm) of each face from its fingertip.
+        Distance (mm) of each face from its fingertip; negative, the
+        fingertips cut that far into the faces. Less than half the room
+        between the fingertips.
     side : float
-        Side (mm) of the box's square cross-section.
+        Side (mm) of the box's square cross-section, > 0.
 
     Returns
     -------
@@ -66,19 +80,26 @@ def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), 
         The configuration, synergies `PINCH_Z`.
     box : GraspObject
 
+    Raises
+    ------
+    TypeError
+        If ``hand`` is not a SynergyHand.
+    ValueError
+        If the hand has other than two synergies, or a size, gap or pose is
+        out of range.
+
     Examples
     --------
     >>> u, box = pinch_grasp()
     >>> box
     GraspObject('pinched box', 1 pieces, 26 x 64 x 30 mm, L=33.0)
     """
-    hand, u, a, b = _pinch(hand, position, angles)
+    hand, u, a, b, length = _pinch(hand, position, angles, gap)
+    side = positive_scalar(side, "side (mm of the box's cross-section)")
     axis = (b - a) / np.linalg.norm(b - a)
     across = np.cross(axis, rotation_xyz(u[3:6])[:, 2])  # one side along the palm, the other across it
     across /= np.linalg.norm(across)
     frame = np.c_[axis, across, np.cross(axis, across)]
-    inner = hand.finger_radius + gap
-    length = np.linalg.norm(b - a) - 2.0 * inner
     centre = (a + b) / 2.0
     corners = [centre + frame @ (np.array(s) * [length / 2, side / 2, side / 2])
                for s in itertools.product((-1, 1), repeat=3)]
@@ -101,7 +122,9 @@ def ball_pinch(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), g
     position, angles : (3,) float
         Pose of the palm (mm, rad).
     gap : float
-        Distance (mm) of the ball from each fingertip.
+        Distance (mm) of the ball from each fingertip; negative, the
+        fingertips cut that far into it. Less than half the room between the
+        fingertips.
 
     Returns
     -------
@@ -110,14 +133,22 @@ def ball_pinch(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), g
     ball : GraspObject
         A subdivided icosahedron (642 vertices), one convex piece.
 
+    Raises
+    ------
+    TypeError
+        If ``hand`` is not a SynergyHand.
+    ValueError
+        If the hand has other than two synergies, or a size, gap or pose is
+        out of range.
+
     Examples
     --------
     >>> u, ball = ball_pinch()
     >>> ball
     GraspObject('pinched ball', 1 pieces, 60 x 60 x 60 mm, L=29.8)
     """
-    hand, u, a, b = _pinch(hand, position, angles)
-    radius = np.linalg.norm(b - a) / 2.0 - hand.finger_radius - gap
+    hand, u, a, b, diameter = _pinch(hand, position, angles, gap)
+    radius = diameter / 2.0
     sphere = trimesh.creation.icosphere(subdivisions=3, radius=radius)
     return u, GraspObject([sphere.vertices + (a + b) / 2.0], name="pinched ball")
 
