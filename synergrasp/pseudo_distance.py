@@ -39,11 +39,11 @@ MAX_DIM = 1000
 #: Most nonzeros of the penetration LP (d+1 blocks of d + (na+nb)(d+1) entries each) that are built: about
 #: 0.2 GB with its indices, and tens of seconds to solve; larger sets are refused before anything is built.
 MAX_LP_ENTRIES = 10_000_000
-#: Point sets whose spread (half the largest side of their common bounding box) or offset (the
-#: largest coordinate of the box's centre) fall outside this range are solved translated to
-#: the box's centre and divided by their spread, so that the LPs' tolerances fit them; the
-#: value is scaled back (the pseudo-distance is translation invariant and scales with the
-#: data, its gradients do not change). Data within it (mm at hand size) are solved as given.
+#: Point sets are solved translated to the centre of their common bounding box (the
+#: pseudo-distance is translation invariant: far from the origin, the coordinates' magnitude
+#: would swamp the LPs' tolerances); those whose spread (half the largest side of that box)
+#: falls outside this range are also divided by it, and the value scaled back (the
+#: pseudo-distance scales with the data, its gradients do not change).
 SCALE_RANGE = (1e-3, 1e6)
 
 
@@ -381,12 +381,9 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     centre = 0.5 * lo + 0.5 * hi  # the bounding box's centre (no overflow near the largest floats)
     spread = float(np.max(0.5 * hi - 0.5 * lo))
     low, high = SCALE_RANGE
-    if spread > high or float(np.abs(centre).max()) > high or 0.0 < spread < low:
-        unit = spread if spread > 0 else 1.0  # all points in one place: translated only
-        opt = optimum((A - centre) / unit, (B - centre) / unit, simplex=given, backend=backend, checked=True)
-        opt = opt._replace(value=opt.value * unit)
-    else:
-        opt = optimum(A, B, simplex=given, backend=backend, checked=True)
+    unit = spread if spread > high or 0.0 < spread < low else 1.0
+    opt = optimum((A - centre) / unit, (B - centre) / unit, simplex=given, backend=backend, checked=True)
+    opt = opt._replace(value=opt.value * unit)
     with np.errstate(over="ignore"):
         value = opt.value / size
     if not np.isfinite(value):
@@ -442,8 +439,9 @@ def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
 
     Notes
     -----
-    The data are solved as given: :func:`pseudo_distance` first rescales
-    point sets whose size or offset fall outside ``SCALE_RANGE``.
+    The data are solved as given: :func:`pseudo_distance` first translates
+    the point sets to their bounding box's centre, and rescales those whose
+    size falls outside ``SCALE_RANGE``.
 
     Examples
     --------
