@@ -320,6 +320,12 @@ API = [
     Case("sg.objects.GraspObject", "info that is not a dict", lambda tmp: so.GraspObject([_box_corners()], info="scan"), TypeError, "info must be a dict"),
     Case("sg.objects.GraspObject", "surface points and a mesh", lambda tmp: so.GraspObject([_box_corners()], points=np.random.default_rng(0).normal(size=(20, 3)), mesh=trimesh.creation.box((60.0, 60.0, 60.0))), ValueError, "give an object a mesh or surface points, not both"),
     Case("sg.objects.GraspObject", "too few surface points", lambda tmp: so.GraspObject([_box_corners()], points=_box_corners()), ValueError, "a point surface needs at least 16 distinct points"),
+    Case("sg.objects.GraspObject", "a mesh in metres beside pieces in mm",
+         lambda tmp: so.GraspObject([_box_corners()], mesh=trimesh.creation.box((0.02, 0.02, 0.02))), ValueError,
+         "the mesh of object span 0.02 mm and lie up to 0 mm outside its pieces, which span 20 mm: give the mesh in "
+         "the pieces' units (mm) and frame"),
+    Case("sg.objects.GraspObject", "a file name for the mesh", lambda tmp: so.GraspObject([_box_corners()], mesh="box.stl"),
+         TypeError, "mesh must be a trimesh.Trimesh (the object's true surface) or None, got str"),
     Case("sg.objects.GraspObject", "surface points in metres", lambda tmp: so.GraspObject([_box_corners()], points=trimesh.sample.sample_surface(trimesh.creation.box((60.0, 50.0, 90.0)), 200, seed=0)[0] / 1000.0), ValueError, "give the points in the pieces' units (mm) and frame"),
     Case("sg.objects.GraspObject", "surface points with NaN", lambda tmp: so.GraspObject([_box_corners()], points=np.full((20, 3), np.nan)), ValueError, "points contains NaN or inf"),
     Case("sg.objects.revolve", "one knot", lambda tmp: so.revolve([[10.0, 0.0]]), ValueError, "profile needs at least 2 knots"),

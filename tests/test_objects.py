@@ -194,7 +194,9 @@ def test_cp_matches_core_pseudo_distance(goblet, backend):
     for i, p in enumerate(pts):
         per_piece = [sg.pseudo_distance([p], V, backend=backend) for V in goblet.pieces]
         best = min(per_piece, key=lambda x: x.value)
-        assert r.value[i] == pytest.approx(best.value, abs=1e-7)
+        # the same LP, posed in other coordinates (pseudo_distance's about the pair's centre): an interior-point
+        # backend's answers agree to its tolerance, 1e-8 of the value
+        assert r.value[i] == pytest.approx(best.value, rel=1e-8, abs=1e-7)
         if not r.degenerate[i]:
             assert r.grad[i] == pytest.approx(best.grad_a[0], abs=1e-6)
     assert (r.value[-4:] < 0).all() and r.inside[-4:].all()

@@ -87,7 +87,9 @@ class GraspObject:
         rows (`PointSurface`), that do not lie on the pieces' outline (their
         extent not within a factor of 2 of the pieces', or farther than a
         tenth of it outside them: other units or another frame), or given
-        with a mesh.
+        with a mesh; a mesh off the pieces' outline in the same way.
+    TypeError
+        If ``mesh`` is not a trimesh.Trimesh.
 
     Examples
     --------
@@ -115,6 +117,9 @@ class GraspObject:
             p if isinstance(p, ConvexPiece) else ConvexPiece(p, name=f"pieces[{i}]") for i, p in enumerate(pieces)
         )
         self.name = str(name)
+        if mesh is not None and not isinstance(mesh, trimesh.Trimesh):
+            raise TypeError(f"mesh must be a trimesh.Trimesh (the object's true surface) or None, got "
+                            f"{type(mesh).__name__}")
         if isinstance(mesh, trimesh.Trimesh):
             mesh, turned = orient_outward(mesh)
             if turned:
@@ -129,7 +134,9 @@ class GraspObject:
         self.info = dict(info or {})
         self.index = PieceIndex(self.convex)
         if self.points is not None:
-            self._check_points()
+            self._check_surface(self.points, "points")
+        if self.mesh is not None:
+            self._check_surface(self.mesh.vertices[:: max(1, len(self.mesh.vertices) // 2000)], "mesh")
         if center is None:
             self.center = self._default_center()
         else:
@@ -244,14 +251,14 @@ class GraspObject:
         """(n, 3) float: the distinct surface points (read-only), None without points."""
         return None if self.point_surface is None else self.point_surface.points
 
-    def _check_points(self):
-        """Refuse surface points that do not lie on the pieces' outline (other units, another frame)."""
-        spread = float(np.ptp(self.points, axis=0).max())
-        outside = float(self.index.min_plane_bound(self.points).max())
+    def _check_surface(self, points, what):
+        """Refuse a true surface (``what``: its points or a sample of its mesh's vertices) off the pieces' outline."""
+        spread = float(np.ptp(points, axis=0).max())
+        outside = float(self.index.min_plane_bound(points).max())
         if not 0.5 * self.size <= spread <= 2.0 * self.size or outside > 0.1 * self.size:
             raise ValueError(
-                f"the surface points of {self.name} span {spread:.3g} mm and lie up to {max(outside, 0.0):.3g} mm "
-                f"outside its pieces, which span {self.size:.3g} mm: give the points in the pieces' units (mm) and "
+                f"the {what} of {self.name} span {spread:.3g} mm and lie up to {max(outside, 0.0):.3g} mm "
+                f"outside its pieces, which span {self.size:.3g} mm: give the {what} in the pieces' units (mm) and "
                 "frame"
             )
 
