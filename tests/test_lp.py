@@ -75,6 +75,25 @@ def test_an_answer_on_badly_scaled_data_is_right_or_not_called_optimal(backend, 
     assert unchecked.status in ("optimal", "failed")
 
 
+@pytest.mark.parametrize("c, A, b, status, x", [
+    ([0.0, 0.0, 0.0], [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]], [1.0, 1.0], "optimal", None),  # no costs: any feasible x
+    ([1.0, 2.0], np.zeros((0, 2)), np.zeros(0), "optimal", [0.0, 0.0]),  # no rows
+    ([1.0, -2.0], np.zeros((0, 2)), np.zeros(0), "unbounded", None),
+    (np.zeros(0), np.zeros((1, 0)), [0.0], "optimal", []),  # no columns (HiGHS said "Empty", iterations 1688481120)
+    (np.zeros(0), np.zeros((1, 0)), [1.0], "infeasible", None),
+    ([1.0, 1.0], [[1e15, 1.0]], [1e15], "optimal", [1.0, 0.0]),  # an entry of 1e15 (HiGHS refused it: "Empty")
+])
+def test_lps_without_costs_rows_or_columns_are_answered_by_every_backend(backend, c, A, b, status, x):
+    """Such LPs were "failed" on some backends: a feasibility problem's interior-point duals of round-off read as a
+    duality gap, HiGHS refused an LP without columns or with an entry of 1e15."""
+    sol = sg.lp.get_backend(backend).solve(c, A, b)
+    assert sol.status == status, sol.message
+    if status == "optimal":
+        assert np.allclose(np.asarray(A) @ sol.x, b) and (sol.x >= -1e-9).all() and sol.iterations >= 0
+        if x is not None:
+            np.testing.assert_allclose(sol.x, x, atol=1e-9)
+
+
 def test_optimality_gaps_of_an_exact_and_of_wrong_answers():
     c, A, b = np.array([1.0, 2.0]), np.array([[1.0, 1.0]]), np.array([1.0])
     assert optimality_gaps(c, A, b, np.array([1.0, 0.0]), np.array([1.0])) == {

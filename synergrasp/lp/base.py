@@ -198,7 +198,9 @@ class Backend:
         m, n = A.shape
         start = time.perf_counter()
         try:
-            if hint is not None and self.basis_hints:
+            if m == 0 or n == 0:  # no rows or no columns: answered here (solvers fail on some of these)
+                status, x, y, iterations, message = _trivial(c, b)
+            elif hint is not None and self.basis_hints:
                 status, x, y, iterations, message = self._solve(c, A, b, basic=hint)
             else:
                 status, x, y, iterations, message = self._solve(c, A, b)
@@ -242,6 +244,18 @@ class Backend:
         raise NotImplementedError
 
 
+def _trivial(c, b):
+    """``_solve``'s answer to an LP without rows (x >= 0 alone) or without columns (0 == b)."""
+    m, n = len(b), len(c)
+    if n == 0:
+        if np.any(b != 0.0):
+            return "infeasible", None, None, 0, "no columns: A @ x == b needs b == 0"
+        return "optimal", np.zeros(0), np.zeros(m), 0, "no columns: x is empty"
+    if np.any(c < 0.0):
+        return "unbounded", None, None, 0, "no rows: a negative cost lowers the objective without bound"
+    return "optimal", np.zeros(n), np.zeros(0), 0, "no rows: x = 0"
+
+
 #: Largest relative gap (`optimality_gaps`) of an answer `Backend.solve` calls optimal.
 VERIFY_TOL = 1e-6
 
@@ -266,7 +280,8 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         largest ``|x|``; ``"reduced costs"``: the most negative ``c - A.T @ y``,
         over the largest of ``|c|`` and ``|A_rj y_r|``; ``"gap"``:
         ``|c @ x - b @ y|`` over the larger of ``max|c| max|x|`` and
-        ``max|b| max|y|``. 0 for an exact optimum.
+        ``max|b| max|y|``. 0 for an exact optimum. Without costs (``c == 0``)
+        every feasible ``x`` is optimal: the last two are 0, whatever ``y``.
 
     Examples
     --------
@@ -287,6 +302,9 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         scale = max(map(_top, scales))
         return float(value) / scale if scale > 0 else (0.0 if value == 0 else math.inf)
 
+    if not c.any():  # a feasibility problem: y = 0 is its dual, and an interior-point y of round-off says nothing
+        aty, aty_terms = np.zeros_like(c), np.zeros(0)
+        y = np.zeros_like(y)
     reduced = c - aty
     return {
         "rows": ratio(_top(ax - b), b, ax_terms),

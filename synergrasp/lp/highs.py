@@ -19,6 +19,7 @@ HiGHS completes them to a basis.
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import sys
 from collections import OrderedDict
@@ -34,6 +35,9 @@ _STATUS = {
     highspy.HighsModelStatus.kUnbounded: "unbounded",
     highspy.HighsModelStatus.kUnboundedOrInfeasible: "infeasible",
 }
+#: Model statuses of an LP that HiGHS did not run (a model it refused).
+_NOT_RUN = (highspy.HighsModelStatus.kNotset, highspy.HighsModelStatus.kModelEmpty,
+            highspy.HighsModelStatus.kModelError, highspy.HighsModelStatus.kLoadError)
 
 #: HiGHS's own defaults for the options that the fast path turns off, used once more when an
 #: unscaled, unpresolved solve runs into numerical trouble (e.g. nearly coplanar point sets).
@@ -126,6 +130,7 @@ class HighsBackend(Backend):
             "solver": "simplex",
             "simplex_scale_strategy": 0,  # data are well scaled (mm, unit normals)
             "simplex_initial_condition_check": False,
+            "large_matrix_value": math.inf,  # (1e15 by default: larger entries made HiGHS report an "Empty" model)
             "threads": THREADS,
             **options,
         }
@@ -238,6 +243,8 @@ class HighsBackend(Backend):
             model_status = self._rescue(h)
             status = _STATUS.get(model_status, "failed")
         iterations = h.getInfoValue("simplex_iteration_count")[1]
+        if iterations < 0 or model_status in _NOT_RUN:
+            iterations = -1  # HiGHS refused the model and did not run: its counter holds no count
         if status != "optimal":
             model.basis = None
             self._basis.pop((m, n, counts), None)
