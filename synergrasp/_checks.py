@@ -36,7 +36,7 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
         If it is not 2-D, is empty, has the wrong dimension or a non-finite entry.
     """
     try:
-        arr = _floats(value)
+        arr = numeric(value)
     except (TypeError, ValueError, OverflowError) as exc:
         raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value)}") from exc
     if arr.ndim != 2:
@@ -55,7 +55,7 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     return arr
 
 
-def _floats(value) -> np.ndarray:
+def numeric(value) -> np.ndarray:
     """``value`` as floats; numbers only: not text, booleans, complex numbers or masked entries."""
     if type(value) is np.ndarray and value.dtype == np.float64:  # already floats (the common case)
         return value
@@ -70,7 +70,7 @@ def _floats(value) -> np.ndarray:
 def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     """Validate a finite 1-D vector (optionally of a given size)."""
     try:
-        arr = _floats(value)
+        arr = numeric(value)
     except (TypeError, ValueError, OverflowError) as exc:
         raise TypeError(f"{name} must be a numeric vector, got {_kind(value)}") from exc
     if arr.ndim != 1 or (size is not None and arr.shape[0] != size):

@@ -38,7 +38,7 @@ from importlib import resources
 
 import numpy as np
 
-from ._checks import as_path, integer
+from ._checks import as_path, as_vector, integer, numeric
 from ._jit import kernel
 
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
@@ -516,6 +516,8 @@ class SynergyHand:
         ('thick_fingers', 10.0)
         """
         path = as_path(path, "the hand file")
+        if path.is_dir():
+            raise FileNotFoundError(f"'{path}' is a folder, not a hand file: give the hand's .json file")
         if not path.is_file():
             raise FileNotFoundError(f"hand file not found: '{path}'")
         try:
@@ -595,11 +597,8 @@ class SynergyHand:
             If it has another shape, or a NaN or inf entry.
         """
         try:
-            if not (type(u) is np.ndarray and u.dtype == np.float64):  # (a float array needs no conversion)
-                if np.iscomplexobj(u):
-                    raise TypeError("complex")
-                u = np.asarray(u, dtype=float)
-        except (TypeError, ValueError):
+            u = numeric(u)  # (a float array as it is; text, booleans and complex numbers refused)
+        except (TypeError, ValueError, OverflowError):
             raise TypeError(f"u must be a numeric vector of {self.n_u} numbers [p (3), phi (3), z ({self.n_syn})], "
                             f"got {type(u).__name__}") from None
         if u.shape != (self.n_u,):
@@ -623,12 +622,17 @@ class SynergyHand:
         (n_syn,) float
             A new array.
 
+        Raises
+        ------
+        TypeError, ValueError
+            If ``z`` is not a finite numeric vector of ``n_syn`` values.
+
         Warns
         -----
         UserWarning
             If a value lies outside its synergy's limits.
         """
-        z = np.asarray(z, dtype=float)
+        z = as_vector(z, what, self.n_syn)
         lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
         clipped = np.clip(z, lo, hi)
         if ((z < lo) | (z > hi)).any():
@@ -637,7 +641,7 @@ class SynergyHand:
         return clipped
 
     def _check_kind(self, kind):
-        if kind not in self._kinds:
+        if not isinstance(kind, str) or kind not in self._kinds:
             raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
         return self._kinds[kind]
 

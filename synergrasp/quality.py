@@ -480,7 +480,10 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     ------
     ValueError
         NaN/inf, wrong shapes, zero normals, ``mu <= 0``, ``edges < 3``, bad
-        ``center``/``torque_scale``, unknown backend.
+        ``center``/``torque_scale`` (or either missing with ``checked``),
+        unknown backend.
+    TypeError
+        If ``checked`` is not a bool.
     synergrasp.lp.LPError
         If the LP backend fails.
 
@@ -502,6 +505,11 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     >>> r.force_closure
     False
     """
+    if not isinstance(checked, bool):
+        raise TypeError(f"checked must be True or False, got {type(checked).__name__} {checked!r}")
+    if checked and (center is None or torque_scale is None):
+        raise ValueError("checked=True is for arrays the library made, with center and torque_scale given: give "
+                         "them, or leave checked False")
     if checked:  # the same arrays as _prepare's for such inputs
         mu, _ = positive_scalar(mu, "mu", MU_MAX), _angles(edges)
         (nhat, length), arm, c, L = _normalised(normals), points - center, center, float(torque_scale)

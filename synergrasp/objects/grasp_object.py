@@ -89,7 +89,7 @@ class GraspObject:
         tenth of it outside them: other units or another frame), or given
         with a mesh; a mesh off the pieces' outline in the same way.
     TypeError
-        If ``mesh`` is not a trimesh.Trimesh.
+        If ``pieces`` is not a list of vertex arrays, or ``mesh`` not a trimesh.Trimesh.
 
     Examples
     --------
@@ -110,6 +110,9 @@ class GraspObject:
                  info=None):
         if isinstance(pieces, np.ndarray) and pieces.ndim == 2:
             pieces = [pieces]
+        if pieces is None or isinstance(pieces, (str, bytes, dict)) or not hasattr(pieces, "__iter__"):
+            raise TypeError(f"pieces must be a list of (k, 3) vertex arrays (the object's convex pieces), got "
+                            f"{type(pieces).__name__}")
         pieces = list(pieces)
         if not pieces:
             raise ValueError("pieces is empty: an object needs at least one convex piece")

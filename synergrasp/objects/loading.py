@@ -1061,6 +1061,8 @@ def load(
     small and a ``UserWarning`` says so.
     """
     path = _object_path(path).expanduser()
+    if path.is_dir():
+        raise FileNotFoundError(f"'{path}' is a folder, not an object file: give a mesh or point-cloud file in it")
     if not path.is_file():
         raise FileNotFoundError(f"object file not found: '{path}'")
     ext = path.suffix.lower()
