@@ -301,6 +301,10 @@ class SynergyHand:
         if np.any(self.palm_half_extents <= 0):
             spec.fail("palm.size", "must be positive")
         self.palm_point = spec.array(palm, "point", "palm.point", (3,))
+        if self.finger_radius > 2.0 * self.palm_half_extents.max():
+            spec.fail("finger_radius", f"must be smaller than the palm's largest side, "
+                      f"{2.0 * self.palm_half_extents.max():g} mm, got {self.finger_radius:g}: a finger thicker "
+                      "than the palm is not a hand (another unit, such as um for mm?)")
         face = self._palm_center[2] + self.palm_half_extents[2]
         self._palm_skin = np.array([[self._palm_center[0] + sx * self.palm_half_extents[0],
                                      self._palm_center[1] + sy * self.palm_half_extents[1], face] for sx, sy in PALM_SKIN])

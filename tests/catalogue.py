@@ -436,6 +436,8 @@ API = [
          "is a folder, not a hand file: give the hand's .json file"),
     Case("SynergyHand.from_file", "a file that is not JSON", lambda tmp: sg.SynergyHand.from_file(_write(tmp, "h.json", "{")), ValueError, "not valid JSON"),
     Case("SynergyHand", "a hand without a name", lambda tmp: sg.SynergyHand({}), ValueError, "field 'name' is missing"),
+    Case("SynergyHand", "a finger radius of a metre", lambda tmp: sg.SynergyHand({**_hand_dict(), "finger_radius": 1000.0}),
+         ValueError, "field 'finger_radius' must be smaller than the palm's largest side, 95 mm, got 1000"),
     Case("SynergyHand", "a finger radius given as a string", lambda tmp: sg.SynergyHand({**_hand_dict(), "finger_radius": "8"}),
          ValueError, "field 'finger_radius' must be numbers of shape (), got '8'"),
     Case("SynergyHand", "a null name", lambda tmp: sg.SynergyHand({**_hand_dict(), "name": None}), ValueError,
