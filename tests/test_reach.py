@@ -246,6 +246,9 @@ def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_a
     assert reach.deepest in clearance_labels(HAND) and reach.closest[reach.deepest_row] == reach.deepest
     assert f"{reach.deepest} {reach.depth:.1f} mm deep" in reach.reason and "not collision-free" in reach.reason
     assert hand_clearance(HAND, obj, reach.path[reach.deepest_row]).min() == pytest.approx(-reach.depth)
+    # the path reported is checked whole: it ends at the grasp (a check stopped at its first floor ended short of it)
+    np.testing.assert_array_equal(reach.path[-1], u)
+    assert len(reach.clearance) == len(reach.path)
 
 
 def test_a_margin_no_pre_grasp_clears_is_said(plate):

@@ -441,8 +441,8 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     for waypoints, direction, retreat in sorted(candidates, key=lambda c: c[2] is None):
         if best is not None and retreat is None and best[2] is not None:
             break
-        check = checker.along(waypoints, resolution=resolution,
-                              stop_below=floors if best is None else floors + float(best[0].slack.min()))
+        check = checker.along(waypoints, resolution=resolution,  # the first whole, as the one to beat
+                              stop_below=None if best is None else floors + float(best[0].slack.min()))
         if best is None or (check.complete and check.slack.min() > best[0].slack.min()):
             best = (check, waypoints, retreat, direction)
     check, waypoints, retreat, direction = best
