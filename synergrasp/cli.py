@@ -119,7 +119,7 @@ def output_stem(obj_arg, grasp) -> str:
 
 
 def attempt_table(result) -> str:
-    """A plan's attempts, one line each: pass, start palm position, stand-off, iterations and why it ended.
+    """A plan's attempts, one line each: how it started (a pinch's width), its start palm position, iterations, why it ended.
 
     Parameters
     ----------
@@ -130,13 +130,12 @@ def attempt_table(result) -> str:
     str
         A text table with a header line.
     """
-    rows = [("#", "pass", "start palm (mm)", "stand-off", "iterations", "ended")]
+    rows = [("#", "start", "start palm (mm)", "iterations", "ended")]
     for number, attempt in enumerate(result.attempts, 1):
         start = attempt.get("start")
         palm = "(" + ", ".join(f"{x:.0f}" for x in start[:3]) + ")" if start is not None else "-"
-        standoff = attempt.get("standoff")
-        rows.append((str(number), str(attempt.get("pass", "-")), palm,
-                     "-" if standoff is None else f"{standoff:g} mm", str(attempt["iterations"]), attempt["reason"]))
+        kind = str(attempt.get("kind", "-")) + (f" {attempt['width']:.0f} mm" if "width" in attempt else "")
+        rows.append((str(number), kind, palm, str(attempt["iterations"]), attempt["reason"]))
     widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]) - 1)]
     return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[-1] for row in rows)
 

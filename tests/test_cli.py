@@ -187,11 +187,14 @@ def test_a_failed_plan_reports_every_attempt(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 1 and out.startswith("FAILED: no stable grasp found")
     saved = json.loads((tmp_path / "ellipsoid_precision.json").read_text())
-    table = out[out.index("#  pass"):].splitlines()
+    table = out[out.index("#  start"):].splitlines()
     rows = [line for line in table[1:] if line[:1].isdigit()]
     assert len(rows) == len(saved["attempts"]) >= 1
     for row, attempt in zip(rows, saved["attempts"]):
         assert row.rstrip().endswith(attempt["reason"]) and f" {attempt['iterations']} " in row
+        assert row.split()[1] == attempt["kind"]  # how it started (a pinch with its width)
+        if attempt["kind"] == "pinch":
+            assert f"pinch {attempt['width']:.0f} mm" in row
 
 
 def test_the_time_limit_reaches_the_planner(tmp_path, capsys):

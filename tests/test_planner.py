@@ -1379,3 +1379,15 @@ def test_an_approach_of_any_magnitude_is_its_direction(hand, ellipsoid):
     assert all(np.array_equal(s, starts_of[1]) for s in starts_of)
     with pytest.raises(ValueError, match="approach must be a non-zero direction"):
         start_configuration(hand, ellipsoid, (0.0, 0.0, 0.0))
+
+
+def test_a_success_says_the_q_it_was_accepted_on_where_it_differs_from_g_q():
+    """A 60 x 40 x 90 mm box's power grasp meets the criterion on the pieces with g_Q = -0.0000 and is accepted on the
+    true surface's Q: the reason gives both (it gave g_Q alone, which read as a grasp with no margin)."""
+    box = sg.objects.from_mesh(trimesh.creation.box((60.0, 40.0, 90.0)), name="box", cache=False)
+    r = sg.plan(box, "power")
+    assert r.success and r.surface_q < -0.01
+    assert f"g_Q = {r.final_q:.4f}" in r.reason
+    assert f"{r.surface_q:.4f}" != f"{r.final_q:.4f}" and f"Q on the true surface {r.surface_q:.4f}" in r.reason
+    goblet = sg.plan(sg.objects.get("goblet"), "precision")  # the same Q both ways: said once
+    assert f"{goblet.surface_q:.4f}" == f"{goblet.final_q:.4f}" and "true surface" not in goblet.reason

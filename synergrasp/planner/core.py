@@ -91,11 +91,11 @@ def _check_object(obj, hand):
     if width < MIN_WIDTH:
         if obj.size < objects.loading.SIZE_RANGE[0]:  # small every way: most likely in metres
             raise ObjectRefused(
-                f"{obj.name} is too small to grasp: its smallest width is {width:.2g} mm "
+                f"{obj.name} is too small to grasp: its smallest width is {width:.3g} mm "
                 f"(less than {MIN_WIDTH:g} mm). Is it in metres? Load it with sg.objects.load(path, scale=1000)."
             )
         raise ObjectRefused(
-            f"{obj.name} is too thin to grasp: it is {width:.2g} mm thin, less than the {MIN_WIDTH:g} mm "
+            f"{obj.name} is too thin to grasp: it is {width:.3g} mm thin, less than the {MIN_WIDTH:g} mm "
             f"the fingertips need between them, while it is {obj.size:.0f} mm long (a sheet or a wire: its units "
             "are plausible, its shape is not one this hand can hold)"
         )
@@ -310,7 +310,10 @@ def _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, 
     elapsed = time.perf_counter() - t0
     reason = failure
     if success:
-        reason = f"stop criterion met ({result.check.n_contacts} contacts, g_Q = {result.check.q:.4f})"
+        reason = f"stop criterion met ({result.check.n_contacts} contacts, g_Q = {result.check.q:.4f}"
+        if f"{result.surface.q:.4f}" != f"{result.check.q:.4f}":  # the Q the grasp was accepted on, where it differs
+            reason += f"; Q on the true surface {result.surface.q:.4f}"
+        reason += ")"
         if validate is not False:
             reason += "; it holds in simulation" if held else "; no accepted grasp held in simulation"
     reason += suffix
