@@ -31,6 +31,17 @@ def atomic_path(path):
     Path
         The temporary file (it exists, empty).
 
+    Raises
+    ------
+    IsADirectoryError
+        If ``path`` is a folder, or a name ending with ``/``.
+    FileNotFoundError
+        If its folder does not exist.
+    ValueError
+        If it exists and is not a regular file (a device such as
+        ``/dev/null``, a pipe): the rename would replace it. A symbolic link
+        is followed: its target is written and the link kept.
+
     Examples
     --------
     >>> import tempfile
@@ -41,9 +52,15 @@ def atomic_path(path):
     >>> (folder / "out.txt").read_text(), sorted(p.name for p in folder.iterdir())
     ('done', ['out.txt'])
     """
-    path = as_path(path, "an output path")
+    given, path = path, as_path(path, "an output path")
+    if isinstance(given, str) and given.endswith(("/", os.sep)):  # (Path drops the separator)
+        raise IsADirectoryError(f"cannot write '{given}': a name ending with '/' is a folder's; give a file name")
+    path = path.resolve() if path.is_symlink() else path  # a link's target is written, the link kept
     if path.is_dir():
         raise IsADirectoryError(f"cannot write '{path}': it is a folder; give a file name")
+    if path.exists() and not path.is_file():
+        raise ValueError(f"cannot write '{path}': it is not a regular file (a device, a pipe or a socket), which "
+                         "a saved file would replace; give a file name")
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write '{path}': the folder '{path.parent}' does not exist")
     while True:  # like tempfile.mkstemp, but the file gets the usual permissions (0o666 less the umask)

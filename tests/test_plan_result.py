@@ -1,6 +1,7 @@
 """PlanResult files: atomic saves, and loads that check every field and name the file and the field."""
 
 import json
+import os
 import re
 import warnings
 from pathlib import Path
@@ -195,3 +196,23 @@ def test_writable_folder(tmp_path):
         writable_folder(blocker)
     with pytest.raises(ValueError, match=r"cannot write to the results folder '.*file/sub' \(not a directory\)"):
         writable_folder(blocker / "sub", "results folder")
+
+
+def test_atomic_writes_keep_links_and_refuse_what_is_not_a_file(tmp_path):
+    """The rename that makes a write atomic must not replace a device or a pipe (as root, saving to /dev/null made it
+    a plain file) nor a symbolic link (it replaced the link and left its target as it was)."""
+    target = tmp_path / "real" / "target.txt"
+    target.parent.mkdir()
+    (tmp_path / "link.txt").symlink_to(target)
+    with atomic_path(tmp_path / "link.txt") as tmp:
+        tmp.write_text("through the link")
+    assert (tmp_path / "link.txt").is_symlink() and target.read_text() == "through the link"
+    os.mkfifo(tmp_path / "pipe")
+    with pytest.raises(ValueError, match="it is not a regular file"):
+        with atomic_path(tmp_path / "pipe"):
+            pass
+    assert not (tmp_path / "pipe").is_file()
+    with pytest.raises(IsADirectoryError, match="a name ending with '/' is a folder's"):
+        with atomic_path(f"{tmp_path}/new/"):
+            pass
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.txt", "pipe", "real"]
