@@ -50,6 +50,8 @@ RESERVED_NAMES = ("palm", "object")
 #: Most points of a grid over the synergy box (`SynergyHand.synergy_grid`): the paper's hand's
 #: 41 x 41 grid fits, a hand with many synergies gets fewer values per synergy.
 SYNERGY_GRID_POINTS = 2000
+#: How far (synergy units) a synergy value may lie outside its limits and still be a pose of the hand (round-off).
+LIMIT_TOLERANCE = 1e-9
 
 _DEFAULT_FILE = "paper_hand.json"
 #: Skin points of a segment, for the status of a grasp of each kind: fractions along its axis, and
@@ -611,6 +613,30 @@ class SynergyHand:
         if not np.isfinite(u).all():
             raise ValueError(f"u contains NaN or inf, got {u}")
         return u
+
+    def check_synergies(self, z, what):
+        """Refuse synergy values outside the hand's limits (by more than `LIMIT_TOLERANCE`).
+
+        Parameters
+        ----------
+        z : (n_syn,) or (k, n_syn) float
+            Finite values (one pose or k).
+        what : str
+            What they are, for the message (e.g. "the configuration's synergies").
+
+        Raises
+        ------
+        ValueError
+            If a value lies outside its synergy's limits; the message gives the first such pose.
+        """
+        z = np.asarray(z, dtype=float)
+        lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
+        outside = (z < lo - LIMIT_TOLERANCE) | (z > hi + LIMIT_TOLERANCE)
+        if outside.any():
+            first = z if z.ndim == 1 else z[np.flatnonzero(outside.any(axis=1))[0]]
+            raise ValueError(f"{what} {first.tolist()} lie outside the hand's limits {self.synergy_limits.tolist()}: "
+                             "the hand cannot take that pose (clip them into the limits, as plan() does with a start "
+                             "outside them)")
 
     def clip_synergies(self, z, what):
         """Synergy values within their limits: ``z`` clipped, with a warning naming ``what`` if any lies outside.

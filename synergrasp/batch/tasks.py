@@ -103,6 +103,9 @@ def _objects_of(item):
     """(key, source) pairs of one OBJECTS argument."""
     if not isinstance(item, (str, os.PathLike)):
         raise TypeError(f"an object must be a built-in name or a path, got {type(item).__name__}")
+    if isinstance(item, str) and not item.strip():  # Path("") is the current folder: every file under it
+        raise ValueError(f"an object name is empty ({item!r}: an unset shell variable?): give a built-in name, a file "
+                         "or a folder ('.' for the current one)")
     path = Path(item)
     if path.is_dir():
         root = path.resolve()

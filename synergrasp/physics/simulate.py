@@ -96,6 +96,28 @@ def build_model(hand, obj, u, protocol, mocap=False):
     return mujoco, model, scene
 
 
+def leg_steps(hand, path, speed, timestep) -> list[int]:
+    """Time steps of each leg of a replayed path: the time its fastest capsule end or palm corner takes at ``speed``.
+
+    Parameters
+    ----------
+    hand : SynergyHand
+    path : (k, n_u) float
+    speed : float
+        mm/s.
+    timestep : float
+        s.
+
+    Returns
+    -------
+    list of int
+        k - 1 counts, each at least 1.
+    """
+    points = [np.vstack([g.capsules.reshape(-1, 3), g.palm_corners]) for g in map(hand.segments, path)]
+    return [max(1, round(float(np.linalg.norm(b - a, axis=1).max()) / speed / timestep))
+            for a, b in zip(points[:-1], points[1:])]
+
+
 def simulate_reach(hand, obj, path, squeeze_angles, protocol, speed) -> dict:
     """Simulate a reach: the palm follows a path, the finger servos its synergies, then the squeeze.
 
@@ -369,12 +391,10 @@ class _Simulation:
         mj.mj_forward(m, d)
         planned = self.pose()
         moved, turned, first = [0.0], [0.0], (0 if self.contacts() else -1)
-        geometry = [hand.segments(u) for u in path]
-        points = [np.vstack([g.capsules.reshape(-1, 3), g.palm_corners]) for g in geometry]
+        legs = leg_steps(hand, path, speed, p.timestep)
         try:
             for i in range(1, len(path)):
-                travel = float(np.linalg.norm(points[i] - points[i - 1], axis=1).max())
-                steps = max(1, round(travel / speed / p.timestep))
+                steps = legs[i - 1]
                 for k in range(1, steps + 1):
                     t = k / steps
                     u = path[i - 1] + t * (path[i] - path[i - 1])

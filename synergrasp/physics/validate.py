@@ -19,8 +19,6 @@ __all__ = ["validate", "squeeze_targets", "check_match"]
 
 #: Hand point kinds whose points can set the squeeze direction.
 _KINDS = ("precision", "power")
-#: How far (synergy units) a configuration's synergies may lie outside the hand's limits (round-off of a saved file).
-LIMIT_TOLERANCE = 1e-9
 
 
 def check_match(result, obj, hand, tolerance):
@@ -271,16 +269,13 @@ def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, b
     if isinstance(result_or_u, PlanResult):
         check_match(result_or_u, obj, hand, settings.contact_distance)
         u = np.asarray(result_or_u.u, dtype=float)
+        hand.check_synergies(u[6:], "the result's synergies")
     else:
         try:
             u = hand.check_u(result_or_u)
         except TypeError:
             raise TypeError(f"result_or_u must be a PlanResult or a configuration u, got {type(result_or_u).__name__}") from None
-        low, high = hand.synergy_limits[:, 0], hand.synergy_limits[:, 1]
-        if np.any(u[6:] < low - LIMIT_TOLERANCE) or np.any(u[6:] > high + LIMIT_TOLERANCE):
-            raise ValueError(f"the configuration's synergies {u[6:].tolist()} lie outside the hand's limits "
-                             f"{hand.synergy_limits.tolist()}: the hand cannot take that pose (clip them into the limits, "
-                             "as plan() does with a start outside them)")
+        hand.check_synergies(u[6:], "the configuration's synergies")
     try:
         z, _ = squeeze_targets(hand, obj, u, settings.squeeze, settings.contact_distance, backend)
     except NoContact as error:
