@@ -98,6 +98,8 @@ def writable_folder(path, what: str = "output folder") -> Path:
     ValueError
         If the folder cannot be created or written to (the message names the
         folder and the reason), or its name is empty.
+    TypeError
+        If ``path`` is not a str or os.PathLike.
 
     Examples
     --------
@@ -108,7 +110,7 @@ def writable_folder(path, what: str = "output folder") -> Path:
     """
     if isinstance(path, (str, bytes)) and not path:
         raise ValueError(f"the {what} is an empty name (an unset variable?): name a folder, '.' for the current one")
-    path = Path(path)
+    path = as_path(path, f"the {what}")
     try:
         path.mkdir(parents=True, exist_ok=True)
         fd, name = tempfile.mkstemp(prefix=".write-check.", dir=path)

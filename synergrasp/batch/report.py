@@ -13,6 +13,8 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from .._files import atomic_path
 from ..hand import SynergyHand
 from ..planner.result import PlanResult
@@ -76,8 +78,11 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
     >>> page.name, (store.out / "report" / "ellipsoid" / "precision.png").is_file()
     ('report.html', True)
     """
-    if not isinstance(gallery, int) or isinstance(gallery, bool) or gallery < 0:
+    if not isinstance(gallery, (int, np.integer)) or isinstance(gallery, bool) or gallery < 0:
         raise ValueError(f"gallery must be a whole number >= 0, got {gallery!r}")
+    if hand is not None and not isinstance(hand, SynergyHand):
+        raise TypeError(f"hand must be the SynergyHand that made the plans (None: the paper's), got "
+                        f"{type(hand).__name__} {hand!r}")
     store = ResultStore(out)
     rows, unreadable = store.scan()
     if not rows and unreadable:

@@ -22,6 +22,8 @@ import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from .._checks import positive_scalar
 from ..lp import get_backend
 from ..objects import BUILTINS, ellipsoid
@@ -29,6 +31,9 @@ from ..planner import METHODS, PlanResult, plan
 from .store import ResultStore, TaskFailure, grasp_summary
 from .tasks import expand
 from .worker import plan_task, prepare_object
+
+#: Longest wait (s) for a scheduler to answer and have a worker: an hour.
+MAX_CONNECT_TIMEOUT = 3600.0
 
 
 class BatchInterrupted(KeyboardInterrupt):
@@ -165,7 +170,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
     progress : bool
         Show a progress bar (tasks done, rate, time left) on stderr.
     connect_timeout : float
-        Seconds to wait for ``scheduler`` to answer and to have a worker.
+        Seconds to wait for ``scheduler`` to answer and to have a worker (at
+        most `MAX_CONNECT_TIMEOUT`).
 
     Returns
     -------
@@ -237,12 +243,16 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
 
 def _check_settings(tasks, backend, options, time_limit, scale, workers, scheduler, validate, connect_timeout):
     get_backend(backend)
-    positive_scalar(connect_timeout, "connect_timeout")
+    positive_scalar(connect_timeout, "connect_timeout (seconds)", MAX_CONNECT_TIMEOUT)
     if scheduler is not None and not isinstance(scheduler, str):
         raise TypeError(f"scheduler must be a Dask scheduler's address such as 'tcp://host:8786', "
                         f"got {type(scheduler).__name__}")
     if validate is not None:
         from ..physics import PRESETS
+
+        if not isinstance(validate, str):
+            raise TypeError(f"validate must be a preset's name ({', '.join(sorted(PRESETS))}) or None, got "
+                            f"{type(validate).__name__} {validate!r}")
         from ..physics.simulate import mujoco_module
 
         if validate not in PRESETS:
@@ -256,7 +266,7 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
         if scheduler is not None:
             raise ValueError("workers sets the size of the local cluster; a scheduler's workers are started "
                              "with `dask worker ADDRESS` (pass workers=None with scheduler=)")
-        if not isinstance(workers, int) or isinstance(workers, bool) or workers < 1:
+        if not isinstance(workers, (int, np.integer)) or isinstance(workers, bool) or workers < 1:
             raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     if options is not None and not isinstance(options, dict):
         raise TypeError(f"options must be a dict of synergrasp.plan keyword arguments, got {type(options).__name__}")

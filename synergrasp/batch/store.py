@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._checks import as_path
 from .._files import atomic_path, writable_folder
 from ..planner.result import PlanResult
 
@@ -91,7 +92,7 @@ class ResultStore:
         if isinstance(out, (str, bytes)) and not out:
             raise ValueError("the output folder is an empty name (an unset variable?): name a folder, '.' for the "
                              "current one")
-        self.out = Path(out)
+        self.out = as_path(out, "the output folder (out)")
         self.results = self.out / "results"
         self.summary_path = self.out / "summary.csv"
         self.warnings_path = self.out / "warnings.log"

@@ -65,7 +65,8 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
         with the same key (the message names both: pass their common folder
         instead, or rename one).
     TypeError
-        If an object is neither a string nor a path.
+        If ``objects`` or ``grasps`` is not a sequence (or a single name), or an
+        object is neither a string nor a path.
 
     Warns
     -----
@@ -79,6 +80,9 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
     """
     if isinstance(objects, (str, os.PathLike, bytes)):  # (bytes: one object, refused by name below)
         objects = [objects]
+    for value, name in ((objects, "objects"), (grasps, "grasps")):
+        if value is None or isinstance(value, dict) or not hasattr(value, "__iter__"):
+            raise TypeError(f"{name} must be a name or a sequence of them, got {type(value).__name__}")
     grasps = [grasps] if isinstance(grasps, str) else list(grasps)
     bad = [g for g in grasps if g not in GRASPS]
     if bad or not grasps:
