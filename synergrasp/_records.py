@@ -87,7 +87,7 @@ def load_record(cls, path, tag, arrays, optional=()) -> dict:
         raise FileNotFoundError(f"{name} file not found: '{path}'")
     try:
         data = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:  # (lists nested 1e5 deep)
         raise ValueError(f"cannot read a {name} from {path}: {exc}") from exc
     if not isinstance(data, dict) or data.pop("format", None) != tag:
         raise ValueError(f"{path} is not a saved synergrasp {name} (no \"format\": \"{tag}\")")

@@ -126,6 +126,24 @@ def test_store_rows_come_from_the_result_files(tmp_path):
     store.write_summary(rows)
     assert [(r["object"], r["grasp"], r["success"]) for r in read_summary(store.out)] == [
         ("ellipsoid", "precision", str(result.success))]
+    # other damage is set aside alike, not a crash of the whole scan: a folder under a result's name, a failure
+    # record of a time that is not seconds, a result of lists nested 1e5 deep (RecursionError), one without targets
+    store.result_path("cup", "power").unlink()
+    store.result_path("bowl", "power").mkdir(parents=True)
+    for grasp, time_s in (("precision", float("nan")), ("power", [1])):
+        store.write_result("mug", grasp, TaskFailure("timeout", "no result", 1.0))
+        data = json.loads(store.failure_path("mug", grasp).read_text())
+        store.failure_path("mug", grasp).write_text(json.dumps({**data, "time_s": time_s}))
+    store.result_path("deep", "power").parent.mkdir(parents=True)
+    store.result_path("deep", "power").write_text("[" * 100_000 + "]" * 100_000)
+    saved = json.loads(store.result_path("ellipsoid", "precision").read_text())
+    store.result_path("flat", "power").parent.mkdir(parents=True)
+    store.result_path("flat", "power").write_text(json.dumps({**saved, "target": [], "status": [[]] * len(saved["status"])}))
+    rows, unreadable = store.scan()
+    assert [r["object"] for r in rows] == ["ellipsoid"]
+    assert sorted(unreadable) == sorted([store.result_path("bowl", "power"), store.failure_path("mug", "precision"),
+                                         store.failure_path("mug", "power"), store.result_path("deep", "power"),
+                                         store.result_path("flat", "power")])
 
 
 def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):

@@ -24,6 +24,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import os
 import re
 from contextlib import contextmanager
@@ -229,7 +230,7 @@ class ResultStore:
             if not failed:
                 try:
                     row = _plan_row(key, grasp, PlanResult.load(path), path.relative_to(self.out))
-                except (ValueError, TypeError, KeyError):
+                except (OSError, ValueError, TypeError, KeyError):  # (OSError: a folder under a result's name)
                     unreadable.append(path)
                     continue
                 checked = self.validation_path(key, grasp)
@@ -237,7 +238,7 @@ class ResultStore:
                     try:  # a damaged validation is the one set aside (and the plan validated again), not the plan
                         validation = Validation.load(checked)
                         row.update(held=bool(validation.held), physics=validation.outcome)
-                    except (ValueError, TypeError, KeyError):
+                    except (OSError, ValueError, TypeError, KeyError):
                         unreadable.append(checked)
                 rows[key, grasp] = row
                 continue
@@ -248,7 +249,7 @@ class ResultStore:
                 if data.get("format") != _FAILURE_FORMAT or data.get("status") not in STATUSES:
                     raise ValueError("not a failure record")
                 rows[key, grasp] = _failure_row(key, grasp, data, path.relative_to(self.out))
-            except (OSError, ValueError, AttributeError):
+            except (OSError, ValueError, TypeError, AttributeError, RecursionError):
                 unreadable.append(path)
         return [rows[k] for k in sorted(rows)], unreadable
 
@@ -284,9 +285,12 @@ def _plan_row(key, grasp, result: PlanResult, file) -> dict:
 
 
 def _failure_row(key, grasp, data: dict, file) -> dict:
+    time_s = data.get("time_s", 0.0)
+    if isinstance(time_s, bool) or not isinstance(time_s, (int, float)) or not 0.0 <= time_s < math.inf:
+        raise ValueError(f"time_s must be seconds >= 0, got {time_s!r}")
     row = dict.fromkeys(COLUMNS, "")
     row.update(object=key, grasp=grasp, status=data["status"], success=False, reason=str(data.get("reason", "")),
-               time_s=float(data.get("time_s", 0.0)), file=Path(file).as_posix())
+               time_s=float(time_s), file=Path(file).as_posix())
     return row
 
 

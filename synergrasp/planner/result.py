@@ -317,6 +317,8 @@ def _validated(data: dict, path) -> dict:
         fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}")
     out["target"] = array("target", 1)
     m = len(out["target"])
+    if m < 2:
+        fail("target", "the target of the status rows (at least a contact row and the quality row)")
     out["status"] = array("status", 2)
     if out["status"].shape != (k + 1, m):
         fail("status", f"of shape (iterations + 1, len(target)) = ({k + 1}, {m}), not {out['status'].shape}")
