@@ -408,6 +408,17 @@ def pseudo_distance(A, B, *, simplex=None, backend="native") -> PseudoDistance:
     )
 
 
+def lp_entries(na: int, nb: int, d: int) -> int:
+    """Nonzeros of the penetration LP of ``na`` and ``nb`` points in ``d`` dimensions (compared with `MAX_LP_ENTRIES`).
+
+    Examples
+    --------
+    >>> lp_entries(40, 1, 6)   # 5 contacts of 8 cone edges against the origin of wrench space
+    2051
+    """
+    return (d + 1) * (d + (na + nb) * (d + 1))
+
+
 def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
     """The LP optimum behind :func:`pseudo_distance`: value, weights and duals, no derived arrays.
 
@@ -455,7 +466,7 @@ def optimum(A, B, *, simplex=None, backend="native", checked=False) -> Optimum:
         if A.shape[1] > MAX_DIM:
             raise ValueError(f"A and B have points of dimension {A.shape[1]}; at most {MAX_DIM} is supported")
     d = A.shape[1]
-    entries = (d + 1) * (d + (len(A) + len(B)) * (d + 1))
+    entries = lp_entries(len(A), len(B), d)
     if entries > MAX_LP_ENTRIES:
         raise ValueError(f"{len(A)} + {len(B)} points in {d} dimensions make a penetration LP of {entries:.3g} nonzeros, "
                          f"more than the {MAX_LP_ENTRIES:.0e} synergrasp builds ({d + 1} blocks, each of all the points); "

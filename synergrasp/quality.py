@@ -27,7 +27,7 @@ from scipy.spatial import ConvexHull, QhullError
 
 from ._checks import as_points, as_vector, positive_scalar
 from ._jit import helper, kernel
-from .pseudo_distance import optimum, regular_simplex
+from .pseudo_distance import MAX_LP_ENTRIES, lp_entries, optimum, regular_simplex
 
 #: Q below minus this is force closure; closer to 0 is the boundary, within solver round-off.
 FORCE_CLOSURE_TOL = 1e-9
@@ -287,6 +287,9 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
     nhat, length = _unit_normals(normals, len(points))
     mu = positive_scalar(mu, "mu", MU_MAX)
     _angles(edges)  # validated here, before any work
+    if lp_entries(len(points) * edges, 1, 6) > MAX_LP_ENTRIES:  # refused before the wrenches are built
+        raise ValueError(f"{len(points)} contacts of {edges} cone edges make a Q-distance LP of more than the "
+                         f"{MAX_LP_ENTRIES:.0e} nonzeros synergrasp builds: use fewer contacts (a grasp has a few)")
     c = np.zeros(3) if center is None else as_vector(center, "center", 3)
     with np.errstate(over="ignore"):  # refused just below, with the reason
         arm = points - c
