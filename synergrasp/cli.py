@@ -46,7 +46,7 @@ def positive(kind):
             value = kind(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"expected {wanted} > 0, got {text!r}") from None
-        if not np.isfinite(value) or value <= 0:
+        if value <= 0 or (kind is not int and not np.isfinite(value)):  # (a huge int overflows isfinite)
             raise argparse.ArgumentTypeError(f"expected {wanted} > 0, got {text!r}")
         return value
 
@@ -83,7 +83,8 @@ def output_folder(text):
 UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 #: Exit status of the ``synergrasp`` command.
 EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
-              1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written)",
+              1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written); "
+                 "batch: no task gave a plan (every one a load error, timeout or failure; the records are written)",
               2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)",
               130: "batch: interrupted (Ctrl-C or SIGTERM) after writing the results that had arrived; rerun the same "
                    "command to plan the rest"}

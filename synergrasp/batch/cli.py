@@ -110,7 +110,7 @@ def _batch(args) -> int:
             signal.signal(signal.SIGTERM, previous)
     print(report)
     _print_failures(report)
-    return 0
+    return 1 if report.rows and all(row["status"] != "planned" for row in report.rows) else 0
 
 
 def _print_failures(report) -> None:
