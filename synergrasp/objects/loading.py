@@ -73,7 +73,7 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
-from .._checks import as_points, integer, positive_scalar
+from .._checks import as_path, as_points, integer, positive_scalar
 from .convex import SIZE_LIMITS, ConvexPiece, checked_hull
 from .decompose import DecompositionTimeout, run_coacd
 from .grasp_object import GraspObject
@@ -1116,7 +1116,7 @@ def _object_path(value) -> Path:
     """``load``'s path as a Path; a mesh, a point cloud or anything else that is not a path is refused with
     the function that takes it."""
     if isinstance(value, (str, os.PathLike)):
-        return Path(value)
+        return as_path(value, "the object file")
     if isinstance(value, (trimesh.Trimesh, trimesh.Scene)):
         hint = ": for a trimesh mesh already in memory use sg.objects.from_mesh(mesh)"
     elif isinstance(value, (np.ndarray, list, tuple, trimesh.PointCloud)):

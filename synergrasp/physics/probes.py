@@ -42,9 +42,13 @@ def _pinch(hand, position, angles, gap):
             or not np.isfinite(gap):
         raise ValueError(f"gap must be a finite number of mm (negative: the fingertips overlap the object), got {gap!r}")
     u = np.r_[as_vector(position, "position (mm)", 3), as_vector(angles, "angles (rad)", 3), PINCH_Z]
+    missing = [name for name in ("T", "I") if name not in hand.finger_names]
+    if missing:
+        raise ValueError(f"a pinch is between the thumb 'T' and the index 'I'; hand {hand.name!r} has no finger "
+                         f"{missing} (its fingers: {hand.finger_names})")
     geo = hand.segments(u)
     last = {chain: ends[1] for chain, ends in zip(hand.point_chains("power")[:-1], geo.capsules)}
-    a, b = last[0], last[1]  # the thumb's and the index's (the first two fingers)
+    a, b = last[hand.finger_names.index("T")], last[hand.finger_names.index("I")]
     free = np.linalg.norm(b - a) - 2.0 * (hand.finger_radius + gap)
     if free <= 0.0:
         room = np.linalg.norm(b - a) - 2.0 * hand.finger_radius
@@ -85,8 +89,8 @@ def pinch_grasp(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), 
     TypeError
         If ``hand`` is not a SynergyHand.
     ValueError
-        If the hand has other than two synergies, or a size, gap or pose is
-        out of range.
+        If the hand has other than two synergies or no thumb ``T`` and index
+        ``I``, or a size, gap or pose is out of range.
 
     Examples
     --------
@@ -138,8 +142,8 @@ def ball_pinch(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), g
     TypeError
         If ``hand`` is not a SynergyHand.
     ValueError
-        If the hand has other than two synergies, or a size, gap or pose is
-        out of range.
+        If the hand has other than two synergies or no thumb ``T`` and index
+        ``I``, or a size, gap or pose is out of range.
 
     Examples
     --------

@@ -120,6 +120,9 @@ class Protocol:
     noslip_iterations: int = 2
 
     def __post_init__(self):
+        if not isinstance(self.name, str):
+            raise ValueError(f"protocol setting name must be a string (the preset it derives from, or your own), "
+                             f"got {self.name!r}")
         positive = ("mu", "density", "acceleration", "push_time", "max_displacement", "max_rotation",
                     "squeeze", "contact_distance", "kp", "squeeze_time", "max_speed", "timestep", "impratio")
         unbounded = ("max_displacement", "max_rotation", "max_speed", "max_penetration")  # inf: no such check

@@ -17,6 +17,9 @@ from .simulate import mujoco_module, simulate
 
 __all__ = ["validate", "squeeze_targets", "check_match"]
 
+#: Farthest ``retreat`` (mm): far beyond any hand's reach, the palm is simply away from the object.
+MAX_RETREAT = 1000.0
+
 #: Hand point kinds whose points can set the squeeze direction.
 _KINDS = ("precision", "power")
 
@@ -96,7 +99,7 @@ def retreat_distance(value) -> float:
     Raises
     ------
     ValueError
-        If it is not a finite number >= 0 (text and booleans are not numbers).
+        If it is not a number from 0 to `MAX_RETREAT` (text and booleans are not numbers).
     """
     try:
         if isinstance(value, (str, bytes, bool, np.bool_)):  # "40" or True would read as a distance
@@ -108,6 +111,9 @@ def retreat_distance(value) -> float:
         raise ValueError(f"retreat must be a finite number of mm, got {value!r}")
     if retreat < 0:
         raise ValueError(f"retreat must be >= 0 mm (the palm is moved back, away from the object), got {value!r}")
+    if retreat > MAX_RETREAT:
+        raise ValueError(f"retreat must be at most {MAX_RETREAT:g} mm (a negative control a hand's length back), got "
+                         f"{value!r}: is it in mm?")
     return retreat
 
 
