@@ -315,7 +315,8 @@ def test_a_mesh_of_separate_objects_is_one_object_with_a_warning():
     ball = trimesh.creation.icosphere(radius=25.0)
     apart = trimesh.util.concatenate([ball.copy().apply_translation([-100.0, 0, 0]), ball.copy().apply_translation([100.0, 0, 0])])
     with pytest.warns(UserWarning, match=r"two balls is 2 separate parts, some 150 mm from the rest: they are planned as one "
-                                         r"rigid object\. To grasp one of them, load it alone"):
+                                         r"rigid object\. To grasp one of them, load it alone: its parts are "
+                                         r"mesh\.split\(only_watertight=False\)"):  # a mesh in memory: no file
         obj = so.from_mesh(apart, name="two balls", cache=False)
     assert obj.n_pieces == 2
     cube = trimesh.creation.box((40.0, 40.0, 40.0))

@@ -487,8 +487,9 @@ def _from_mesh(
     parts, gap = separate_parts(shown)
     if gap > PART_GAP:
         _warn(f"{what} is {parts} separate parts, some {gap:.0f} mm from the rest: they are planned as one rigid "
-              "object. To grasp one of them, load it alone: its parts are "
-              'trimesh.load(path, force="mesh").split(only_watertight=False)')
+              "object. To grasp one of them, load it alone: its parts are " + (
+                  'trimesh.load(path, force="mesh").split(only_watertight=False)' if _source
+                  else "mesh.split(only_watertight=False) (a scene's: its geometry, scene.geometry.values())"))
     return obj
 
 
