@@ -309,16 +309,21 @@ def test_the_value_is_accurate_to_round_off_of_the_extent(extent, backend):
 
 @pytest.mark.parametrize("offset", [3e4, 2e5, 5e5, 5e7])
 def test_sets_far_from_the_origin_have_the_value_they_have_at_it(offset, backend):
-    """Two 50 mm cubes overlapping by 25 mm, moved far from the origin together: the value is translation invariant
-    (the native solver read them as touching, 0, from about 1e5 mm on, when they were solved where they lie)."""
+    """A 50 mm cube and a turned one overlapping it, moved far from the origin together: the value and gradients are
+    translation invariant (the native solver read overlapping sets as touching, 0, from about 1e5 mm on, when they
+    were solved where they lie)."""
+    from scipy.spatial.transform import Rotation
+
     from synergrasp.pseudo_distance import reset_regime_memory
 
     cube = 50.0 * np.array(np.meshgrid([0, 1], [0, 1], [0, 1])).reshape(3, -1).T
-    near = sg.pseudo_distance(cube, cube + [25.0, 0.0, 0.0], backend=backend)
+    turned = Rotation.from_rotvec([0.1, 0.2, 0.3]).apply(cube - 25.0) + [50.0, 32.0, 28.0]  # (no symmetry: one dual)
+    near = sg.pseudo_distance(cube, turned, backend=backend)
     solver = sg.lp.get_backend(backend)
     solver.forget()
     reset_regime_memory()  # the separation LP first: the order that read them as touching
-    far = sg.pseudo_distance(cube + offset, cube + offset + [25.0, 0.0, 0.0], backend=solver)
-    assert far.kind == near.kind == "penetration" and near.value < -25.0
-    assert far.value == pytest.approx(near.value, rel=1e-9)
-    np.testing.assert_allclose(far.grad_a, near.grad_a, atol=1e-9)
+    far = sg.pseudo_distance(cube + offset, turned + offset, backend=solver)
+    assert far.kind == near.kind == "penetration" and near.value < -30.0 and not near.degenerate
+    assert far.value == pytest.approx(near.value, rel=1e-8)
+    np.testing.assert_allclose(far.grad_a, near.grad_a, atol=1e-6)
+    np.testing.assert_allclose(far.grad_b, near.grad_b, atol=1e-6)
