@@ -31,8 +31,8 @@ def register(sub, epilog: str = "") -> None:
         "cluster (or a running scheduler). Each plan is written to DIR/results/KEY/GRASP.json as it finishes; "
         "a rerun of the same command plans only what is missing; DIR/summary.csv is rebuilt from the results. "
         "Failures (an object that does not load, a plan that raises or times out) are recorded and do not stop "
-        "the batch. The output folder is checked before planning. Exit status 0 when every task finished "
-        "(whether or not it found a grasp), 130 if interrupted by Ctrl-C or SIGTERM (rerun to go on).",
+        "the batch. The output folder is checked before planning. Exit status 0 when a task gave a plan "
+        "(whether or not it found a grasp), 1 when none did, 130 if interrupted by Ctrl-C or SIGTERM (rerun to go on).",
         epilog=epilog,
     )
     b.add_argument("objects", nargs="+", metavar="OBJECT",
