@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import secrets
+import shutil
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -139,8 +140,9 @@ def image_path(path, suffixes=None) -> Path:
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    path = Path(path)
-    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes())
+    path = as_path(path, "the image path")
+    known = suffixes or sorted(f".{ext}" for ext in FigureCanvasAgg.get_supported_filetypes()
+                               if ext != "pgf" or shutil.which("xelatex"))  # (pgf needs a TeX installation)
     if path.suffix.lower() not in known:
         raise ValueError(f"cannot write '{path}': {path.suffix or 'no extension'} is not a supported format; "
                          f"use one of {', '.join(known)}")

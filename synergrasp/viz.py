@@ -8,7 +8,6 @@ all four for a plan.
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import matplotlib
 
@@ -19,7 +18,7 @@ import trimesh  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 
-from ._checks import integer  # noqa: E402
+from ._checks import as_path, integer  # noqa: E402
 from ._files import atomic_path, image_path  # noqa: E402
 
 __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "status_figure", "write_html"]
@@ -142,10 +141,11 @@ def status_figure(result, labels=None, attempts=None):
             raise ValueError(f"the result was planned with hand {result.hand!r}, whose status rows are not the paper "
                              "hand's: pass labels=hand.point_labels(result.grasp) of that hand")
         labels = paper.point_labels(result.grasp)
-    if isinstance(labels, str) or not all(isinstance(label, str) and label for label in labels):
+    if not isinstance(labels, str) and hasattr(labels, "__iter__"):
+        labels = list(labels)  # (a generator is read once: listed before it is checked)
+    if not isinstance(labels, list) or not all(isinstance(label, str) and label for label in labels):
         raise ValueError(f"labels must be a list of non-empty names, one per cP row, got {labels!r}: pass the planning "
                          "hand's hand.point_labels(result.grasp)")
-    labels = list(labels)
     if len(labels) >= np.shape(result.status)[1]:
         raise ValueError(f"{len(labels)} labels for the {np.shape(result.status)[1] - 1} cP rows of the result's status: "
                          "pass the planning hand's hand.point_labels(result.grasp)")
@@ -220,25 +220,33 @@ def _plot_clearance(ax, result):
     ax.legend(fontsize=8, loc="upper right")
 
 
-def _check(result=None, obj=None, hand=None):
-    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand;
-    ValueError for a result planned with another hand than ``hand`` (`PlanResult.hand`)."""
+#: `_check`'s default: an argument the figure does not take.
+_ABSENT = object()
+
+
+def _check(result=_ABSENT, obj=_ABSENT, hand=_ABSENT):
+    """TypeError unless each given argument is what the figures draw: a PlanResult, a GraspObject, a SynergyHand
+    (None is not); ValueError for a result planned with another hand than ``hand`` (`PlanResult.hand`) or for
+    another object than ``obj`` (its name)."""
     from .hand import SynergyHand
     from .objects import GraspObject
     from .planner import PlanResult
 
     for name, value, kind in (("result", result, PlanResult), ("obj", obj, GraspObject), ("hand", hand, SynergyHand)):
-        if value is not None and not isinstance(value, kind):
+        if value is not _ABSENT and not isinstance(value, kind):
             raise TypeError(f"{name} must be a {kind.__name__}, got {type(value).__name__}")
-    if result is not None and hand is not None and not hand.made(result.hand):
+    if result is not _ABSENT and hand is not _ABSENT and not hand.made(result.hand):
         raise ValueError(f"the result was planned with hand {result.hand!r}, not with {hand.identity!r}: pass the "
                          "hand that made it")
+    if result is not _ABSENT and obj is not _ABSENT and result.object_name != obj.name:
+        raise ValueError(f"the result was planned for object {result.object_name!r}, not for {obj.name!r}: pass the "
+                         "object it was planned for")
 
 
 def _save(fig, path, dpi):
     """Lay out, write (atomically) and close a figure; returns ``Path(path)``."""
     fig.tight_layout()
-    path = Path(path)
+    path = as_path(path, "the image path")
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=dpi)
@@ -297,7 +305,8 @@ def plot_poses(result, obj, hand, path, count=5):
     path : str or Path
         Output image (.png, .svg, .pdf).
     count : int
-        Number of poses drawn, evenly spread over the trajectory (last included).
+        Number of poses drawn, evenly spread over the trajectory (last
+        included; at most one per iteration).
 
     Returns
     -------
@@ -309,7 +318,8 @@ def plot_poses(result, obj, hand, path, count=5):
     TypeError
         If ``result``, ``obj`` or ``hand`` is of the wrong type.
     ValueError
-        If the file's extension is not an image format matplotlib writes, or ``count`` < 1.
+        If the file's extension is not an image format matplotlib writes, ``count`` < 1, or the
+        result was planned for another object or with another hand.
     FileNotFoundError
         If the folder of ``path`` does not exist.
 
@@ -326,7 +336,7 @@ def plot_poses(result, obj, hand, path, count=5):
     path = image_path(path)
     count = integer(count, "count", what="poses drawn")
     traj = np.asarray(result.trajectory)
-    picks = np.unique(np.linspace(0, len(traj) - 1, count).round().astype(int))
+    picks = np.unique(np.linspace(0, len(traj) - 1, min(count, len(traj))).round().astype(int))
     fig = plt.figure(figsize=(7, 7))
     ax = fig.add_subplot(projection="3d")
     _draw_object(ax, obj)
@@ -389,6 +399,9 @@ def plot_grasps(plans, hand, path, columns=6):
     >>> plot_grasps([(result, obj, "ellipsoid")], hand, pathlib.Path(tempfile.mkdtemp()) / "g.png").exists()
     True
     """
+    if isinstance(plans, np.ndarray) or not hasattr(plans, "__iter__"):
+        raise TypeError(f"plans must be a list of (result, object, caption) triples, got {type(plans).__name__}")
+    plans = list(plans)
     if not plans:
         raise ValueError("plot_grasps needs at least one (result, object, caption) triple")
     _check(hand=hand)
@@ -473,7 +486,6 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
         return artists
 
     anim = animation.FuncAnimation(fig, draw, frames=frames, blit=False)
-    path = Path(path)
     try:
         with atomic_path(path) as tmp:
             anim.save(tmp, writer=animation.PillowWriter(fps=fps))
@@ -567,7 +579,7 @@ def write_html(obj, hand, u, path):
     """
     from trimesh.viewer.notebook import scene_to_html
 
-    path = Path(path)
+    path = image_path(path, [".html", ".htm"])
     page = scene_to_html(scene(obj, hand, u))
     with atomic_path(path) as tmp:
         tmp.write_text(page)

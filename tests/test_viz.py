@@ -60,3 +60,16 @@ def test_a_mesh_of_many_faces_is_drawn_as_its_convex_pieces(monkeypatch):
         viz._draw_object(fig.add_subplot(projection="3d"), obj)
         plt.close(fig)
     assert drawn == [len(obj.mesh.faces), pieces] and pieces < len(obj.mesh.faces)
+
+
+def test_labels_and_plans_given_as_generators_are_drawn(tmp_path, short_plan):
+    """A generator of labels drew no cP curve (the check read it through before the figure did); a generator of
+    plans for the gallery raised "has no len()"."""
+    result, obj = short_plan
+    labels = ["T0", "I0", "M0"]
+    listed = viz.status_figure(result, labels=labels)
+    generated = viz.status_figure(result, labels=(name for name in labels))
+    assert [len(ax.get_lines()) for ax in generated.axes] == [len(ax.get_lines()) for ax in listed.axes]
+    assert [t.get_text() for t in generated.axes[0].get_legend().get_texts()][:3] == [f"$g_{{{n}}}$" for n in labels]
+    hand = sg.SynergyHand.default()
+    assert viz.plot_grasps(((result, obj, f"view {i}") for i in range(2)), hand, tmp_path / "g.png").is_file()

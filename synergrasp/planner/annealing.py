@@ -35,6 +35,7 @@ auto-grasp's closing.
 from __future__ import annotations
 
 import math
+import sys
 import time
 from dataclasses import replace
 
@@ -147,7 +148,8 @@ def temperature(options, k):
     >>> f"{temperature(AnnealingOptions(), 30000):.3g}"
     '9.36e-06'
     """
-    return options.t0 * math.exp(-options.cooling * k ** (1.0 / options.dims))
+    # (at least the smallest normal float: a schedule that underflows to 0 would divide by it)
+    return max(options.t0 * math.exp(-options.cooling * k ** (1.0 / options.dims)), sys.float_info.min)
 
 
 def neighbour_steps(rng, T, n):

@@ -171,9 +171,10 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     hand : SynergyHand, optional
         Default: ``SynergyHand.default()``.
     progress : callable, optional
-        Called as ``progress(check, status)`` after every iteration, with
-        read-only copies (`read_only`) of the iteration's `GraspCheck` and
-        `Status`.
+        Called as ``progress(check, status)`` after every iteration (with
+        ``method="annealing"``: after every auto-grasp, the only steps that
+        evaluate a grasp), with read-only copies (`read_only`) of the
+        iteration's `GraspCheck` and `Status`.
     validate : bool or dict
         Also test every accepted grasp in MuJoCo (`synergrasp.validate`; a
         dict gives its protocol settings) and keep searching, through
@@ -326,7 +327,7 @@ def _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, 
         success=bool(success),
         reason=reason,
         iterations=result.iterations,
-        u=result.trajectory[-1],
+        u=result.trajectory[-1].copy(),  # (not a view: changing one does not change the other)
         trajectory=result.trajectory,
         status=result.status,
         target=np.r_[np.zeros(len(final.labels)), -1.0],
@@ -357,6 +358,9 @@ def _validator(validate, obj, hand, backend):
     from ..physics import validate as simulate  # noqa: PLC0415
 
     settings = {} if validate is True else dict(validate)
+    named = [key for key in settings if not isinstance(key, str)]
+    if named:
+        raise TypeError(f"validate's settings are named by strings (as synergrasp.validate's keywords), got {named!r}")
     # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
     mujoco_module()
     protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})

@@ -7,12 +7,21 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from .._checks import numeric
+
 #: Grasp types the planner knows.
 GRASPS = ("precision", "power")
 #: Farthest start of the hand from the object's centre (mm): ``start_distance``'s bound, and a given ``u0``'s.
 MAX_START_DISTANCE = 10000.0
 #: Largest friction coefficient ``mu`` the planners (and the physics protocol) take.
 MAX_FRICTION = 10.0
+#: Most attempts of a plan (`PlannerOptions.restarts`).
+MAX_RESTARTS = 1_000_000
+#: Most neighbours an annealing step draws (`AnnealingOptions.legal_tries`): each costs an energy evaluation.
+MAX_LEGAL_TRIES = 1000
+#: Smallest synergy step of the auto-grasp's closing (`AnnealingOptions.close_step`): at most about
+#: 2 / MIN_CLOSE_STEP collision-checked steps across a synergy's range.
+MIN_CLOSE_STEP = 1e-3
 
 
 def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions",
@@ -51,16 +60,16 @@ def _flag(value, name, owner="PlannerOptions"):
     return bool(value)
 
 
-def _values(value, name, what, size=None):
-    """Finite numbers (``size`` of them, if given) as a tuple, or None."""
-    if value is None:
+def _values(value, name, what, size=None, allow_none=True):
+    """Finite numbers (``size`` of them, if given) as a tuple, or None (if ``allow_none``)."""
+    if value is None and allow_none:
         return None
     try:
-        arr = np.asarray(value, dtype=float)
+        arr = numeric(value)  # (text and booleans are not numbers)
     except (TypeError, ValueError):
         arr = None
     if arr is None or arr.ndim != 1 or not len(arr) or (size and len(arr) != size) or not np.all(np.isfinite(arr)):
-        raise ValueError(f"PlannerOptions.{name} must be {what} or None, got {value!r}")
+        raise ValueError(f"PlannerOptions.{name} must be {what}{' or None' if allow_none else ''}, got {value!r}")
     return tuple(float(x) for x in arr)
 
 
@@ -131,7 +140,7 @@ class PlannerOptions(_Fields):
     iterations_per_attempt : int
         Iteration cap of one attempt.
     restarts : int
-        Most attempts of a plan.
+        Most attempts of a plan (at most `MAX_RESTARTS`).
     max_iter : int
         Most iterations of a plan, over all its attempts.
     time_limit : float or None
@@ -254,7 +263,8 @@ class PlannerOptions(_Fields):
         set_(self, "mu", _number(self.mu, "mu", 0, MAX_FRICTION, open_low=True))
         set_(self, "edges", _number(self.edges, "edges", 3, 64, integer=True))
         set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, high_from="eps_c"))
-        band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})", 2)
+        band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})",
+                       2, allow_none=False)
         if band is None or not 0 <= band[0] < band[1] <= self.eps_c:
             raise ValueError(f"PlannerOptions.contact_band must be (low, high) mm with 0 <= low < high <= eps_c "
                              f"({self.eps_c:g}), got {self.contact_band!r}")
@@ -280,8 +290,9 @@ class PlannerOptions(_Fields):
                              f"of them, got {self.stall_window!r}")
         set_(self, "stall_window", windows)
         for name, low in (("crawl_window", 0), ("touch_window", 0), ("iterations_per_attempt", 1),
-                          ("restarts", 1), ("max_iter", 1), ("refine_iterations", 0)):
+                          ("max_iter", 1), ("refine_iterations", 0)):
             set_(self, name, _number(getattr(self, name), name, low, None, integer=True))
+        set_(self, "restarts", _number(self.restarts, "restarts", 1, MAX_RESTARTS, integer=True))
         set_(self, "q_accept", _number(self.q_accept, "q_accept", -10.0, 0.0))
         set_(self, "q_margin", _number(self.q_margin, "q_margin", -10.0, self.q_accept, high_from="q_accept"))
         set_(self, "crawl_fraction", _number(self.crawl_fraction, "crawl_fraction", 0, 1.0))
@@ -330,7 +341,8 @@ class AnnealingOptions(_Fields):
         The palm stays within the object's bounding box grown by this (mm).
     legal_tries : int
         Neighbours drawn per step until one leaves the hand out of the object
-        (GraspIt!: 11); a step without one is not counted.
+        (GraspIt!: 11; at most `MAX_LEGAL_TRIES`); a step without one is not
+        counted.
     autograsp_energy : float or None
         A state the search moves to with an energy below this (mm) is
         auto-grasped: the hand closes (`synergrasp.planner.annealing.autograsp`)
@@ -342,7 +354,8 @@ class AnnealingOptions(_Fields):
         (position in object sizes, angles in rad, synergies), to a state
         auto-grasped before.
     close_step : float
-        Synergy step (units of z2) of the auto-grasp's closing.
+        Synergy step (units of z2) of the auto-grasp's closing, from
+        `MIN_CLOSE_STEP` to 1.
     eps_c, mu, edges, q_accept, max_penetration : float, float, int, float, float
         The acceptance, as `PlannerOptions`'s: the paper's criterion with
         ``eps_c``, ``mu`` and ``edges``, no phalanx deeper than
@@ -401,15 +414,17 @@ class AnnealingOptions(_Fields):
         def number(name, low, high, **kw):
             set_(self, name, _number(getattr(self, name), name, low, high, owner=own, **kw))
 
-        for name in ("steps", "legal_tries", "dims"):
+        for name in ("steps", "dims"):
             number(name, 1, None, integer=True)
+        number("legal_tries", 1, MAX_LEGAL_TRIES, integer=True)
         for name in ("k0", "seed"):
             number(name, 0, None, integer=True)
         number("edges", 3, 64, integer=True)
         number("time_limit", 0, None, open_low=True, allow_none=True)
         for name, high in (("t0", 1e300), ("cooling", 100.0), ("energy_scale", 1e6), ("neighbour_scale", 1e6),
-                           ("close_step", 1.0), ("eps_c", 50.0)):
+                           ("eps_c", 50.0)):
             number(name, 0, high, open_low=True)
+        number("close_step", MIN_CLOSE_STEP, 1.0)
         for name in ("alignment", "position_margin", "autograsp_spacing", "max_penetration", "start_clearance"):
             number(name, 0, 1000.0)
         number("start_distance", 0, MAX_START_DISTANCE, open_low=True)

@@ -277,8 +277,11 @@ def _validated(data: dict, path) -> dict:
 
     def number(name, low=None):
         value = data[name]
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
-                or (low is not None and value < low):
+        try:  # (an int beyond a float's range overflows)
+            finite = not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(float(value))
+        except OverflowError:
+            finite = False
+        if not finite or (low is not None and value < low):
             fail(name, "a finite number" + (f" >= {low}" if low is not None else ""))
         return float(value)
 
