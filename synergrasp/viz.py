@@ -515,7 +515,9 @@ def scene(obj, hand, u):
     Raises
     ------
     TypeError
-        If ``obj`` or ``hand`` is of the wrong type.
+        If ``obj`` or ``hand`` is of the wrong type, or ``u`` not numeric.
+    ValueError
+        If ``u`` does not fit the hand, or its synergies lie outside the hand's limits.
 
     Examples
     --------
@@ -525,6 +527,8 @@ def scene(obj, hand, u):
     17
     """
     _check(obj=obj, hand=hand)
+    u = hand.check_u(u)
+    hand.check_synergies(u[6:], "u's synergies")  # (a pose the hand cannot take)
     meshes = [(obj.mesh if obj.mesh is not None else obj.to_mesh()).copy()]
     meshes[0].visual.face_colors = [220, 190, 140, 160]
     geo = hand.segments(u)
