@@ -417,6 +417,7 @@ def test_validation_of_new_and_earlier_plans(tmp_path, cluster):
     report = run(["ellipsoid", "cup", "goblet"], ["precision"], out, scheduler=cluster.scheduler_address,
                  progress=False, validate="synergrasp")
     assert (report.skipped, report.finished) == (0, 3) and planned.stat().st_mtime_ns == stamp
+    assert report.revalidated == 2 and "3 now (2 of them planned before and validated now)" in str(report)
     rows = {r["object"]: r for r in report.rows}
     for name in ("ellipsoid", "cup", "goblet"):
         plan = expected_plan(name, "precision")

@@ -58,6 +58,8 @@ class BatchReport:
         Tasks already done before this run (their files were found).
     finished : int
         Tasks finished by this run (a PlanResult or a failure written).
+    revalidated : int
+        Of the tasks this run took on, those planned by an earlier run and only validated by this one.
     wall_s : float
         Wall-clock time from the first task submitted to the last outcome written (s).
     startup_s : float
@@ -79,6 +81,7 @@ class BatchReport:
     tasks: int
     skipped: int
     finished: int = 0
+    revalidated: int = 0
     wall_s: float = 0.0
     startup_s: float = 0.0
     workers: int = 0
@@ -98,6 +101,7 @@ class BatchReport:
             lines.append(f"{self.finished} tasks finished in {self.wall_s:.1f} s on {self.workers} workers: "
                          f"{self.finished / self.wall_s:.2f} plans/s (cluster start {self.startup_s:.1f} s)")
         lines.append(f"{self.tasks} tasks: {self.skipped} done before this run, {self.finished} now"
+                     + (f" ({self.revalidated} of them planned before and validated now)" if self.revalidated else "")
                      + (", interrupted: rerun the same command to plan the rest" if self.interrupted else ""))
         lines.append(f"{'grasp':10s} {'tasks':>6s} {'grasps':>7s} {'success':>8s} {'failed':>7s} {'timeout':>8s} "
                      f"{'median s':>9s} {'p90 s':>7s} {'plans/s/worker':>15s} {'held/validated':>15s}")
@@ -230,7 +234,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
             elif validate is not None and row["success"] and row["held"] == "":
                 todo.append(task)
                 to_validate[task] = store.result_path(task.key, task.grasp)
-        report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), unreadable=unreadable)
+        report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), revalidated=len(to_validate),
+                             unreadable=unreadable)
         try:
             if todo:
                 _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale,
