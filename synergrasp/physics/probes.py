@@ -139,11 +139,8 @@ def ball_pinch(hand=None, *, position=(0.0, 0.0, 0.0), angles=(0.0, 0.0, 0.0), g
 
     Raises
     ------
-    TypeError
-        If ``hand`` is not a SynergyHand.
-    ValueError
-        If the hand has other than two synergies or no thumb ``T`` and index
-        ``I``, or a size, gap or pose is out of range.
+    TypeError, ValueError
+        As `pinch_grasp`.
 
     Examples
     --------
