@@ -1270,14 +1270,18 @@ def thin_bowl():
 
 
 def test_a_failed_plan_on_a_thin_wall_says_the_pinch_cannot_close_on_it(hand):
-    """Every pinch pair of a 4 mm shell spans its wall, narrower than the hand's smallest pinch (15 mm) less the
-    contact threshold on either side: the failure says so. A plan that fails for another reason (its iterations ran
-    out on the ellipsoid) does not."""
+    """Every pinch pair of a 4 mm shell (and of a 6 mm disc) spans its wall, narrower than the hand's smallest pinch
+    (15 mm) less the contact band's far edge (4.5 mm, where the steering brings a pad) on either side: the failure
+    says so. A plan that fails for another reason (its iterations ran out on the ellipsoid) does not."""
     assert 14.0 < smallest_pinch(hand) < 16.0
     r = plan(thin_bowl(), "precision", restarts=3, executable_reach=False)
     assert not r.success and all(a["kind"] == "pinch" and a["width"] < 5.0 for a in r.attempts)
     assert ("at most 4 mm apart, while the thumb and the index and middle fingertips close to no less than 15 mm, too "
-            "far apart to touch both within the contact threshold of 5 mm") in r.reason
+            "far apart to bring both within 4.5 mm of it (the contact band the pads are steered into; accepted within "
+            "5 mm): a wall or sheet too thin for this hand's pinch") in r.reason
+    disc = so.from_mesh(trimesh.creation.cylinder(radius=60.0, height=6.0, sections=64), name="disc", cache=False)
+    r = plan(disc, "precision", restarts=3, executable_reach=False)  # 6 mm: 15 - 2 x 5 mm would have let it pass
+    assert not r.success and "at most 6 mm apart" in r.reason and "too thin for this hand's pinch" in r.reason
     short = plan(so.ellipsoid(), "precision", max_iter=3)
     assert not short.success and "fingertips close to" not in short.reason
 

@@ -378,9 +378,10 @@ def _failure(attempts, grasp, hand, obj, opts):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
-    pinch (`smallest_pinch`) less the contact threshold ``opts.eps_c`` on
-    either side, it says so: the object's opposed surfaces are a wall too
-    thin for the pads to touch both. When a precision plan had no pinch seed
+    pinch (`smallest_pinch`) less the contact band's far edge
+    (``opts.contact_band[1]``, where the steering brings a pad) on either
+    side, it says so: the object's opposed surfaces are a wall too thin for
+    the pads to reach both. When a precision plan had no pinch seed
     at all, it says why: no two surface points face each other, or those
     that do are too far apart for the hand's widest pinch (`widest_pinch`)
     less ``opts.seed_opening`` on either side. When most power attempts
@@ -411,11 +412,12 @@ def _failure(attempts, grasp, hand, obj, opts):
                        f"open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
                        "to spare on either side for a pinch seed): it is too wide for this hand's pinch (a power "
                        "grasp may hold it)")
-    if widths and max(widths) < pinch - 2.0 * eps_c:
+    band = opts.contact_band[1]  # the farthest the steering brings a fingertip to the surface (within eps_c)
+    if widths and max(widths) < pinch - 2.0 * band:
         reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
                    f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm, too far "
-                   f"apart to touch both within the contact threshold of {eps_c:g} mm (a wall or sheet too thin for "
-                   "this hand's pinch)")
+                   f"apart to bring both within {band:g} mm of it (the contact band the pads are steered into; "
+                   f"accepted within {eps_c:g} mm): a wall or sheet too thin for this hand's pinch")
     if grasp == "power":
         nearest = np.array([min(a["status"][-1][:-2]) for a in attempts])  # each attempt's nearest phalanx at its end
         apart = nearest > eps_c
