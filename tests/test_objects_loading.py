@@ -237,6 +237,24 @@ def test_duplicate_faces_are_dropped_without_talk_of_holes():
     assert obj.volume == pytest.approx(so.from_mesh(ball, cache=False).volume)
 
 
+def test_a_gltf_whose_buffer_changed_is_not_read_from_the_cache(tmp_path):
+    """The key is the geometry read, not the .gltf's text: a buffer rewritten with the same counts and bounds (a cube,
+    then the cube with a corner pushed in) gave the first file's pieces back as a cache hit."""
+    cube = trimesh.creation.box((40.0, 40.0, 40.0))
+    dented = cube.copy()
+    dented.vertices[np.argmax(dented.vertices.sum(axis=1))] *= 0.5  # (20, 20, 20) -> (10, 10, 10): bounds unchanged
+    folder = tmp_path / "g"
+    folder.mkdir()
+    loaded = []
+    for mesh in (cube, dented):
+        files = trimesh.exchange.gltf.export_gltf(trimesh.Scene(mesh))
+        for name, data in files.items():
+            (folder / name).write_bytes(data)
+        loaded.append(so.load(folder / "model.gltf", max_parts=1))
+    assert [o.info["cache"] for o in loaded] == ["miss", "miss"]
+    assert loaded[0].contains([[18.0, 18.0, 18.0]])[0] and not loaded[1].contains([[18.0, 18.0, 18.0]])[0]
+
+
 def test_cache_can_be_disabled(cache):
     obj = so.from_points(ellipsoid_cloud(), cache=False)
     assert obj.info["cache"] == "disabled" and not cache.exists()

@@ -51,8 +51,9 @@ Every piece keeps at most ``max_vertices`` hull vertices (farthest-point
 sampling), which bounds the LP sizes of the cP and sQ queries.
 
 Decompositions and clusterings are cached on disk, in ``$SYNERGRASP_CACHE``
-or ``~/.cache/synergrasp``, keyed by the SHA-256 of the file's content (or of
-the arrays) and the parameters; a cached load reads the pieces back
+or ``~/.cache/synergrasp``, keyed by the SHA-256 of the geometry read (the
+vertices and faces, from every file a format names, or the points) and the
+parameters; a cached load reads the pieces back
 (``obj.info["cache"] == "hit"``). The pieces are computed before scaling; the
 key holds the decomposition's grid resolution, which depends on the scaled size
 above 240 mm (`coacd_resolution`), and, when debris was dropped (which depends
@@ -341,10 +342,9 @@ def _from_mesh(
     cache: bool = True,
     center=None,
     torque_scale=None,
-    _content: bytes | None = None,
     _source: str | None = None,
 ) -> GraspObject:
-    """Implementation of `from_mesh` (``_content``: the bytes hashed for the cache)."""
+    """Implementation of `from_mesh` (``_source``: the file, for messages)."""
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     what = name or _source or "mesh"
@@ -441,8 +441,8 @@ def _from_mesh(
             _warn(f"convex decomposition of {what} failed ({exc}); using its convex hull")
             return [_reduce(vertices, max_vertices, what)], {"method": "hull (decomposition failed)", "transient": True}
 
-    if _content is None:
-        _content = vertices.tobytes() + np.asarray(mesh.faces, dtype=np.int64).tobytes()
+    # the geometry read, whatever files it came from (a .gltf's buffers, an .obj's groups): not the file's bytes
+    content = vertices.tobytes() + np.asarray(mesh.faces, dtype=np.int64).tobytes()
     params = {
         "kind": "mesh" if watertight else "open mesh",
         "max_parts": max_parts,
@@ -458,7 +458,7 @@ def _from_mesh(
     if not watertight:
         params["repair"] = {"planarity": PLANARITY, "caps": MAX_CAP_FRACTION, "weld": WELD_TOLERANCE,
                             "enclosed": ENCLOSED_DIRECTIONS}
-    pieces, meta, status = _cached(_content, params, compute, cache)
+    pieces, meta, status = _cached(content, params, compute, cache)
     shown = mesh.copy(include_cache=True)  # at scale 1 its checks (watertight, winding) are not computed again
     shown.apply_scale(scale)
     if repair is not None:
@@ -1109,8 +1109,7 @@ def load(
         if data.size == 0:
             raise ValueError(f"could not read '{path}': it contains no points")
         return _from_points(data, scale, **options)
-    content = path.read_bytes()
-    return _from_mesh(data, scale, _content=content, **options)
+    return _from_mesh(data, scale, **options)
 
 
 def _object_path(value) -> Path:
