@@ -914,3 +914,17 @@ def test_a_thin_wall_of_boxes_merged_at_their_edges_is_closed_on_a_finer_grid(tm
     assert wall.extents == pytest.approx([110.0, 10.0, 40.0], abs=0.5)
     assert wall.info["repair"]["filled_volume"] == pytest.approx(20 * 2000.0, rel=0.2)
     assert not wall.contains([[5.0, 5.0, 15.0]])[0], "the notch of a staggered row stays empty"
+
+
+def test_a_scale_that_brings_a_file_into_range_is_applied_before_its_pieces_are_made(tmp_path):
+    """A cylinder stored in 10 nm units (1e7 across) loaded with scale=1e-5: 100 mm, not refused as 1e7 mm across
+    with advice (a scale) that did not help; the same for its points."""
+    mesh = trimesh.creation.cylinder(radius=30.0, height=100.0).apply_scale(1e5)
+    mesh.export(tmp_path / "nm.stl")
+    obj = so.load(tmp_path / "nm.stl", scale=1e-5, cache=False)
+    np.testing.assert_allclose(obj.extents, [60.0, 60.0, 100.0], rtol=1e-6)
+    assert obj.info["scale"] == 1e-5
+    cloud = so.from_points(trimesh.sample.sample_surface(mesh, 2000, seed=0)[0], scale=1e-5, cache=False)
+    assert cloud.extents.max() == pytest.approx(100.0, rel=0.05) and cloud.info["scale"] == 1e-5
+    with pytest.raises(ValueError, match="1e\\+07 mm across, outside"):  # without the scale: refused as before
+        so.load(tmp_path / "nm.stl", cache=False)

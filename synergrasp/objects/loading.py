@@ -380,6 +380,13 @@ def _from_mesh(
               + f"): each has at most {DEBRIS_FRACTION:.1%} of the largest part's volume and lies more than "
               f"{PART_GAP:g} mm from the rest, and would make the object larger than it is. To keep them, set "
               "synergrasp.objects.loading.DEBRIS_FRACTION = 0")
+    given_scale = scale
+    if scale != 1.0 and not SIZE_LIMITS[0] <= float(np.ptp(vertices, axis=0).max()) <= SIZE_LIMITS[1]:
+        # a size in mm once scaled (checked above), beyond what the pieces take in the file's own units (a file in
+        # 10 nm, a quantised one): scaled first, and its pieces computed and cached at that size
+        mesh = mesh.copy()
+        mesh.apply_scale(scale)
+        vertices, scale = np.asarray(mesh.vertices, dtype=float), 1.0
     hull_volume = checked_hull(np.unique(vertices, axis=0), what).volume  # raises "has no volume" for flat meshes
     watertight = bool(mesh.is_watertight)
     repair, refusal = None, None
@@ -480,7 +487,7 @@ def _from_mesh(
         center=center,
         torque_scale=torque_scale,
         info={"source": _source or "mesh", "method": meta["method"], "cache": status, "volume_ratio": ratio,
-              "watertight": watertight, "scale": scale,
+              "watertight": watertight, "scale": given_scale,
               "repair": {**repair, "union": union} if repair and union else repair or union},
     )
     _check_size(obj, what)
@@ -724,6 +731,9 @@ def _from_points(
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
     pts = _without_strays(pts, what)
     _check_scale(pts, scale, what)
+    given_scale = scale
+    if scale != 1.0 and not SIZE_LIMITS[0] <= float(np.ptp(pts, axis=0).max()) <= SIZE_LIMITS[1]:
+        pts, scale = pts * scale, 1.0  # (as from_mesh: a size in mm once scaled, not in the file's units)
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
               "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,
@@ -738,7 +748,7 @@ def _from_points(
         torque_scale=torque_scale,
         points=pts * scale if len(pts) >= SMALL_CLOUD else None,  # a few points are corners, not samples
         info={"source": _source or "points", "method": meta["method"], "cache": status,
-              "concavity": meta.get("concavity"), "scale": scale},
+              "concavity": meta.get("concavity"), "scale": given_scale},
     )
     _check_size(obj, what)
     if len(pts) < SMALL_CLOUD:
