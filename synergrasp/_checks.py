@@ -51,7 +51,11 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     if arr.shape[1] < min_dim:
         raise ValueError(f"{name} has dimension {arr.shape[1]}, at least {min_dim} is required")
     if not np.isfinite(arr).all():
-        raise ValueError(f"{name} contains NaN or inf at rows {np.unique(np.nonzero(~np.isfinite(arr))[0]).tolist()}")
+        rows = np.flatnonzero(~np.isfinite(arr).all(axis=1))
+        listed = ", ".join(map(str, rows[:10])) + (", ..." if len(rows) > 10 else "")
+        raise ValueError(f"{name} contains NaN or inf at rows [{listed}]"
+                         + ("" if len(rows) <= 10 else f" ({len(rows)} of {len(arr)}; keep the finite ones with "
+                                                        "points[np.isfinite(points).all(axis=1)])"))
     return arr
 
 

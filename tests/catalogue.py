@@ -292,6 +292,10 @@ API = [
     Case("sg.objects.get", "an option the built-in lacks", lambda tmp: so.get("cup", foo=1), TypeError, "unexpected keyword argument 'foo'"),
     # ------------------------------------------------------------ objects: arrays and meshes
     Case("sg.objects.from_points", "no points", lambda tmp: so.from_points(np.zeros((0, 3))), ValueError, "points is empty"),
+    Case("sg.objects.from_points", "a scan with a third of its 30,000 rows NaN (the message listed all 10,000)",
+         lambda tmp: so.from_points(np.where(np.arange(30000)[:, None] % 3 == 0, np.nan, np.random.default_rng(0).normal(size=(30000, 3)))),
+         ValueError, "points contains NaN or inf at rows [0, 3, 6, 9, 12, 15, 18, 21, 24, 27, ...] (10000 of 30000; keep "
+                     "the finite ones with points[np.isfinite(points).all(axis=1)])"),
     Case("sg.objects.from_points", "an infinite point", lambda tmp: so.from_points([[0, 0, 0], [1, 0, 0], [0, np.inf, 0], [0, 0, 1]]), ValueError, "NaN or inf"),
     Case("sg.objects.from_points", "points on a plane", lambda tmp: so.from_points(np.c_[_cloud()[:, :2], np.zeros(300)]), ValueError, "no volume: all its points lie on a plane"),
     Case("sg.objects.from_points", "points on a line", lambda tmp: so.from_points(np.outer(np.arange(10.0), [1.0, 2.0, 3.0])), ValueError, "no volume: all its points lie on a line"),
