@@ -1,5 +1,6 @@
 """synergrasp.objects loading: file formats, point clouds, decomposition cache, bad input."""
 
+import json
 import warnings
 
 import numpy as np
@@ -928,3 +929,27 @@ def test_a_scale_that_brings_a_file_into_range_is_applied_before_its_pieces_are_
     assert cloud.extents.max() == pytest.approx(100.0, rel=0.05) and cloud.info["scale"] == 1e-5
     with pytest.raises(ValueError, match="1e\\+07 mm across, outside"):  # without the scale: refused as before
         so.load(tmp_path / "nm.stl", cache=False)
+
+
+def test_a_file_read_as_less_than_it_holds_is_refused(tmp_path):
+    """A truncated ASCII PLY or OFF loaded as a fragment (part of a ball, half a torus) with a warning about holes; a
+    glTF whose geometry trimesh does not decode (Draco) lost that part as 'debris'. Each is now refused, saying why."""
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=35.0)
+    raw = trimesh.exchange.ply.export_ply(ball, encoding="ascii")
+    (tmp_path / "cut.ply").write_bytes(raw[: int(len(raw) * 0.7)])
+    with pytest.raises(ValueError, match=r"cut\.ply.*holds .* of its 1280 faces its header declares: the file is truncated"):
+        so.load(tmp_path / "cut.ply", cache=False)
+    text = trimesh.exchange.off.export_off(trimesh.creation.torus(40.0, 12.0))
+    (tmp_path / "cut.off").write_text(text[: int(len(text) * 0.8)])
+    with pytest.raises(ValueError, match="its header declares: the file is truncated"):
+        so.load(tmp_path / "cut.off", cache=False)
+    files = trimesh.exchange.gltf.export_gltf(trimesh.Scene(ball))
+    gltf = json.loads(files["model.gltf"])
+    files["model.gltf"] = json.dumps({**gltf, "extensionsUsed": ["KHR_draco_mesh_compression"]}).encode()
+    for name, data in files.items():
+        (tmp_path / name).write_bytes(data)
+    with pytest.raises(ValueError, match="uses KHR_draco_mesh_compression, which the glTF reader does not decode"):
+        so.load(tmp_path / "model.gltf", cache=False)
+    raw = trimesh.exchange.ply.export_ply(ball, encoding="ascii")  # whole: loads
+    (tmp_path / "whole.ply").write_bytes(raw)
+    assert so.load(tmp_path / "whole.ply", cache=False).extents.max() == pytest.approx(70.0, rel=0.01)

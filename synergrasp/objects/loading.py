@@ -67,6 +67,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -1099,6 +1100,7 @@ def load(
                 data = trimesh.load(str(path), file_type=ext[1:], process=False)
             if isinstance(data, trimesh.Scene) and not data.geometry:
                 raise ValueError("no geometry found in the file")
+            _check_complete(path, ext, data)
     except FileNotFoundError as exc:  # a file it refers to (a .gltf's buffer or image): the file itself exists
         raise ValueError(f"{reading}: a file it refers to is missing: '{exc.filename or exc}' (looked for in "
                          f"'{path.absolute().parent}'); keep the files it names next to it, or export it as one .glb") from exc
@@ -1120,6 +1122,46 @@ def load(
             raise ValueError(f"could not read '{path}': it contains no points")
         return _from_points(data, scale, **options)
     return _from_mesh(data, scale, **options)
+
+
+#: glTF extensions trimesh does not decode: their geometry would be read as zeros or unscaled integers.
+UNREAD_GLTF_EXTENSIONS = ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization")
+
+
+def _check_complete(path, ext, data):
+    """ValueError for a file read as less than it holds: a PLY or OFF with fewer vertices or faces than its header
+    declares (truncated), a glTF whose geometry is compressed or quantised in a way trimesh does not decode."""
+    if ext in (".gltf", ".glb"):
+        raw = path.read_bytes()
+        try:
+            if ext == ".glb":  # 12-byte header, then the JSON chunk: its length, its type, its text
+                raw = raw[20:20 + int.from_bytes(raw[12:16], "little")]
+            used = set(json.loads(raw.decode("utf-8")).get("extensionsUsed", []))
+        except (ValueError, UnicodeDecodeError, AttributeError):
+            return  # (read by trimesh all the same: nothing more to say)
+        unread = sorted(used & set(UNREAD_GLTF_EXTENSIONS))
+        if unread:
+            raise ValueError(f"its geometry uses {', '.join(unread)}, which the glTF reader does not decode (the parts "
+                             "would come out as zeros or integers): export it again without mesh compression or "
+                             "quantisation")
+        return
+    if ext not in (".ply", ".off"):
+        return
+    with open(path, "rb") as handle:
+        head = handle.read(4096).decode("latin-1")
+    if ext == ".ply":
+        declared = {m.group(1): int(m.group(2)) for m in re.finditer(r"^element (vertex|face) (\d+)", head, re.M)}
+    else:  # OFF: the counts on the first line that is not a comment, after the keyword
+        words = " ".join(line.split("#")[0] for line in head.splitlines()[:3]).split()
+        counts = [w for w in words if w.isdigit()][:2]
+        declared = dict(zip(("vertex", "face"), map(int, counts)))
+    parts = list(data.geometry.values()) if isinstance(data, trimesh.Scene) else [data]
+    read = {"vertex": sum(len(getattr(p, "vertices", ())) for p in parts),
+            "face": sum(len(getattr(p, "faces", ())) for p in parts)}
+    short = [f"{read[k]} of its {n} {k}{'ices' if k == 'vertex' else 's'}" for k, n in declared.items() if read[k] < n]
+    if short:
+        raise ValueError(f"it holds {' and '.join(short)} its header declares: the file is truncated or damaged; "
+                         "export it again")
 
 
 def _object_path(value) -> Path:
