@@ -273,6 +273,11 @@ API = [
     Case("sg.objects.load", "a missing file", lambda tmp: so.load(Path(tmp) / "none.stl"), FileNotFoundError, "object file not found"),
     Case("sg.objects.load", "a folder", lambda tmp: so.load(tmp), FileNotFoundError, "is a folder, not an object file"),
     Case("sg.objects.load", "an unknown extension", lambda tmp: so.load(_write(tmp, "o.abc", "1 2 3\n")), ValueError, "unknown format '.abc'; supported extensions"),
+    Case("sg.objects.load", "a PLY file named .stl", lambda tmp: so.load(_write(tmp, "box.stl", trimesh.exchange.ply.export_ply(
+        trimesh.creation.box((40.0, 40.0, 40.0))))), ValueError, "it is a .ply file by its first bytes; rename it with the .ply extension"),
+    Case("sg.objects.load", "a binary STL cut short", lambda tmp: so.load(_write(tmp, "cut.stl", trimesh.exchange.stl.export_stl(
+        trimesh.creation.box((40.0, 40.0, 40.0)))[:300])), ValueError,
+         "as a binary STL its header declares 12 triangles, 684 bytes, and the file has 300 bytes"),
     Case("sg.objects.load", "an .stl of garbage bytes", lambda tmp: so.load(_write(tmp, "g.stl", b"\x00\x01garbage" * 7)), ValueError, "could not read"),
     Case("sg.objects.load", "an .xyz with a short row", lambda tmp: so.load(_write(tmp, "r.xyz", "0 0 0\n30 0\n0 30 0\n")),
          ValueError, "the number of columns changed from 3 to 2 at row 2"),

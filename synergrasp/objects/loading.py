@@ -1099,7 +1099,7 @@ def load(
                 # unprocessed, so that a vertex with NaN or inf is seen (processing drops it with its faces)
                 data = trimesh.load(str(path), file_type=ext[1:], process=False)
             if isinstance(data, trimesh.Scene) and not data.geometry:
-                raise ValueError("no geometry found in the file")
+                raise ValueError("no geometry found in the file" + _why_empty(path, ext))
             _check_complete(path, ext, data)
     except FileNotFoundError as exc:  # a file it refers to (a .gltf's buffer or image): the file itself exists
         raise ValueError(f"{reading}: a file it refers to is missing: '{exc.filename or exc}' (looked for in "
@@ -1126,6 +1126,21 @@ def load(
 
 #: glTF extensions trimesh does not decode: their geometry would be read as zeros or unscaled integers.
 UNREAD_GLTF_EXTENSIONS = ("KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization")
+
+
+def _why_empty(path, ext) -> str:
+    """Why a file held no geometry, where its first bytes say (another format, a binary STL's count), else ""."""
+    with open(path, "rb") as handle:
+        head = handle.read(84)
+    for magic, kind in ((b"ply", ".ply"), (b"OFF", ".off"), (b"glTF", ".glb"), (b"v ", ".obj")):
+        if head.startswith(magic) and ext != kind:
+            return f": it is a {kind} file by its first bytes; rename it with the {kind} extension"
+    if ext == ".stl" and len(head) == 84 and not head.lstrip().startswith(b"solid"):
+        count, size = int.from_bytes(head[80:84], "little"), path.stat().st_size
+        if size != 84 + 50 * count:
+            return (f": as a binary STL its header declares {count} triangles, {84 + 50 * count} bytes, and the file "
+                    f"has {size} bytes (truncated, damaged, or not an STL)")
+    return ""
 
 
 def _check_complete(path, ext, data):
