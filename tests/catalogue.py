@@ -223,6 +223,9 @@ API = [
     Case("sg.plan", "an object 1 mm wide (metres?)", lambda tmp: sg.plan(so.ellipsoid(0.5, 0.5, 0.5)), sg.planner.ObjectRefused, "too small to grasp"),
     Case("sg.plan", "a card 85 x 54 x 1 mm (a sheet, not metres)", lambda tmp: sg.plan(so.from_mesh(trimesh.creation.box((85.0, 54.0, 1.0)), name="card", cache=False)),
          sg.planner.ObjectRefused, "card is too thin to grasp: it is 1 mm thin"),
+    Case("sg.plan", "a precision grasp of a 4 mm object (a file in inches?)", lambda tmp: sg.plan(so.ellipsoid(1.5, 1.5, 2.0), "precision"),
+         sg.planner.ObjectRefused, "is too small for a pinch: it is at most 4 mm across, while the thumb and the index and "
+                                   "middle fingertips close to no less than 15 mm apart"),
     Case("sg.plan", "an object 600 mm wide", lambda tmp: sg.plan(so.ellipsoid(300.0, 300.0, 300.0)), sg.planner.ObjectRefused, "too large for the hand"),
     Case("sg.plan", "u0 of 3 numbers", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 1.0]), ValueError, "u0 must have shape (8,)"),
     Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),

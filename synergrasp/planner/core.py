@@ -232,6 +232,15 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     if grasp == "power" and method == "gradient":
         preshape(hand, opts.power_wide_preshape), preshape(hand, opts.power_preshape)  # checked before planning
     obj = _check_object(obj, hand)
+    if grasp == "precision" and method == "gradient" and obj.size < objects.loading.SIZE_RANGE[0]:
+        pinch, band = smallest_pinch(hand), opts.contact_band[1]  # (the first computes once per hand: ~0.2 s)
+        if obj.size < pinch - 2.0 * band:
+            raise ObjectRefused(
+                f"{obj.name} is too small for a pinch: it is at most {obj.size:.3g} mm across, while "
+                f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm apart, and a pad must come within "
+                f"{band:g} mm of it on either side (contact_band). Is it in other units? Load it with "
+                "sg.objects.load(path, scale=...) (25.4 for inches, 1000 for metres)."
+            )
     forget_warm_starts(solver, obj)
     t0 = time.perf_counter()
     deadline = None if opts.time_limit is None else clock() + opts.time_limit  # compilation not counted
