@@ -950,6 +950,13 @@ def test_a_file_read_as_less_than_it_holds_is_refused(tmp_path):
         (tmp_path / name).write_bytes(data)
     with pytest.raises(ValueError, match="uses KHR_draco_mesh_compression, which the glTF reader does not decode"):
         so.load(tmp_path / "model.gltf", cache=False)
+    corners = trimesh.creation.box((40.0, 40.0, 40.0)).vertices  # faces as triangle strips: read as a point cloud
+    (tmp_path / "strips.ply").write_text(
+        f"ply\nformat ascii 1.0\nelement vertex {len(corners)}\nproperty float x\nproperty float y\nproperty float z\n"
+        "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+        + "".join(f"{x} {y} {z}\n" for x, y, z in corners) + "10 0 1 2 3 4 5 6 7 0 1\n")
+    with pytest.raises(ValueError, match="its faces are triangle strips"):
+        so.load(tmp_path / "strips.ply", cache=False)
     raw = trimesh.exchange.ply.export_ply(ball, encoding="ascii")  # whole: loads
     (tmp_path / "whole.ply").write_bytes(raw)
     assert so.load(tmp_path / "whole.ply", cache=False).extents.max() == pytest.approx(70.0, rel=0.01)

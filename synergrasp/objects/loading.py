@@ -1145,7 +1145,8 @@ def _why_empty(path, ext) -> str:
 
 def _check_complete(path, ext, data):
     """ValueError for a file read as less than it holds: a PLY or OFF with fewer vertices or faces than its header
-    declares (truncated), a glTF whose geometry is compressed or quantised in a way trimesh does not decode."""
+    declares (truncated), a PLY of triangle strips, a glTF whose geometry is compressed or quantised in a way trimesh
+    does not decode."""
     if ext in (".gltf", ".glb"):
         raw = path.read_bytes()
         try:
@@ -1173,6 +1174,9 @@ def _check_complete(path, ext, data):
     parts = list(data.geometry.values()) if isinstance(data, trimesh.Scene) else [data]
     read = {"vertex": sum(len(getattr(p, "vertices", ())) for p in parts),
             "face": sum(len(getattr(p, "faces", ())) for p in parts)}
+    if ext == ".ply" and not read["face"] and re.search(r"^element tristrips [1-9]", head, re.M):
+        raise ValueError("its faces are triangle strips (a 'tristrips' element), which the PLY reader does not read: "
+                         "export it with a 'face' element")
     short = [f"{read[k]} of its {n} {k}{'ices' if k == 'vertex' else 's'}" for k, n in declared.items() if read[k] < n]
     if short:
         raise ValueError(f"it holds {' and '.join(short)} its header declares: the file is truncated or damaged; "
