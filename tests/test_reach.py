@@ -403,3 +403,17 @@ def test_the_benchmark_runs_in_its_quick_mode(tmp_path):
     assert "deepest point along the returned reach, capsules and palm (independent check)" in proc.stdout
     assert "the phalanx capsules alone: <= 3 mm in" in proc.stdout
     assert "plan time overhead of the repair: median" in proc.stdout
+
+
+def test_a_long_path_through_a_plate_is_never_read_clear():
+    """A hand crossing a 6 mm plate on a straight path 2e7 mm long: the bisection runs out of depth before it resolves
+    the crossing, and the interval it could not show clear reads as the least clearance it can have (it read 37 mm,
+    depth 0, complete: a collision reported clear)."""
+    plate = so.from_mesh(trimesh.creation.box((6.0, 100.0, 100.0)), cache=False)
+    across = np.array([0.0, 0.0, 0.0, 0.0, np.pi / 2, 0.0, 0.0, 0.0])
+    assert hand_clearance(HAND, plate, across).min() == pytest.approx(-13.0, abs=0.5)  # the pose at the plate
+    for half in (1e4, 1e6, 1e7):
+        ends = np.array([across, across])
+        ends[:, 0] = [-half + 50.0, half + 50.0]
+        check = path_clearance(HAND, plate, ends)
+        assert check.clearance.min() <= -13.0, half

@@ -36,6 +36,19 @@ _MAX_DEPTH = 16
 MAX_PIECES = 100_000
 
 
+def _bounded(lo, hi, motion):
+    """Row ``hi`` with the least clearance the interval from ``lo`` can have where the bisection stopped unresolved.
+
+    No point moves more than ``motion`` between the two rows, so at any pose between them every shape is at least
+    ``(lo + hi - motion) / 2`` from the object (its clearance at ``lo`` less the way from ``lo``, and at ``hi`` less
+    the way to ``hi``); the row keeps the smaller of that and its own clearance, its slack lowered alike.
+    """
+    bound = 0.5 * (lo[2] + hi[2] - motion)
+    if bound >= hi[2]:
+        return hi
+    return (hi[0], hi[1], bound, hi[3], hi[4] - (hi[2] - bound))
+
+
 def hand_and_object(hand, obj):
     """The hand (the paper's if None) and the object, checked: what the functions that take both start with.
 
@@ -315,9 +328,12 @@ class HandClearance:
                 while stack and not below(rows[-1]):  # depth first, left half first: rows come in path order
                     lo, hi, depth = stack.pop()
                     motion = _ARC * float(np.linalg.norm(hi[1] - lo[1], axis=1).max())
-                    if motion <= step or lo[2] + hi[2] - motion > 0.0 or depth >= _MAX_DEPTH or below(hi):
-                        rows.append(hi)
+                    resolved = motion <= step or lo[2] + hi[2] - motion > 0.0
+                    if resolved or depth >= _MAX_DEPTH or below(hi):
                         given.append(hi is end and i == n)
+                        if not resolved and not below(hi):  # out of depth, not shown clear: a bound, not a sample
+                            hi = _bounded(lo, hi, motion)
+                        rows.append(hi)
                         continue
                     mid = sample(0.5 * (lo[0] + hi[0]))
                     stack += [(mid, hi, depth + 1), (lo, mid, depth + 1)]
