@@ -50,6 +50,8 @@ RESERVED_NAMES = ("palm", "object")
 #: Most points of a grid over the synergy box (`SynergyHand.synergy_grid`): the paper's hand's
 #: 41 x 41 grid fits, a hand with many synergies gets fewer values per synergy.
 SYNERGY_GRID_POINTS = 2000
+#: Most rows `SynergyHand.synergy_grid` builds (``max_points``'s bound).
+MAX_GRID_POINTS = 10_000_000
 #: How far (synergy units) a synergy value may lie outside its limits and still be a pose of the hand (round-off).
 LIMIT_TOLERANCE = 1e-9
 
@@ -626,10 +628,20 @@ class SynergyHand:
 
         Raises
         ------
+        TypeError
+            If ``z`` is not numeric.
         ValueError
-            If a value lies outside its synergy's limits; the message gives the first such pose.
+            If it has another shape, a NaN, or a value outside its synergy's limits (the message gives the first
+            such pose).
         """
-        z = np.asarray(z, dtype=float)
+        try:
+            z = numeric(z)
+        except (TypeError, ValueError, OverflowError):
+            raise TypeError(f"{what} must be numbers, got {type(z).__name__}") from None
+        if z.ndim not in (1, 2) or z.shape[-1] != self.n_syn:
+            raise ValueError(f"{what} must have {self.n_syn} values (one per synergy) per pose, got shape {z.shape}")
+        if not np.isfinite(z).all():
+            raise ValueError(f"{what} contain NaN or inf")
         lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
         outside = (z < lo - LIMIT_TOLERANCE) | (z > hi + LIMIT_TOLERANCE)
         if outside.any():
@@ -799,6 +811,9 @@ class SynergyHand:
         """
         per = integer(steps, "steps", 2, "values per synergy")
         max_points = integer(max_points, "max_points", 1, "rows of the grid")
+        if max_points > MAX_GRID_POINTS:
+            raise ValueError(f"max_points must be at most {MAX_GRID_POINTS:.0e} rows, got {max_points}")
+        per = min(per, max(2, int(round(max_points ** (1.0 / self.n_syn))) + 1))  # (then down by round-off only)
         while per > 2 and per**self.n_syn > max_points:
             per -= 1
         lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]

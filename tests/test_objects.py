@@ -571,8 +571,10 @@ def test_sq_q_distance_chain(goblet):
 def test_sq_errors(cube):
     with pytest.raises(ValueError, match="centre"):
         cube.scaled_contacts([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])
-    with pytest.raises(ValueError, match=r"center \[30.0, 0.0, 0.0\] is outside object: .* must be inside"):
+    with pytest.raises(ValueError, match=r"center \[30.0, 0.0, 0.0\] is outside object or on its surface: .* must be inside"):
         so.GraspObject([box(10.0)], center=[30.0, 0, 0])
+    with pytest.raises(ValueError, match="on its surface"):  # a corner: rays along its faces had no exit (sQ inf, NaN)
+        so.GraspObject([box(10.0)], center=[10.0, 10.0, 10.0])
     with pytest.raises(ValueError, match=r"\(n, 3\)"):
         cube.scaled_contacts([[1.0, 2.0, 3.0, 4.0]])
 

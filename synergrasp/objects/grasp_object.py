@@ -28,6 +28,9 @@ SURFACE_FACES = TREE_FACES
 SURFACE_TOLERANCE = 0.1
 #: A given torque scale must lie within this factor of the object's bounding radius (a value in other units is refused).
 TORQUE_SCALE_RANGE = 100.0
+#: A given ``center`` must have its neighbours this far (a fraction of the object's size) along each axis inside too:
+#: not on the surface (a point between two pieces is inside).
+CENTER_DEPTH = 1e-6
 
 
 class GraspObject:
@@ -144,11 +147,12 @@ class GraspObject:
             self.center = self._default_center()
         else:
             self.center = as_vector(center, "center", 3).copy()
-            if not self.contains([self.center])[0]:
+            around = self.center + CENTER_DEPTH * self.size * np.vstack([np.eye(3), -np.eye(3)])
+            if not self.contains(np.vstack([self.center, around])).all():  # (on a face, rays along it have no exit)
                 raise ValueError(
-                    f"center {self.center.round(3).tolist()} is outside {self.name}: torques are taken about it and "
-                    "the sQ rays start there, so it must be inside; omit it to use the default (the volume centroid, "
-                    "moved inside if needed)"
+                    f"center {self.center.round(3).tolist()} is outside {self.name} or on its surface: torques are "
+                    "taken about it and the sQ rays start there, so it must be inside; omit it to use the default "
+                    "(the volume centroid, moved inside if needed)"
                 )
         radius = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
         if torque_scale is None:

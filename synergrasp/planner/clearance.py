@@ -136,7 +136,7 @@ class HandClearance:
     """
 
     def __init__(self, hand, obj):
-        self.hand = hand_and_object(hand, obj)
+        self.hand = hand = hand_and_object(hand, obj)
         rest = hand.segments(np.zeros(hand.n_u))
         self.radius = float(rest.radius)
         lengths = np.linalg.norm(rest.capsules[:, 1] - rest.capsules[:, 0], axis=1)

@@ -320,7 +320,8 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     TypeError
         If ``hand`` is not a SynergyHand or ``obj`` not a GraspObject.
     ValueError
-        A ``u_grasp`` or ``trajectory`` that does not fit the hand, a
+        A ``u_grasp`` or ``trajectory`` that does not fit the hand (or a
+        ``u_grasp`` whose synergies lie outside its limits), a
         ``margin``, ``max_retreat`` or ``resolution`` that is not a positive
         number, a ``margin`` above ``max_retreat``, a negative ``tolerance``,
         a ``budget`` below 1, or an opening outside [0, 1].
@@ -341,7 +342,9 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     """
     start = time.process_time()
     checker = HandClearance(hand, obj)
+    hand = checker.hand  # (None: the paper's)
     u = as_vector(u_grasp, "u_grasp", hand.n_u)
+    hand.check_synergies(u[6:], "u_grasp's synergies")
     margin = positive_scalar(margin, "margin")
     tolerance = positive_scalar(tolerance, "tolerance", zero=True)
     max_retreat = positive_scalar(max_retreat, "max_retreat")

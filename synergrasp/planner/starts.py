@@ -28,10 +28,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .._checks import as_points, as_vector
+from .._checks import as_points, as_vector, integer, positive_scalar
 from .._jit import clock, kernel
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
+from .clearance import hand_and_object
 from .status import grasp_status, hand_penetration
 from .stop import check_grasp
 
@@ -132,9 +133,12 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     >>> u.shape
     (8,)
     """
+    hand = hand_and_object(hand, obj)
     a = as_vector(approach, "approach", 3)
     if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
+    distance = positive_scalar(distance, "distance (mm)")
+    clearance = None if clearance is None else positive_scalar(clearance, "clearance (mm)", zero=True)
     a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
     if abs(a[0]) > 0.95:  # palm normal along x: the XYZ Euler angles would start in gimbal lock
@@ -225,6 +229,10 @@ def surface_samples(obj, count, seed):
     """
     import trimesh
 
+    count = integer(count, "count", 1, "surface points")
+    if count > MAX_SURFACE_SAMPLES:
+        raise ValueError(f"count must be at most {MAX_SURFACE_SAMPLES:.0e} surface points, got {count}")
+    seed = integer(seed, "seed", 0)
     queries = obj.surface_queries if obj.surface is not None else MeshQueries(obj.to_mesh())
     mesh = queries.mesh
     points, faces = trimesh.sample.sample_surface(mesh, count, seed=seed)
@@ -232,6 +240,9 @@ def surface_samples(obj, count, seed):
     exits, rays, triangles = queries.first_hits(points - 1e-3 * normals, -normals)
     return points[rays], normals[rays], exits, mesh.face_normals[triangles]
 
+
+#: Most points `surface_samples` draws (each is a ray cast into the surface).
+MAX_SURFACE_SAMPLES = 1_000_000
 
 #: The fingers (chain indices) whose fingertips' centroid opposes the thumb tip in a pinch: index and middle.
 PARTNERS = (1, 2)

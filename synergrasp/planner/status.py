@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._checks import positive_scalar
 from .._jit import kernel
 from .._vectors import unit_rows
 from ..hand import SynergyHand
@@ -152,6 +153,7 @@ def smoothed_normals(obj, x, pieces, length):
     >>> bool(np.allclose(n, [[0.0, 0.0, -1.0]], atol=1e-2)), jac.shape
     (True, (1, 3, 3))
     """
+    length = positive_scalar(length, "length (mm)")  # (0 or less: no smoothing, or a flipped normal)
     x = np.ascontiguousarray(x, dtype=float)
     pieces = np.asarray(pieces, dtype=np.int64)
     index = obj.index
@@ -345,6 +347,8 @@ def status_rows(hand, kind):
     >>> labels[:6], int(contact.sum()), labels[-1]
     (['T0', 'I0', 'M0', 'R0', 'L0', 'T1'], 5, 'P')
     """
+    if not isinstance(kind, str) or kind not in ("precision", "power"):
+        raise ValueError(f"kind must be 'precision' or 'power', got {kind!r}")
     rows = _ROWS.setdefault(hand, {})
     if kind not in rows:  # the same for every status of a hand: built once
         rows[kind] = _status_rows(hand, kind)
@@ -549,7 +553,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
     cp, best = group_contact_distance(obj, candidates, np.concatenate(groups), backend, ids=ids, far=far)
     point_jac = np.concatenate(jacobians)[best]
     sc = obj.scaled_contacts(points, backend=backend)
-    if smoothing:
+    if smoothing is not None and positive_scalar(smoothing, "smoothing (mm)", zero=True):
         normals, jac_n = smoothed_normals(obj, sc.contact, sc.piece, smoothing)
         jac_normal = jac_n @ sc.jac_contact
     else:
@@ -605,7 +609,7 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", 
     n, pieces = status.normals[contact], status.pieces[contact]
     p, b = status.row_points[contact], status.nearest[contact]
     x = p - np.einsum("ij,ij->i", p - b, n)[:, None] * n  # the hand point's foot on the facet plane
-    if smoothing:
+    if smoothing is not None and positive_scalar(smoothing, "smoothing (mm)", zero=True):
         normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
     else:
         normals, jac_n = n, np.zeros((len(x), 3, 3))
