@@ -118,6 +118,8 @@ def _touches(shape, pieces):
 
 def penetration(obj, segments, radius, box=None, *, clear=True) -> Penetration:
     """Deepest capsule (and box) penetration; see `GraspObject.penetration`."""
+    if not isinstance(clear, (bool, np.bool_)):  # clear="no" would be true
+        raise TypeError(f"clear must be True or False, got {clear!r}")
     try:
         seg = np.asarray(segments, dtype=float)
     except (TypeError, ValueError) as exc:

@@ -258,6 +258,9 @@ class _Apertures:
     """The hand's thumb-to-fingers openings and its fingertips' spread, computed once per hand."""
 
     def __init__(self, hand):
+        if len(hand.finger_names) < 1 + max(PARTNERS):
+            raise ValueError(f"a pinch opposes the thumb (the first finger) to the second and third; hand {hand.name!r} "
+                             f"has {len(hand.finger_names)} finger(s): {hand.finger_names}")
         self.z, tips = _aperture_table(hand)
         self.thumb, self.partner = tips[:, 0], tips[:, list(PARTNERS)].mean(axis=1)
         self.width = np.linalg.norm(self.partner - self.thumb, axis=1)
