@@ -879,3 +879,20 @@ def test_a_large_open_mesh_is_queried_without_the_tree():
     assert result.success and result.surface_q < 0
     closest, gap, _ = obj.surface_queries.closest(result.contact_points)
     assert gap.max() < 5.0
+
+
+def test_many_points_are_answered_in_parts_with_the_same_results(cube, monkeypatch):
+    """cP and sQ of more points than QUERY_CHUNK (3e5 points asked for 6.6 GiB at once): the parts' results joined
+    are the whole set's, field by field."""
+    from synergrasp.objects import grasp_object
+    from synergrasp.objects.contact_distance import contact_distance
+    from synergrasp.objects.scaled_contacts import scaled_contacts
+
+    points = np.random.default_rng(3).uniform(-30.0, 30.0, (130, 3))
+    whole_cp, whole_sq = contact_distance(cube, points), scaled_contacts(cube, points)
+    monkeypatch.setattr(grasp_object, "QUERY_CHUNK", 50)
+    for joined, whole in ((cube.contact_distance(points), whole_cp), (cube.scaled_contacts(points), whole_sq)):
+        for name, value in vars(whole).items():
+            if name != "lp_solves":
+                np.testing.assert_allclose(getattr(joined, name), value, atol=1e-9, err_msg=name)
+        assert joined.lp_solves >= whole.lp_solves

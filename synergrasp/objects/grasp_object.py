@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import warnings
+from dataclasses import fields
 from functools import cached_property
 
 import fcl
@@ -31,6 +32,19 @@ TORQUE_SCALE_RANGE = 100.0
 #: A given ``center`` must have its neighbours this far (a fraction of the object's size) along each axis inside too:
 #: not on the surface (a point between two pieces is inside).
 CENTER_DEPTH = 1e-6
+#: Most points a cP or sQ query answers at once: its LP data grow with the points (3e5 points asked for 6.6 GiB),
+#: so a larger set is answered in parts of this many, the results joined.
+QUERY_CHUNK = 10_000
+
+
+def _in_chunks(query, obj, points, backend):
+    """``query(obj, points, backend)`` (`contact_distance`, `scaled_contacts`), in parts of `QUERY_CHUNK` points."""
+    if not (isinstance(points, np.ndarray) and points.ndim == 2 and len(points) > QUERY_CHUNK):
+        return query(obj, points, backend)
+    parts = [query(obj, points[i:i + QUERY_CHUNK], backend) for i in range(0, len(points), QUERY_CHUNK)]
+    joined = {f.name: sum(getattr(r, f.name) for r in parts) if f.name == "lp_solves"
+              else np.concatenate([getattr(r, f.name) for r in parts]) for f in fields(parts[0])}
+    return type(parts[0])(**joined)
 
 
 class GraspObject:
@@ -431,7 +445,8 @@ class GraspObject:
         minimum over the pieces: > 0 outside, 0 on the surface, < 0 inside.
         python-fcl's distances and the pieces' planes prune the pieces that
         cannot be the minimiser (see the documentation's "Contact distance
-        (cP)" page); all the LPs of the call are solved as one block-diagonal LP.
+        (cP)" page); all the LPs of the call are solved as one block-diagonal LP
+        (of at most `QUERY_CHUNK` points: a larger set is answered in parts).
 
         Parameters
         ----------
@@ -474,7 +489,7 @@ class GraspObject:
         >>> r.degenerate.tolist()
         [True, True]
         """
-        return contact_distance(self, points, backend)
+        return _in_chunks(contact_distance, self, points, backend)
 
     def scaled_contacts(self, points, backend="native") -> ScaledContacts:
         """sQ contacts: scale the object about its centre until it touches each hand point.
@@ -526,7 +541,7 @@ class GraspObject:
         >>> (s.contact.round(6) + 0.0).tolist()        # both carried back to the pole
         [[0.0, 0.0, 50.0], [0.0, 0.0, 50.0]]
         """
-        return scaled_contacts(self, points, backend)
+        return _in_chunks(scaled_contacts, self, points, backend)
 
     def penetration(self, segments, radius, box=None, *, clear=True) -> Penetration:
         """Deepest penetration of capsules (hand links), and of a box (the palm), into the object, by python-fcl.
