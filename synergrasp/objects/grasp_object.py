@@ -10,7 +10,7 @@ import fcl
 import numpy as np
 import trimesh
 
-from .._checks import as_vector, positive_scalar
+from .._checks import as_vector, numeric, positive_scalar
 from .broad_phase import PieceIndex
 from .collision import Penetration, penetration
 from .contact_distance import ContactDistance, check_points, contact_distance
@@ -410,9 +410,9 @@ class GraspObject:
             If ``matrix`` is not a finite 4x4 rigid transform.
         """
         try:
-            M = np.asarray(matrix, dtype=float)
-        except (TypeError, ValueError):
-            raise TypeError(f"matrix must be a (4, 4) array of numbers, got {type(matrix).__name__}") from None
+            M = numeric(matrix)  # (complex numbers, text and booleans are not real numbers)
+        except (TypeError, ValueError, OverflowError):
+            raise TypeError(f"matrix must be a (4, 4) array of real numbers, got {type(matrix).__name__}") from None
         if M.shape != (4, 4) or not np.isfinite(M).all():
             raise ValueError(f"matrix must be a finite (4, 4) homogeneous transform, got shape {M.shape}")
         R, t = M[:3, :3], M[:3, 3]

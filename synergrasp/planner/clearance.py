@@ -313,6 +313,9 @@ class HandClearance:
             return floors is not None and row[4] < 0.0
 
         pieces = [_pieces(self.hand, u_a, u_b, max_angle) for u_a, u_b in zip(path[:-1], path[1:])]
+        if len(path) - 1 > MAX_PIECES:
+            raise ValueError(f"the path has {len(path)} rows, more than the {MAX_PIECES:.0e} pieces synergrasp checks "
+                             "(minutes of fcl queries): give its key poses; the check fills in between them")
         if sum(pieces) > MAX_PIECES:
             raise ValueError(f"the path turns a joint or an Euler angle by {sum(pieces) * max_angle:.3g} rad in all, "
                              f"{sum(pieces):.3g} pieces of at most max_angle = {max_angle:g} rad, more than the "
