@@ -38,7 +38,7 @@ from importlib import resources
 
 import numpy as np
 
-from ._checks import as_path, as_vector, integer, numeric
+from ._checks import as_path, as_points, as_vector, integer, numeric
 from ._jit import kernel
 
 __all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
@@ -634,14 +634,7 @@ class SynergyHand:
             If it has another shape, a NaN, or a value outside its synergy's limits (the message gives the first
             such pose).
         """
-        try:
-            z = numeric(z)
-        except (TypeError, ValueError, OverflowError):
-            raise TypeError(f"{what} must be numbers, got {type(z).__name__}") from None
-        if z.ndim not in (1, 2) or z.shape[-1] != self.n_syn:
-            raise ValueError(f"{what} must have {self.n_syn} values (one per synergy) per pose, got shape {z.shape}")
-        if not np.isfinite(z).all():
-            raise ValueError(f"{what} contain NaN or inf")
+        z = as_points(z, what, dim=self.n_syn) if np.ndim(z) == 2 else as_vector(z, what, self.n_syn)
         lo, hi = self.synergy_limits[:, 0], self.synergy_limits[:, 1]
         outside = (z < lo - LIMIT_TOLERANCE) | (z > hi + LIMIT_TOLERANCE)
         if outside.any():

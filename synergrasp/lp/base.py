@@ -288,6 +288,8 @@ def optimality_gaps(c, A, b, x, y) -> dict:
     >>> optimality_gaps(np.array([1.0]), np.array([[1.0]]), np.array([1e21]), np.array([1e19]), np.array([1.0]))["rows"]
     0.99
     """
+    if not c.any():  # a feasibility problem: y = 0 is its dual, and an interior-point y of round-off says nothing
+        y = np.zeros_like(y)
     if isinstance(A, CSC):
         cols = np.repeat(np.arange(A.shape[1]), np.diff(A.indptr))
         ax_terms = A.data * x[cols]
@@ -302,9 +304,6 @@ def optimality_gaps(c, A, b, x, y) -> dict:
         scale = max(map(_top, scales))
         return float(value) / scale if scale > 0 else (0.0 if value == 0 else math.inf)
 
-    if not c.any():  # a feasibility problem: y = 0 is its dual, and an interior-point y of round-off says nothing
-        aty, aty_terms = np.zeros_like(c), np.zeros(0)
-        y = np.zeros_like(y)
     reduced = c - aty
     return {
         "rows": ratio(_top(ax - b), b, ax_terms),

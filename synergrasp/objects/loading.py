@@ -276,6 +276,13 @@ def _check_scale(points, scale, what):
                          "its units into mm (scale=1000 for metres, 10 for centimetres)")
 
 
+def _scaled_first(points, scale) -> bool:
+    """Whether ``points`` are scaled before their pieces are made: a size in mm once scaled (`_check_scale`), beyond
+    what the pieces take in the file's own units (a file in 10 nm, a quantised one), so their pieces are computed
+    and cached at the scaled size."""
+    return scale != 1.0 and not SIZE_LIMITS[0] <= float(np.ptp(points, axis=0).max()) <= SIZE_LIMITS[1]
+
+
 def _scaled(pieces, scale):
     return [np.asarray(p, dtype=float) * scale for p in pieces]
 
@@ -382,9 +389,7 @@ def _from_mesh(
               f"{PART_GAP:g} mm from the rest, and would make the object larger than it is. To keep them, set "
               "synergrasp.objects.loading.DEBRIS_FRACTION = 0")
     given_scale = scale
-    if scale != 1.0 and not SIZE_LIMITS[0] <= float(np.ptp(vertices, axis=0).max()) <= SIZE_LIMITS[1]:
-        # a size in mm once scaled (checked above), beyond what the pieces take in the file's own units (a file in
-        # 10 nm, a quantised one): scaled first, and its pieces computed and cached at that size
+    if _scaled_first(vertices, scale):
         mesh = mesh.copy()
         mesh.apply_scale(scale)
         vertices, scale = np.asarray(mesh.vertices, dtype=float), 1.0
@@ -733,8 +738,8 @@ def _from_points(
     pts = _without_strays(pts, what)
     _check_scale(pts, scale, what)
     given_scale = scale
-    if scale != 1.0 and not SIZE_LIMITS[0] <= float(np.ptp(pts, axis=0).max()) <= SIZE_LIMITS[1]:
-        pts, scale = pts * scale, 1.0  # (as from_mesh: a size in mm once scaled, not in the file's units)
+    if _scaled_first(pts, scale):
+        pts, scale = pts * scale, 1.0
     checked_hull(pts, what)  # raises "has no volume" for flat or too small clouds
     params = {"kind": "cloud", "max_parts": max_parts, "max_vertices": max_vertices,
               "concavity": CLOUD_CONCAVITY, "small": SMALL_CLOUD, "enclosed": ENCLOSED_DIRECTIONS,

@@ -17,9 +17,8 @@ import numpy as np
 
 from .._checks import as_points, positive_scalar
 from ..planner import PlanResult, hand_and_object
-from .protocol import MAX_STEPS
 from .protocol import protocol as make_protocol
-from .simulate import leg_steps, mujoco_module, simulate_reach
+from .simulate import mujoco_module, simulate_reach
 from .validate import check_match, squeeze_targets
 
 __all__ = ["Replay", "replay_reach"]
@@ -167,12 +166,6 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
         raise ValueError(f"speed {speed:g} mm/s is slower than {MIN_SPEED:g} mm/s: the replay's simulated time grows as "
                          "1 / speed (at 0.1 mm/s, about a minute of CPU). speed is in mm/s (default 100), not m/s")
     hand.check_synergies(path[:, 6:], "the path's synergies")
-    steps = sum(leg_steps(hand, path, speed, settings.timestep)) \
-        + (settings.squeeze_time + settings.settle_time) / settings.timestep
-    if steps > MAX_STEPS:
-        raise ValueError(f"this replay simulates {steps:.3g} time steps (the path at {speed:g} mm/s, then the squeeze "
-                         f"and settling), more than the {MAX_STEPS:.0e} synergrasp runs: is the path in mm, its rows a "
-                         "reach's (a few hundred mm long)?")
     z, _ = squeeze_targets(hand, obj, path[-1], settings.squeeze, settings.contact_distance, backend)
     squeezed = np.r_[path[-1, :6], z]
     measured = simulate_reach(hand, obj, path, hand.joint_angles(squeezed), settings, speed)

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..hand import rotation_xyz
 from .model import MM, OBJECT, PALM, grasp_mjcf, mujoco_quat
-from .protocol import DIRECTIONS
+from .protocol import DIRECTIONS, MAX_STEPS
 
 __all__ = ["mujoco_module", "build_model", "simulate", "simulate_reach", "INSTALL_HINT"]
 
@@ -96,7 +96,7 @@ def build_model(hand, obj, u, protocol, mocap=False):
     return mujoco, model, scene
 
 
-def leg_steps(hand, path, speed, timestep) -> list[int]:
+def _leg_steps(hand, path, speed, timestep) -> list[int]:
     """Time steps of each leg of a replayed path: the time its fastest capsule end or palm corner takes at ``speed``.
 
     Parameters
@@ -157,9 +157,16 @@ def simulate_reach(hand, obj, path, squeeze_angles, protocol, speed) -> dict:
     ImportError
         If MuJoCo is not installed.
     ValueError
-        If MuJoCo cannot build the model.
+        If MuJoCo cannot build the model, or the reach would take more than
+        `synergrasp.physics.protocol.MAX_STEPS` time steps.
     """
-    return _simulated(hand, obj, path[0], protocol, True, lambda sim: sim.follow(hand, path, squeeze_angles, speed))
+    legs = _leg_steps(hand, path, speed, protocol.timestep)
+    steps = sum(legs) + (protocol.squeeze_time + protocol.settle_time) / protocol.timestep
+    if steps > MAX_STEPS:
+        raise ValueError(f"this replay simulates {steps:.3g} time steps (the path at {speed:g} mm/s, then the squeeze "
+                         f"and settling), more than the {MAX_STEPS:.0e} synergrasp runs: is the path in mm, its rows a "
+                         "reach's (a few hundred mm long)?")
+    return _simulated(hand, obj, path[0], protocol, True, lambda sim: sim.follow(hand, path, squeeze_angles, legs))
 
 
 class _Unstable(Exception):
@@ -381,8 +388,9 @@ class _Simulation:
 
     # ------------------------------------------------------------------ a reach
 
-    def follow(self, hand, path, squeeze_angles, speed):
-        """Move the mocap palm and the servos along the path, then squeeze; the object's motion (see `simulate_reach`)."""
+    def follow(self, hand, path, squeeze_angles, legs):
+        """Move the mocap palm and the servos along the path, each leg in its time steps (``legs``), then squeeze; the
+        object's motion (see `simulate_reach`)."""
         mj, m, d, p = self.mj, self.model, self.data, self.p
         mocap = int(m.body(PALM).mocapid[0])
         angles = np.array([[hand.joint_angles(u)[j] for j in self.joints] for u in path])
@@ -391,7 +399,6 @@ class _Simulation:
         mj.mj_forward(m, d)
         planned = self.pose()
         moved, turned, first = [0.0], [0.0], (0 if self.contacts() else -1)
-        legs = leg_steps(hand, path, speed, p.timestep)
         try:
             for i in range(1, len(path)):
                 steps = legs[i - 1]

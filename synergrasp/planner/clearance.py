@@ -312,10 +312,10 @@ class HandClearance:
         def below(row):  # a shape under its floor: stop there
             return floors is not None and row[4] < 0.0
 
-        pieces = [_pieces(self.hand, u_a, u_b, max_angle) for u_a, u_b in zip(path[:-1], path[1:])]
-        if len(path) - 1 > MAX_PIECES:
+        if len(path) - 1 > MAX_PIECES:  # (before its pieces are counted, a loop over the rows)
             raise ValueError(f"the path has {len(path)} rows, more than the {MAX_PIECES:.0e} pieces synergrasp checks "
                              "(minutes of fcl queries): give its key poses; the check fills in between them")
+        pieces = [_pieces(self.hand, u_a, u_b, max_angle) for u_a, u_b in zip(path[:-1], path[1:])]
         if sum(pieces) > MAX_PIECES:
             raise ValueError(f"the path turns a joint or an Euler angle by {sum(pieces) * max_angle:.3g} rad in all, "
                              f"{sum(pieces):.3g} pieces of at most max_angle = {max_angle:g} rad, more than the "

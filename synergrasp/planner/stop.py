@@ -16,7 +16,7 @@ import numpy as np
 from .._checks import integer, positive_scalar
 from ..objects import GraspObject
 from ..quality import q_distance
-from .status import Status
+from .status import Status, check_kind
 
 
 @dataclass(frozen=True)
@@ -257,8 +257,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     if not isinstance(obj, GraspObject) or not isinstance(status, Status):
         raise TypeError(f"check_grasp takes a GraspObject and a Status (grasp_status), got {type(obj).__name__} "
                         f"and {type(status).__name__}")
-    if kind not in ("precision", "power"):
-        raise ValueError(f"kind must be 'precision' or 'power', got {kind!r}")
+    check_kind(kind)
     if (kind == "power") != bool(status.contact.all()):  # every row of a power status is a contact
         raise ValueError(f"the status is of a {'precision' if kind == 'power' else 'power'} grasp, not a {kind} one: "
                          f"pass the kind it was built for (grasp_status(..., kind))")
