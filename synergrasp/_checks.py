@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 import os
 
 from pathlib import Path
@@ -60,13 +61,17 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
 
 
 def numeric(value) -> np.ndarray:
-    """``value`` as floats; numbers only: not text, booleans, complex numbers or masked entries."""
+    """``value`` as floats; real numbers only: not text, booleans, complex numbers, dates or masked entries."""
     if type(value) is np.ndarray and value.dtype == np.float64:  # already floats (the common case)
         return value
     if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
         raise TypeError("masked entries")
     raw = np.asarray(value)
-    if raw.dtype.kind in "USbc":
+    if raw.dtype.kind == "O":  # Python objects: each must be a real number itself ("1" and True convert to floats)
+        for v in raw.flat:
+            if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, np.integer, np.floating)):
+                raise TypeError(type(v).__name__)
+    elif raw.dtype.kind not in "iuf":
         raise TypeError(raw.dtype.name)
     return np.asarray(raw, dtype=float)
 

@@ -134,7 +134,8 @@ class PseudoDistance:
         tie between penetration directions); the gradients are then a valid
         one-sided choice.
     lp_solves : int
-        Number of solver calls made (1 or 2, rarely 3). The d+1 penetration LPs of Eq. 3
+        Number of solver calls made (1 or 2; up to 4 for sets that touch to
+        round-off). The d+1 penetration LPs of Eq. 3
         are independent and solved together as one block-diagonal LP. They are
         all feasible exactly when the value of Eq. 1 is 0, so the regime of the
         previous call with the same shapes is tried first (the result does not
@@ -147,7 +148,8 @@ class PseudoDistance:
         Witness points ``sum alpha_i a_i`` and ``sum beta_j b_j``.
     normal_b : (d,) float
         Unit inward normal of B at ``point_b`` (the supporting hyperplane of the
-        LP dual), oriented so that moving B along ``-normal_b`` increases the value.
+        LP dual): moving B along ``normal_b`` (away from A) increases the
+        value, at the rate ``grad_b.sum(axis=0) @ normal_b`` > 0.
     active : int
         Index k of the active penetration direction (-1 for separation).
     """

@@ -82,6 +82,12 @@ def test_an_answer_on_badly_scaled_data_is_right_or_not_called_optimal(backend, 
     (np.zeros(0), np.zeros((1, 0)), [0.0], "optimal", []),  # no columns (HiGHS said "Empty", iterations 1688481120)
     (np.zeros(0), np.zeros((1, 0)), [1.0], "infeasible", None),
     ([1.0, 1.0], [[1e15, 1.0]], [1e15], "optimal", [1.0, 0.0]),  # an entry of 1e15 (HiGHS refused it: "Empty")
+    # b = 0, optimum x = 0: Clarabel's x of 1e-24 was judged against its own size ("off by 1 (bounds), 2 (gap)")
+    ([1.0, 1.0], [[1.0, -1.0]], [0.0], "optimal", [0.0, 0.0]),
+    ([1.0, 2.0, 3.0], [[1.0, -1.0, 0.0], [0.0, 1.0, -1.0]], [0.0, 0.0], "optimal", [0.0, 0.0, 0.0]),
+    # no feasible point and no dual one: Clarabel and cvxpy said "unbounded" (the dual is infeasible too)
+    ([-1.0, 0.0, 0.0], [[1.0, -1.0, 0.0], [0.0, 0.0, 0.0]], [0.0, 1.0], "infeasible", None),
+    ([0.3, -0.35, -1.9], [[-0.45, 0.0, 0.0], [0.55, 0.0, 0.0], [-0.08, 0.0, -0.59]], [2.9, 2.2, 2.0], "infeasible", None),
 ])
 def test_lps_without_costs_rows_or_columns_are_answered_by_every_backend(backend, c, A, b, status, x):
     """Such LPs were "failed" on some backends: a feasibility problem's interior-point duals of round-off read as a
@@ -196,6 +202,18 @@ def test_csc_input_matches_dense(backend, rng):
 )
 def test_bad_lp_data(backend, c, A, b, match):
     with pytest.raises(ValueError, match=match):
+        sg.lp.get_backend(backend).solve(c, A, b)
+
+
+@pytest.mark.parametrize("c, A, b", [
+    (np.array([1.0 + 1e-3j, 1.0]), [[1.0, 1.0]], [1.0]),  # the imaginary part was dropped with a ComplexWarning
+    ([1.0, 1.0], np.array([[True, True]]), [1.0]),
+    ([1.0, 1.0], [[1.0, 1.0]], np.array(["1"])),
+    (np.array([1.0, "1"], dtype=object), [[1.0, 1.0]], [1.0]),
+    ([1.0, 1.0], sg.lp.CSC([0, 1, 2], [0, 0], np.array([True, True]), (1, 2)), [1.0]),
+])
+def test_lp_data_of_text_booleans_or_complex_numbers_is_refused(backend, c, A, b):
+    with pytest.raises(TypeError, match="arrays of real numbers, not text, booleans or complex numbers"):
         sg.lp.get_backend(backend).solve(c, A, b)
 
 

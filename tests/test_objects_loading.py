@@ -616,19 +616,34 @@ def test_a_speck_of_debris_far_from_the_object_is_dropped_with_a_warning(tmp_pat
     box = trimesh.creation.box((60.0, 50.0, 90.0))
     speck = trimesh.creation.icosphere(subdivisions=0, radius=1.0).apply_translation([300.0, 0.0, 0.0])
     with pytest.warns(UserWarning, match=r"box: 1 loose fragment\(s\) dropped as debris \(20 faces 1\.7 mm across, "
-                                         r"269 mm from the rest\): each has at most 0\.1% of the largest part's volume"):
+                                         r"closed, 269 mm from the rest\): each has at most 0\.1% of the largest part's"):
         obj = so.from_mesh(trimesh.util.concatenate([box, speck]), name="box")
     assert obj.info["method"] == "hull" and obj.extents == pytest.approx([60.0, 50.0, 90.0])
     assert obj.torque_scale == pytest.approx(so.from_mesh(box, cache=False).torque_scale)
-    triangle = trimesh.Trimesh([[300.0, 0, 0], [301.0, 0, 0], [300.0, 1.0, 0]], [[0, 1, 2]])  # a stray face, no volume
+    # read as metres the speck is 0.27 mm from the box, not debris: the same file at scale 0.001 keeps it
     path = tmp_path / "scan.stl"
-    trimesh.util.concatenate([box, triangle]).export(path)
-    with pytest.warns(UserWarning, match="1 loose fragment"):
-        assert so.load(path).extents == pytest.approx([60.0, 50.0, 90.0])
-    # read as metres the triangle is 0.3 mm from the box, not debris: the same file at scale 0.001 keeps it
+    trimesh.util.concatenate([box, speck]).export(path)
     with pytest.warns(UserWarning) as record:
         assert so.load(path, scale=0.001).extents[0] > 0.3
     assert not any("debris" in str(w.message) for w in record)
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.5, 300.0])
+def test_an_open_sheet_beside_the_object_is_debris_and_said_to_be_so(offset):
+    """A 200 mm ground plane the box stands on (its corners and face centres are over 30 mm from the box), a label
+    sheet 0.5 mm off its side, a stray sheet far away: each encloses nothing. Kept, the plane made a 200 mm object
+    and the label was capped as a hole; the warning gave the plane's distance from its corners (36 mm)."""
+    box = trimesh.creation.box((60.0, 40.0, 80.0))
+    sheet = trimesh.Trimesh([[-100.0, -100.0, -40.0], [100.0, -100.0, -40.0], [100.0, 100.0, -40.0],
+                             [-100.0, 100.0, -40.0]], [[0, 1, 2], [0, 2, 3]]).apply_translation([0.0, 0.0, -offset])
+    if offset == 0.5:  # a label: 30 x 20 mm, 0.5 mm off the box's +x side
+        sheet = trimesh.Trimesh([[30.5, -10.0, -15.0], [30.5, 10.0, -15.0], [30.5, 10.0, 15.0], [30.5, -10.0, 15.0]],
+                                [[0, 1, 2], [0, 2, 3]])
+    with pytest.warns(UserWarning, match=rf"box: 1 loose fragment\(s\) dropped as debris \(2 faces \d+ mm across, open, "
+                                         rf"{offset:g} mm from the rest\).*or is open and encloses nothing") as record:
+        obj = so.from_mesh(trimesh.util.concatenate([box, sheet]), name="box", cache=False)
+    assert obj.extents == pytest.approx([60.0, 40.0, 80.0]) and obj.info["method"] == "hull"
+    assert not any("hole(s) capped" in str(w.message) for w in record)
 
 
 def test_parts_that_are_all_flat_are_not_debris_and_the_mesh_is_refused_as_flat():

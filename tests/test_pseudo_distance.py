@@ -125,6 +125,19 @@ def test_witness_points_and_normal(backend):
     assert inside.kind == "penetration" and inside.value < 0
 
 
+@pytest.mark.parametrize("scale", [3.0, 0.2])  # A apart from B, and A inside it
+def test_moving_b_along_its_normal_increases_the_value(backend, rng, scale):
+    """The docstring said the value increases along -normal_b: it decreases there."""
+    for _ in range(6):
+        A, B = rng.normal(size=(1, 3)) * scale, rng.normal(size=(6, 3))
+        r = sg.pseudo_distance(A, B, backend=backend)
+        if r.degenerate:
+            continue
+        moved = sg.pseudo_distance(A, B + 1e-4 * r.normal_b, backend=backend).value
+        assert moved - r.value == pytest.approx(1e-4 * r.grad_b.sum(axis=0) @ r.normal_b, rel=1e-3)
+        assert r.grad_b.sum(axis=0) @ r.normal_b > 0
+
+
 @pytest.mark.parametrize("shift", [3.0, 0.0])
 def test_gradients_match_finite_differences(backend, rng, shift):
     for _ in range(2):

@@ -257,6 +257,35 @@ def test_contacts_far_from_the_default_centre_are_warned_of():
     assert [str(w.message)[:49] for w in caught] == ["the torques are taken about the origin, 1.74e+202"]
 
 
+#: Three contacts at the edge of force closure (HiGHS: Q = -0.0): the native simplex cycled in one penetration block
+#: (pivots its refactorised basis undid, 1861 of them) and raised LPError.
+EDGE_OF_CLOSURE = (
+    [["0x1.3f0a87302d75bp+5", "-0x1.8c105f0b7c4f0p+1", "0x1.fe8aa13b47ff2p+5"],
+     ["-0x1.1db1d7cde8662p+4", "0x1.1e58d875d97a2p+5", "-0x1.f2ca5d8b83863p+7"],
+     ["-0x1.db524f149c064p+4", "-0x1.ac911615c0d82p+4", "-0x1.bac5bca50ef5fp+7"]],
+    [["-0x1.2054409ab5866p+5", "0x1.82f5b5b1ed4c0p-2", "0x1.9f3dc64557190p+1"],
+     ["0x1.66dd277577435p+4", "-0x1.181f8b360d12dp+5", "0x1.a9012d4b65427p+0"],
+     ["0x1.1c83c8c4bf49ep+5", "0x1.a31fb00acda5ep+4", "-0x1.c76daf089ba3cp+0"]],
+    "0x1.26c7a7ee045a2p+0")
+
+
+def test_a_grasp_at_the_edge_of_force_closure_has_q_0_on_the_simplex_backends():
+    """Checked independently: scipy's LP of Eq. 1 between the wrenches' hull and the origin gives 0."""
+    from scipy.optimize import linprog
+
+    P, N = (np.array([[float.fromhex(v) for v in row] for row in rows]) for rows in EDGE_OF_CLOSURE[:2])
+    mu = float.fromhex(EDGE_OF_CLOSURE[2])
+    W = sg.contact_wrenches(P, N, mu=mu, center=np.zeros(3), torque_scale=40.0)
+    Q, k = sg.regular_simplex(6), len(W)
+    A = np.zeros((7, 7 + k))
+    A[:6, :7], A[:6, 7:], A[6, 7:] = Q.T, W.T, 1.0
+    separation = linprog(np.r_[np.ones(7), np.zeros(k)], A_eq=A, b_eq=np.r_[np.zeros(6), 1.0], bounds=(0, None)).fun
+    assert abs(separation) < 1e-9
+    for backend in ("native", "highs"):
+        q = sg.q_distance(P, N, mu=mu, center=np.zeros(3), torque_scale=40.0, backend=backend)
+        assert abs(q.value) < 1e-7, backend
+
+
 def test_normals_of_any_length_give_the_same_q(backend):
     """The normals are normalised: tiny (1e-13 was refused as zero-length) or huge, the same Q and the same
     derivative along the unit normal."""

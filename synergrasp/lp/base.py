@@ -22,6 +22,7 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
+from .._checks import numeric
 from .._jit import kernel
 
 #: The statuses an :class:`LPSolution` can carry.
@@ -150,6 +151,8 @@ class Backend:
             absolute (HiGHS's 1e-7), so on badly scaled data (entries of 1e12,
             costs of 1e-9) they can call a wrong answer optimal. The library's
             own LPs, scaled by their callers, skip it (``verify=False``).
+            Either way an optimal ``x`` of an LP with ``b == 0`` that is 0 to
+            within `HOMOGENEOUS_ZERO` comes back as exactly 0.
 
         Returns
         -------
@@ -168,17 +171,18 @@ class Backend:
             an optimal ``x`` or ``y`` of the wrong shape.
         """
         try:
-            c = np.ascontiguousarray(c, dtype=float)
-            b = np.ascontiguousarray(b, dtype=float)
+            c = np.ascontiguousarray(numeric(c))
+            b = np.ascontiguousarray(numeric(b))
             if isinstance(A, CSC):
-                data = np.ascontiguousarray(A.data, dtype=float)
+                data = np.ascontiguousarray(numeric(A.data))
                 A = A if data is A.data else A._replace(data=data)
                 values = A.data
             else:
-                A = np.ascontiguousarray(A, dtype=float)
+                A = np.ascontiguousarray(numeric(A))
                 values = A
-        except (TypeError, ValueError):
-            raise TypeError("LP data c, A and b must be numeric arrays (A may be a synergrasp.lp.CSC)") from None
+        except (TypeError, ValueError, OverflowError):
+            raise TypeError("LP data c, A and b must be arrays of real numbers, not text, booleans or complex numbers "
+                            "(A may be a synergrasp.lp.CSC)") from None
         if isinstance(A, CSC):
             A = _checked_csc(A)
         if A.ndim != 2 or c.shape != (A.shape[1],) or b.shape != (A.shape[0],):
@@ -204,6 +208,8 @@ class Backend:
                 status, x, y, iterations, message = self._solve(c, A, b, basic=hint)
             else:
                 status, x, y, iterations, message = self._solve(c, A, b)
+            if status == "unbounded":  # an interior-point solver may say so of an LP with no feasible point at all
+                status, message = self._unbounded_or_infeasible(c, A, b, message)
         except (KeyboardInterrupt, SystemExit, GeneratorExit):
             raise
         except BaseException as exc:  # a solver's own failure becomes a status (a Rust panic is a BaseException)
@@ -218,6 +224,8 @@ class Backend:
             if x.shape != (n,) or y.shape != (m,):
                 raise ValueError(f"backend {self.name!r}: _solve returned x of shape {x.shape} and y of shape {y.shape} "
                                  f"for an LP of {m} rows and {n} columns; they must be ({n},) and ({m},)")
+            if not b.any() and _top(x) <= HOMOGENEOUS_ZERO:  # x = 0 is exact: what an interior point approaches
+                x = np.zeros(n)
             objective = float(c @ x)
             if verify:
                 gaps = optimality_gaps(c, A, b, x, y)
@@ -231,6 +239,18 @@ class Backend:
         else:
             x, y, objective = np.full(n, np.nan), np.full(m, np.nan), float("nan")
         return LPSolution(status, x, objective, y, int(iterations), elapsed, self.name, message)
+
+    def _unbounded_or_infeasible(self, c, A, b, message):
+        """The status of an LP the solver called unbounded: ``"infeasible"`` if it has no feasible point (the LP
+        without costs is infeasible), else ``"unbounded"``; and the message.
+
+        A primal-dual method that finds the dual infeasible may report it whether or not the primal is feasible
+        (Clarabel's ``DualInfeasible`` for ``0 = 1``).
+        """
+        feasibility = self._solve(np.zeros_like(c), A, b)
+        if feasibility[0] == "infeasible":
+            return "infeasible", f"{message}, and without its costs the LP is infeasible ({feasibility[4]})"
+        return "unbounded", message
 
     def forget(self) -> None:
         """Drop what earlier solves keep for later ones (warm starts, models updated in place).
@@ -258,6 +278,10 @@ def _trivial(c, b):
 
 #: Largest relative gap (`optimality_gaps`) of an answer `Backend.solve` calls optimal.
 VERIFY_TOL = 1e-6
+#: An optimal answer of an LP with ``b == 0`` whose ``x`` has no entry larger than this is returned as ``x = 0``:
+#: its exact optimum, which an interior-point solver approaches to round-off (1e-24 from Clarabel), and which no
+#: scale of the data can judge an ``x`` of round-off against (the LP is unchanged when ``x`` is scaled).
+HOMOGENEOUS_ZERO = 1e-9
 
 
 def optimality_gaps(c, A, b, x, y) -> dict:

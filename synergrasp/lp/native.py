@@ -21,15 +21,18 @@ decomposition) and solves each with a dense revised simplex:
   pivots (no cycling), ties of the ratio test to the lowest column;
 * the final basis refactorised (Gauss-Jordan with partial pivoting), its
   primal values and duals recomputed and checked: a reduced cost < 0 left
-  by round-off is priced on, and a basis that round-off left infeasible
+  by round-off is priced on (at most `RECHECKS` times per phase: an
+  ill-conditioned basis can cycle through pivots its refactorisation
+  undoes), and a basis that round-off left infeasible
   starts again from its own columns (at most `RESTARTS` times). If it is
   still infeasible then, but by no more than phase 1 accepts as feasible
   (the data's own round-off, e.g. entries of 1e-9 beside entries of 1), it
   is taken with its values clipped to 0;
 * a block that fails all the same (a pivot on an entry barely above the
   pivot tolerance can leave a basis too ill-conditioned to refactorise
-  feasibly) is solved once more from its start, pivoting only on entries
-  above `RESCUE_PIVOT_TOL`; if that fails too, the LP is reported failed.
+  feasibly, or cycling) is solved once more from its start, with a budget
+  of pivots of its own, pivoting only on entries above `RESCUE_PIVOT_TOL`;
+  if that fails too, the LP is reported failed.
 
 The solution is a vertex with its exact duals (``vertex_solutions``). It is
 meant for blocks of up to a few dozen rows (each block's work is dense);
@@ -51,6 +54,9 @@ DEGENERATE_RUN = 8
 PIVOTS_PER_SIZE = 50
 #: Fresh starts of a block whose basis round-off left infeasible, before it is reported failed.
 RESTARTS = 3
+#: Optima of one phase that the refactorised basis prices out again (round-off) before the try is given up: an
+#: ill-conditioned basis can cycle through pivots that the refactorisation undoes.
+RECHECKS = 5
 #: Pivot tolerance (relative to the column's largest entry) of the second try of a block that failed with `TOL`.
 RESCUE_PIVOT_TOL = 1e-7
 #: Precedence of the blocks' status codes (0 optimal, 1 infeasible, 2 unbounded, 3 failed) in the LP's: an
@@ -272,8 +278,9 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
             for i in range(mk):
                 s = max(s, abs(T[i, j]))
             colnorm[j] = s
-        st, pv, max_pivots = 4, 0, pivots_per_size * width
+        st, max_pivots = 4, pivots_per_size * width
         for pivot_tol in (tol, RESCUE_PIVOT_TOL):  # a block that failed is solved again with the stricter pivot test
+            pv = 0  # each try has the whole budget of pivots
             for j in range(width):
                 inbasis[j] = j < nk and hint[cols[j]]
             st = 4
@@ -318,9 +325,9 @@ def _solve_blocks(indptr, indices, data, c, b, hint, order, starts, scale, local
                     break
             if st == 4:  # out of restarts
                 st = 3
+            pivots += pv
             if st != 3:
                 break
-        pivots += pv
         if STATUS_RANK[st] > STATUS_RANK[status]:
             status = st
         if st != 0:
@@ -429,12 +436,16 @@ def _start(m, width, T, rhs, n, tol, tol_b, colnorm, basis, inbasis, Binv, work,
 def _iterate(m, T, rhs, cost, n, tol_b, tol_c, tol, degenerate_run, max_pivots, basis, inbasis, Binv, work, xb, yb, d,
              colnorm):
     """Primal simplex from a feasible basis over the first ``n`` columns (the others never enter).
-    Returns (status, pivots), status 0 optimal, 2 unbounded, 3 out of pivots, or 4 when the refactorised basis
-    turns out infeasible (round-off); at an optimum the basis is refactorised and checked."""
-    pivots, degenerate, refactorised = 0, 0, False
+    Returns (status, pivots), status 0 optimal, 2 unbounded, 3 out of pivots or cycling (`RECHECKS`), or 4 when
+    the refactorised basis turns out infeasible (round-off); at an optimum the basis is refactorised and checked."""
+    pivots, degenerate, refactorised, rechecks = 0, 0, False, 0
     while True:
         _duals(m, Binv, cost, basis, yb)
         enter = _price(m, n, T, cost, yb, colnorm, inbasis, tol_c, degenerate >= degenerate_run)
+        if refactorised and enter >= 0:
+            rechecks += 1
+            if rechecks > RECHECKS:  # round-off of an ill-conditioned basis cycles: not this pivot tolerance
+                return 3, pivots
         if enter < 0:
             if refactorised:
                 return 0, pivots

@@ -1,8 +1,9 @@
 """Loading objects: mesh files, point clouds, convex decomposition and its disk cache.
 
 * Meshes (any format trimesh reads: .obj .stl .ply .off .glb .gltf): parts
-  of negligible volume lying apart from the rest (a scan's specks:
-  ``DEBRIS_FRACTION``, `drop_debris`) are dropped first, with a warning. Closed
+  of negligible volume lying apart from the rest or enclosing nothing (a
+  scan's specks, a ground plane: ``DEBRIS_FRACTION``, `drop_debris`) are
+  dropped first, with a warning. Closed
   shells that pass through each other (an assembly exported as one mesh) are
   joined into their union (`union_of_bodies`, with a warning). A watertight
   mesh whose volume is more than ``CONVEX_RATIO`` (0.97) of its hull's is
@@ -129,7 +130,7 @@ STRAY_SHARE = 0.05
 #: Parts of a mesh that no face joins and that lie farther apart than this (mm) are reported as separate objects.
 PART_GAP = 10.0
 #: A part of a mesh whose hull has at most this fraction of the largest part's hull volume, and that lies
-#: farther than ``PART_GAP`` from the rest, is debris and is dropped (`drop_debris`, with a warning).
+#: farther than ``PART_GAP`` from the rest or is open, is debris and is dropped (`drop_debris`, with a warning).
 DEBRIS_FRACTION = 1e-3
 #: Closed shells that pass through each other are joined into their union (`union_of_bodies`); when the
 #: volume they share is more than this fraction of the union's, with a warning (the file's volume was wrong).
@@ -383,11 +384,13 @@ def _from_mesh(
     _check_scale(vertices, scale, what)
     if debris:
         _warn(f"{what}: {len(debris)} loose fragment(s) dropped as debris ("
-              + ", ".join(f"{d['faces']} faces {d['size'] * scale:.3g} mm across, {d['distance'] * scale:.3g} mm "
-                          "from the rest" for d in debris[:3]) + (", ..." if len(debris) > 3 else "")
-              + f"): each has at most {DEBRIS_FRACTION:.1%} of the largest part's volume and lies more than "
-              f"{PART_GAP:g} mm from the rest, and would make the object larger than it is. To keep them, set "
-              "synergrasp.objects.loading.DEBRIS_FRACTION = 0")
+              + ", ".join(f"{d['faces']} faces {d['size'] * scale:.3g} mm across, "
+                          + ("open" if d["open"] else "closed") + f", {d['distance'] * scale:.3g} mm from the rest"
+                          for d in debris[:3]) + (", ..." if len(debris) > 3 else "")
+              + f"): each has at most {DEBRIS_FRACTION:.1%} of the largest part's volume and either lies more than "
+              f"{PART_GAP:g} mm from the rest, where it would make the object larger than it is, or is open and "
+              "encloses nothing (a ground plane, a label, a stray triangle), where its edges would be capped as holes. "
+              "To keep them, set synergrasp.objects.loading.DEBRIS_FRACTION = 0")
     given_scale = scale
     if _scaled_first(vertices, scale):
         mesh = mesh.copy()

@@ -26,7 +26,7 @@ point out of the solid for the planner's tests against the true surface. `simpli
 mesh with fewer faces within a tolerance of it (those tests on a large scan). `separate_parts`
 finds the parts of a mesh that no face joins and the gap between them (a file holding several
 objects, or a scan with a loose fragment); `drop_debris` removes the parts of negligible volume that lie
-apart from the rest (a scan's specks). `union_of_bodies` joins the closed shells of a mesh that pass through
+apart from the rest (a scan's specks) or enclose nothing (a ground plane, a label). `union_of_bodies` joins the closed shells of a mesh that pass through
 each other (an assembly exported as one mesh) into the surface of the solid they enclose.
 """
 
@@ -310,24 +310,27 @@ def joining_gap(groups) -> float:
 
 
 def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
-    """The mesh without its debris: parts of negligible volume that lie apart from the rest.
+    """The mesh without its debris: parts of negligible volume that lie apart from the rest or enclose nothing.
 
-    Parts are those of `separate_parts`. A part is debris when the volume of
+    Parts are those of `separate_parts`. A part is small when the volume of
     its convex hull is at most ``fraction`` of the largest part's (a flat
-    part has none) and none of its vertices and face centres is within
-    ``gap`` of the surface of the parts that are not debris: a speck or a
+    part has none). A small part is debris when its surface comes no nearer
+    than ``gap`` to the surface of the parts that are not small (a speck or a
     stray triangle of a scan, which would make the object larger than it is
-    and its decomposition coarser.
+    and its decomposition coarser), or when it is open (no closed surface: a
+    ground plane, a label or a stray triangle, which encloses nothing and
+    whose edges would be capped as holes of the object). A small closed
+    part near the rest (a knob, a button) is kept.
 
     Parameters
     ----------
     mesh : trimesh.Trimesh
         A mesh with finite vertices.
     fraction : float
-        Largest hull volume of debris, as a fraction of the largest part's;
-        0 keeps every part.
+        Largest hull volume of a small part, as a fraction of the largest
+        part's; 0 keeps every part.
     gap : float
-        Least distance of debris from the rest (mesh units).
+        Least distance of closed debris from the rest (mesh units).
 
     Returns
     -------
@@ -335,17 +338,21 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
         ``mesh`` itself when no part is debris, else a copy without the debris.
     dropped : list of dict
         Per part dropped: ``faces`` (its number of faces), ``size`` (its
-        largest bounding-box side) and ``distance`` (from the rest; mesh units).
+        largest bounding-box side), ``distance`` (from the rest's surface;
+        mesh units) and ``open`` (whether it encloses nothing).
 
     Examples
     --------
-    A 60 mm box and a speck of radius 1 mm 300 mm away:
+    A 60 mm box, a speck of radius 1 mm 300 mm away, and a 200 mm square sheet the box stands on:
 
     >>> import trimesh
     >>> speck = trimesh.creation.icosphere(subdivisions=0, radius=1.0).apply_translation([300.0, 0.0, 0.0])
-    >>> kept, dropped = drop_debris(trimesh.util.concatenate([trimesh.creation.box((60.0, 60.0, 60.0)), speck]), 1e-3, 10.0)
-    >>> len(kept.faces), [(d["faces"], round(d["size"], 1), round(d["distance"])) for d in dropped]
-    (12, [(20, 1.7, 269)])
+    >>> sheet = trimesh.Trimesh([[-100, -100, -30], [100, -100, -30], [100, 100, -30], [-100, 100, -30]],
+    ...                         [[0, 1, 2], [0, 2, 3]])
+    >>> kept, dropped = drop_debris(trimesh.util.concatenate([trimesh.creation.box((60.0, 60.0, 60.0)), speck, sheet]),
+    ...                             1e-3, 10.0)
+    >>> len(kept.faces), [(d["faces"], round(d["size"], 1), round(d["distance"]), d["open"]) for d in dropped]
+    (12, [(2, 200.0, 0, True), (20, 1.7, 269, False)])
     """
     from scipy.spatial import ConvexHull, QhullError
 
@@ -372,13 +379,22 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
         return mesh, []
     rest = ~np.isin(label, small)
     body = trimesh.Trimesh(vertices, faces[rest], process=False)
+    body_points = vertices[np.unique(faces[rest])]
     keep, dropped = rest.copy(), []
     for part in small:
         mine = label == part
-        near = np.vstack([vertices[np.unique(faces[mine])], mesh.triangles_center[mine]])
+        piece = trimesh.Trimesh(vertices, faces[mine])  # (merged: a closed part whose corners are repeated is closed)
+        near = np.vstack([piece.vertices, piece.triangles_center])
         distance = float(trimesh.proximity.closest_point(body, near)[1].min())
-        if distance > gap:
-            dropped.append({"faces": int(mine.sum()), "size": float(np.ptp(near, axis=0).max()), "distance": distance})
+        if distance > 0.0:  # the rest's corners against the part: two surfaces meet at a corner of either
+            low, high = near.min(axis=0) - distance, near.max(axis=0) + distance
+            close = body_points[((body_points >= low) & (body_points <= high)).all(axis=1)]
+            if len(close):
+                distance = min(distance, float(trimesh.proximity.closest_point(piece, close)[1].min()))
+        is_open = not piece.is_watertight
+        if distance > gap or is_open:
+            dropped.append({"faces": int(mine.sum()), "size": float(np.ptp(near, axis=0).max()), "distance": distance,
+                            "open": is_open})
         else:
             keep |= mine
     if not dropped:
