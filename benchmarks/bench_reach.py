@@ -39,7 +39,6 @@ from __future__ import annotations
 import argparse
 import csv
 import os
-import re
 import time
 import warnings
 from pathlib import Path
@@ -48,7 +47,7 @@ import numpy as np
 from reach_sampling import sampled_clearance
 
 import synergrasp as sg
-from synergrasp.cli import output_folder, positive
+from synergrasp.cli import output_folder, positive, write_between_markers
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "executable-reach.md"
@@ -165,14 +164,12 @@ def write_csv(rows, path):
 
 def write_docs(rows, lines):
     write_csv(rows, ROOT / "docs" / "results" / "reach.csv")
-    readme = ROOT / "README.md"
-    block = "<!-- reach:start -->\n" + "\n".join(f"- {line}" for line in lines) + "\n<!-- reach:end -->"
-    readme.write_text(re.sub(r"<!-- reach:start -->.*?<!-- reach:end -->", lambda _: block, readme.read_text(), flags=re.S))
-    text = PAGE.read_text()
+    write_between_markers(ROOT / "README.md", "<!-- reach:start -->", "<!-- reach:end -->",
+                          "\n".join(f"- {line}" for line in lines))
     load = os.getloadavg()[0]
-    block = (f"<!-- reach-table -->\n{table(rows)}\n\n" + "\n".join(f"- {line}" for line in lines)
-             + f"\n- load average of the machine during the run: {load:.1f} (2 cores)\n<!-- /reach-table -->")
-    PAGE.write_text(re.sub(r"<!-- reach-table -->.*?<!-- /reach-table -->", lambda _: block, text, flags=re.S))
+    write_between_markers(PAGE, "<!-- reach-table -->", "<!-- /reach-table -->",
+                          f"{table(rows)}\n\n" + "\n".join(f"- {line}" for line in lines)
+                          + f"\n- load average of the machine during the run: {load:.1f} (2 cores)")
 
 
 def main(argv=None):

@@ -51,7 +51,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
-from synergrasp.cli import output_folder, positive  # noqa: E402
+from synergrasp.cli import output_folder, positive, write_between_markers  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from objectset import SPLITS, URDF_SIZES, select  # noqa: E402
 from verification import true_surface, verify  # noqa: E402
@@ -432,14 +432,8 @@ def _write_docs(rows, split, options, summary):
     PAGE.write_text("\n".join(lines) + "\n")
     FIGURE.parent.mkdir(parents=True, exist_ok=True)
     plot(rows, FIGURE)
-    readme = ROOT / "README.md"
-    text = readme.read_text()
-    if README_MARKERS[0] in text:
-        head, rest = text.split(README_MARKERS[0], 1)
-        tail = rest.split(README_MARKERS[1], 1)[1]
-        heads = [line for line in summary if not line.startswith(" ")]
-        readme.write_text(head + README_MARKERS[0] + "\n" + "\n".join(f"- **{line}**" for line in heads) + "\n"
-                          + README_MARKERS[1] + tail)
+    heads = [line for line in summary if not line.startswith(" ")]
+    write_between_markers(ROOT / "README.md", *README_MARKERS, "\n".join(f"- **{line}**" for line in heads))
     print(f"wrote {PAGE}")
 
 

@@ -34,7 +34,7 @@ import trimesh
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import synergrasp as sg  # noqa: E402
-from synergrasp.cli import positive  # noqa: E402
+from synergrasp.cli import positive, write_between_markers  # noqa: E402
 from synergrasp.planner import ObjectRefused  # noqa: E402
 from verification import verify  # noqa: E402
 
@@ -183,9 +183,7 @@ def _write_docs(rows, grasps, summary):
         lines.append("")
     PAGE.write_text("\n".join(lines))
     readme = ROOT / "README.md"
-    text = readme.read_text()
-    start, end = text.index(README_MARKERS[0]) + len(README_MARKERS[0]), text.index(README_MARKERS[1])
-    readme.write_text(text[:start] + "\n" + "\n".join(f"- **{line}**" for line in summary) + "\n" + text[end:])
+    write_between_markers(readme, *README_MARKERS, "\n".join(f"- **{line}**" for line in summary))
     print(f"wrote {PAGE}, {FIGURES} and the summary in {readme}")
 
 

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 import synergrasp as sg
-from synergrasp.cli import output_folder, positive
+from synergrasp.cli import output_folder, positive, write_between_markers
 from synergrasp.planner import ObjectRefused
 from generalise import planner_options
 from household import MESHES, household_objects, mesh_files
@@ -454,10 +454,7 @@ def write_docs(rows, lines, changes):
                  "|---|---|" + "---|" * len(SENSITIVITY), *changes, ""]
     PAGE.write_text("\n".join(text))
     readme = ROOT / "README.md"
-    content = readme.read_text()
-    start = content.index(README_MARKERS[0]) + len(README_MARKERS[0])
-    end = content.index(README_MARKERS[1])
-    readme.write_text(content[:start] + "\n" + "\n".join(f"- {line}" for line in lines) + "\n" + content[end:])
+    write_between_markers(readme, *README_MARKERS, "\n".join(f"- {line}" for line in lines))
     print(f"wrote {PAGE}, {FIGURES} and the physics lines in {readme}")
 
 

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import csv
-import re
 import time
 import warnings
 from pathlib import Path
@@ -30,7 +29,7 @@ import numpy as np
 
 import synergrasp as sg
 from synergrasp import viz
-from synergrasp.cli import output_folder, positive
+from synergrasp.cli import output_folder, positive, write_between_markers
 
 ROOT = Path(__file__).resolve().parents[1]
 OBJECTS = ("ellipsoid", "cup", "bell", "goblet")
@@ -86,14 +85,6 @@ def table(rows):
     return "\n".join(lines)
 
 
-def write_between_markers(path, text):
-    content = path.read_text()
-    pattern = re.compile(r"(<!-- paper-table:start -->\n)(?:.*?\n)?(<!-- paper-table:end -->)", re.S)
-    if not pattern.search(content):
-        raise SystemExit(f"{path} has no paper-table markers")
-    path.write_text(pattern.sub(lambda m: m.group(1) + text + "\n" + m.group(2), content))
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", type=output_folder, default="examples-out/paper", help="output folder (default ./examples-out/paper)")
@@ -147,7 +138,7 @@ def main(argv=None):
     text = table(rows)
     if args.docs:
         for path in (ROOT / "README.md", ROOT / "docs" / "paper-experiments.md"):
-            write_between_markers(path, text)
+            write_between_markers(path, "<!-- paper-table:start -->", "<!-- paper-table:end -->", text)
     else:
         (out / "paper_experiments.md").write_text(text + "\n")
     print(text)

@@ -1,4 +1,7 @@
-"""The ``synergrasp`` command line: ``synergrasp demo`` and ``synergrasp plan``; exit codes in `EXIT_CODES`."""
+"""The ``synergrasp`` command line (``demo`` and ``plan``; ``validate``, ``batch`` and ``report`` registered from
+their packages; exit codes in `EXIT_CODES`), and the helpers the examples and benchmarks share: argument types
+(`positive`, `output_folder`, `add_unit_options`), output names (`output_stem`) and their ``--docs`` pages'
+generated blocks (`write_between_markers`)."""
 
 from __future__ import annotations
 
@@ -6,6 +9,7 @@ import argparse
 import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -90,6 +94,47 @@ EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp h
                    "command to plan the rest"}
 
 
+def write_between_markers(path, start, end, text):
+    """Replace what lies between the lines ``start`` and ``end`` of a text file with ``text`` (a script's ``--docs``).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A page (README.md, a docs page) that holds both markers, ``start`` first.
+    start, end : str
+        The markers, e.g. ``"<!-- household:start -->"`` and ``"<!-- household:end -->"``; they are kept.
+    text : str
+        The new block, written on the lines between them.
+
+    Raises
+    ------
+    ValueError
+        If the page lacks a marker or holds them the wrong way round: nothing is written.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> page = Path(tempfile.mkdtemp()) / "page.md"
+    >>> _ = page.write_text("# Results\\n<!-- r:start -->\\nold\\n<!-- r:end -->\\nmore\\n")
+    >>> write_between_markers(page, "<!-- r:start -->", "<!-- r:end -->", "- new")
+    >>> print(page.read_text(), end="")
+    # Results
+    <!-- r:start -->
+    - new
+    <!-- r:end -->
+    more
+    """
+    from ._files import atomic_path
+
+    content = Path(path).read_text()
+    first, last = content.find(start), content.find(end)
+    if first < 0 or last < first + len(start):
+        raise ValueError(f"{path} has no block between the markers {start!r} and {end!r}: add them, {start!r} first")
+    with atomic_path(path) as tmp:
+        tmp.write_text(content[:first + len(start)] + "\n" + text.strip("\n") + "\n" + content[last:])
+
+
 def output_stem(obj_arg, grasp) -> str:
     """The file-name stem of a plan's outputs: the object's name, with its file's extension, and the grasp.
 
@@ -112,7 +157,6 @@ def output_stem(obj_arg, grasp) -> str:
     >>> output_stem("ellipsoid", "precision"), output_stem("scans/capsule.xyz", "power")
     ('ellipsoid_precision', 'capsule_xyz_power')
     """
-    from pathlib import Path
 
     path = Path(str(obj_arg))
     suffix = path.suffix.lower().lstrip(".")
@@ -168,7 +212,6 @@ def object_from_args(args):
     GraspObject
     """
     import time
-    from pathlib import Path
 
     from . import objects
 
@@ -190,7 +233,6 @@ def object_from_args(args):
 
 
 def _plan(args) -> int:
-    from pathlib import Path
 
     from tqdm import tqdm
 
@@ -257,6 +299,7 @@ def build_parser() -> argparse.ArgumentParser:
     argparse.ArgumentParser
     """
     from . import __version__
+    from .hand import POINT_KINDS
 
     parser = argparse.ArgumentParser(
         prog="synergrasp",
@@ -287,7 +330,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--object", default="ellipsoid",
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
-    p.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type (default precision)")
+    p.add_argument("--grasp", choices=POINT_KINDS, default="precision", help="grasp type (default precision)")
     p.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
     add_unit_options(p)
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",

@@ -41,8 +41,9 @@ import numpy as np
 from ._checks import as_path, as_points, as_vector, integer, numeric
 from ._jit import kernel
 
-__all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS"]
+__all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS", "grasp_kind"]
 
+#: The grasp types: each has its hand points, status rows, stop criterion and planner starts.
 POINT_KINDS = ("precision", "power")
 #: Joint names a hand file may not use: the physics model (`synergrasp.physics`) names its palm and
 #: object bodies so.
@@ -73,6 +74,23 @@ def _numbers(value) -> bool:
     if isinstance(value, (list, tuple)):
         return all(_numbers(v) for v in value)
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
+def grasp_kind(kind, name="kind") -> str:
+    """``kind``, a grasp type of `POINT_KINDS` ("precision" or "power"); ValueError naming ``name`` otherwise.
+
+    Examples
+    --------
+    >>> grasp_kind("power")
+    'power'
+    >>> grasp_kind("pinch", "grasp")
+    Traceback (most recent call last):
+        ...
+    ValueError: grasp must be 'precision' or 'power', got 'pinch'
+    """
+    if not isinstance(kind, str) or kind not in POINT_KINDS:
+        raise ValueError(f"{name} must be {' or '.join(map(repr, POINT_KINDS))}, got {kind!r}")
+    return kind
 
 
 def rotation_xyz(phi):
@@ -1016,7 +1034,7 @@ class SynergyHand:
         >>> bool(np.allclose(skin[:, 4], hand.points(u, "power")[:-1]))
         True
         """
-        return self._split_skin(*self.points_and_jacobian(u, f"_skin_{self._skin_kind(kind)}"), kind)
+        return self._split_skin(*self.points_and_jacobian(u, f"_skin_{grasp_kind(kind)}"), kind)
 
     def points_and_skin(self, u, kind):
         """A grasp's hand points and its skin points with their Jacobians, from one pass of the kinematics.
@@ -1042,15 +1060,10 @@ class SynergyHand:
         >>> bool(np.array_equal(points, hand.points_and_jacobian(u, "power")[0])), skin.shape
         (True, (15, 15, 3))
         """
-        kind = self._skin_kind(kind)
+        kind = grasp_kind(kind)
         points, jac = self.points_and_jacobian(u, f"_{kind}_and_skin")
         n = len(self._kinds[kind][0])
         return (points[:n], jac[:n], *self._split_skin(points[n:], jac[n:], kind))
-
-    def _skin_kind(self, kind):
-        if kind not in POINT_KINDS:
-            raise ValueError(f"unknown kind of grasp {kind!r}; kinds are {list(POINT_KINDS)}")
-        return kind
 
     def _split_skin(self, points, jac, kind):
         """`skin_and_jacobian`'s arrays from the rows of a ``"_skin_<kind>"`` block and its Jacobian."""

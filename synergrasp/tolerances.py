@@ -1,7 +1,10 @@
-"""The numerical tolerances of the library, each defined here once.
+"""The tolerances shared by several modules of the library, each defined here once.
 
-Every test that decides something from computed numbers (is an LP basis
-degenerate, are two values equal, does a bound prune) uses one of these.
+The geometry's and the LP layer's tests of computed numbers (is an LP basis
+degenerate, are two values equal, does a bound prune) use these. A
+tolerance that belongs to one module's own algorithm is defined there,
+beside it (the native simplex's `synergrasp.lp.native.TOL`, the force-closure
+test's `synergrasp.quality.FORCE_CLOSURE_TOL`).
 """
 
 #: Relative tolerance within which two computed values (LP values, bounds, facet planes) are

@@ -225,7 +225,7 @@ API = [
     Case("sg.force_closure_by_hull", "5 contacts of 64 cone edges (320 wrenches: qhull takes seconds to minutes)", lambda tmp: sg.force_closure_by_hull(np.random.default_rng(0).normal(size=(320, 6))), ValueError, "it takes at most 256"),
     Case("sg.force_closure_by_hull", "a string tolerance", lambda tmp: sg.force_closure_by_hull(np.eye(6), tol="0"), ValueError, "tol must be a finite number >= 0"),
     # ------------------------------------------------------------ plan and its results
-    Case("sg.plan", "an unknown grasp type", lambda tmp: sg.plan("ellipsoid", "pinch"), ValueError, "grasp must be one of ('precision', 'power')"),
+    Case("sg.plan", "an unknown grasp type", lambda tmp: sg.plan("ellipsoid", "pinch"), ValueError, "grasp must be 'precision' or 'power', got 'pinch'"),
     Case("sg.plan", "an object that is a number", lambda tmp: sg.plan(3), TypeError, "obj must be a GraspObject, a built-in name or a file path"),
     Case("sg.plan", "a trimesh mesh, not yet an object", lambda tmp: sg.plan(trimesh.creation.box((60.0, 40.0, 30.0))), TypeError,
          "a mesh in memory becomes one with sg.objects.from_mesh(mesh)"),
@@ -727,7 +727,8 @@ def _silent_port():
 #: Cases of batch planning (``sg.batch``, ``synergrasp batch`` and ``synergrasp report``): all refused before planning.
 BATCH = [
     Case("sg.batch.run", "two objects with one results folder", _same_name_meshes, ValueError, "would share the results folder 'mug.obj'"),
-    Case("sg.batch.run", "an unknown grasp type", lambda tmp: sg.batch.run(["cup"], ["pinch"], Path(tmp)), ValueError, "grasp types must be among"),
+    Case("sg.batch.run", "an unknown grasp type", lambda tmp: sg.batch.run(["cup"], ["pinch"], Path(tmp)), ValueError, "each grasp type must be 'precision' or 'power', got 'pinch'"),
+    Case("sg.batch.run", "no grasp type", lambda tmp: sg.batch.run(["cup"], [], Path(tmp)), ValueError, "grasps is empty"),
     Case("sg.batch.run", "an object that is a number", _batch(objects=[3]), TypeError, "an object must be a built-in name or a path"),
     Case("sg.batch.run", "None for the objects", lambda tmp: sg.batch.run(None, out=Path(tmp)), TypeError,
          "objects must be a name or a sequence of them, got NoneType"),

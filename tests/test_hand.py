@@ -381,7 +381,7 @@ def test_points_and_skin_is_the_grasps_points_and_its_skin_from_one_pass(hand, k
 
 @pytest.mark.parametrize("call", ["skin_and_jacobian", "points_and_skin"])
 def test_skin_of_an_unknown_grasp_kind_is_refused(hand, call):
-    with pytest.raises(ValueError, match="unknown kind of grasp 'pinch'"):
+    with pytest.raises(ValueError, match="kind must be 'precision' or 'power', got 'pinch'"):
         getattr(hand, call)(np.zeros(hand.n_u), "pinch")
 
 

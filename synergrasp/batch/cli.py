@@ -7,6 +7,7 @@ import sys
 import threading
 
 from ..cli import UNITS, command_line_hint, positive
+from ..hand import POINT_KINDS
 
 #: Failed tasks whose reasons `_batch` prints (the rest are in summary.csv).
 SHOWN_FAILURES = 10
@@ -37,7 +38,7 @@ def register(sub, epilog: str = "") -> None:
     )
     b.add_argument("objects", nargs="+", metavar="OBJECT",
                    help="a built-in (ellipsoid, cup, bell, goblet), a mesh or point-cloud file, or a folder of them")
-    b.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision"],
+    b.add_argument("--grasp", nargs="+", choices=POINT_KINDS, default=["precision"],
                    help="grasp types (default precision)")
     b.add_argument("--out", default="batch-out", metavar="DIR", help="output folder (default ./batch-out)")
     b.add_argument("--workers", type=int, default=None, metavar="N",

@@ -17,8 +17,8 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..hand import grasp_kind
 from ..objects import BUILTINS, SUPPORTED_FORMATS
-from ..planner import GRASPS
 
 
 @dataclass(frozen=True)
@@ -84,9 +84,10 @@ def expand(objects, grasps=("precision",)) -> list[Task]:
         if value is None or isinstance(value, dict) or not hasattr(value, "__iter__"):
             raise TypeError(f"{name} must be a name or a sequence of them, got {type(value).__name__}")
     grasps = [grasps] if isinstance(grasps, str) else list(grasps)
-    bad = [g for g in grasps if g not in GRASPS]
-    if bad or not grasps:
-        raise ValueError(f"grasp types must be among {GRASPS}, got {grasps!r}")
+    if not grasps:
+        raise ValueError("grasps is empty: give at least one grasp type ('precision' or 'power')")
+    for g in grasps:
+        grasp_kind(g, "each grasp type")
     sources, seen = {}, set()
     for item in objects:
         for key, source in _objects_of(item):

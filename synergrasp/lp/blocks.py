@@ -187,7 +187,7 @@ def solve_blocks(solver, blocks: Blocks, memory: BasisMemory | None = None, what
     c, rhs, codes = np.empty(n_cols), np.empty((n_blocks, ROWS)), np.empty(n_cols, dtype=np.int64)
     keys = np.zeros(n_blocks, dtype=np.int64) if blocks.keys is None else blocks.keys
     nnz = _assemble(n_lead, blocks.lead, blocks.cost, n_vert, blocks.table, blocks.ids, blocks.sign, blocks.origin,
-                    blocks.rhs, keys, BasisMemory.SPAN, start, indptr, indices, data, c, rhs, codes)
+                    blocks.rhs, keys, BasisMemory.SPAN, indptr, indices, data, c, rhs, codes)
     hint = None if memory is None else memory.basic(codes)
     limit = solver.max_columns or n_cols
     if limit >= n_cols:
@@ -227,8 +227,8 @@ def _solve_one(solver, c, A, b, hint, what):
 
 
 @kernel
-def _assemble(n_lead, lead, cost, n_vert, table, ids, sign, origin, h, keys, span, start, indptr, indices, data, c,
-              rhs, codes):
+def _assemble(n_lead, lead, cost, n_vert, table, ids, sign, origin, h, keys, span, indptr, indices, data, c, rhs,
+              codes):
     """The block-diagonal LP in compressed-column form; returns the number of entries.
 
     Fills ``indptr``, ``indices``, ``data`` (zeros left out), the costs

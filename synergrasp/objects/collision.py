@@ -25,7 +25,7 @@ BOX_PAD = 1e-6
 #: wide enough to keep every piece fcl's own collision test could find touching it.
 TOUCH_PAD = 1.0
 #: Largest capsule radius (mm) `penetration` takes: phalanges are a few to tens of mm thick (fcl's signed distance
-#: to a capsule of 1000 mm took 6 s, of 3000 mm 84 s).
+#: to a capsule of 1000 mm takes seconds, of 3000 mm over a minute).
 MAX_RADIUS = 500.0
 _EYE = np.eye(3)
 

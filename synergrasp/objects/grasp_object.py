@@ -32,7 +32,7 @@ TORQUE_SCALE_RANGE = 100.0
 #: A given ``center`` must have its neighbours this far (a fraction of the object's size) along each axis inside too:
 #: not on the surface (a point between two pieces is inside).
 CENTER_DEPTH = 1e-6
-#: Most points a cP or sQ query answers at once: its LP data grow with the points (3e5 points asked for 6.6 GiB),
+#: Most points a cP or sQ query answers at once: its LP data grow with the points (300,000 at once need about 6.6 GiB),
 #: so a larger set is answered in parts of this many, the results joined.
 QUERY_CHUNK = 10_000
 

@@ -77,6 +77,7 @@ import numpy as np
 import trimesh
 
 from .._checks import as_path, as_points, integer, positive_scalar
+from .._files import atomic_path
 from .convex import SIZE_LIMITS, ConvexPiece, checked_hull
 from .decompose import DecompositionTimeout, run_coacd
 from .grasp_object import GraspObject
@@ -210,11 +211,10 @@ def _cache_write(key: str, pieces, meta: dict) -> None:
     folder = cache_dir()
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        tmp = folder / f"{key}.{os.getpid()}.tmp.npz"
         arrays = {f"piece_{i}": p for i, p in enumerate(pieces)}
-        np.savez(tmp, meta=np.array(json.dumps({**meta, "n_pieces": len(pieces)})), **arrays)
-        os.replace(tmp, folder / f"{key}.npz")
-    except OSError as exc:
+        with atomic_path(folder / f"{key}.npz") as tmp:  # (a reader in another process never sees half a file)
+            np.savez(tmp, meta=np.array(json.dumps({**meta, "n_pieces": len(pieces)})), **arrays)
+    except (OSError, ValueError) as exc:  # (ValueError: the entry's name is taken by something not a file)
         _warn(f"could not write the decomposition cache in {folder} ({exc}); set SYNERGRASP_CACHE to a writable folder")
 
 
@@ -307,7 +307,7 @@ def coacd_resolution(size: float) -> int:
 
     At least ``COACD_PARAMS["preprocess_resolution"]`` (20), and enough that a voxel is at most
     `VOXEL_PITCH` mm wide, up to `MAX_RESOLUTION`: a 450 mm handle with 30 mm bars is remeshed on 38
-    (on 20 its 30 mm bars were 1.3 voxels thick, and the pieces stuck out of them by 7 mm).
+    (on 20 its 30 mm bars would be 1.3 voxels thick, and the pieces would stick out of them by about 7 mm).
 
     Parameters
     ----------

@@ -28,14 +28,13 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from ..hand import rotation_xyz
+from ..hand import RESERVED_NAMES, rotation_xyz
 
 __all__ = ["GraspScene", "grasp_mjcf", "moving_joints", "mujoco_quat", "PALM", "OBJECT"]
 
-#: Name of the palm's body and box geom.
-PALM = "palm"
-#: Name of the object's body (and prefix of its geoms, ``object/0``, ``object/1``, ...).
-OBJECT = "object"
+#: Names of the palm's body and box geom, and of the object's body (and prefix of its geoms, ``object/0``,
+#: ``object/1``, ...): a hand's joints may not be named so (`synergrasp.hand.RESERVED_NAMES`).
+PALM, OBJECT = RESERVED_NAMES
 MM = 1e-3
 
 

@@ -18,7 +18,7 @@ __all__ = ["Protocol", "PRESETS", "protocol", "DIRECTIONS"]
 DIRECTIONS = ("-x", "+x", "-y", "+y", "-z", "+z")
 
 _REFERENCES = ("settled", "planned")
-#: Time steps (s) coarser than this change verdicts (2 ms changes some in the physics study's sensitivity table): a warning says so.
+#: Time steps (s) coarser than this change verdicts (a 2 ms step changes some of the physics study's): a warning says so.
 COARSE_TIMESTEP = 0.001
 #: Most time steps a protocol may simulate (squeeze, settle and six pushes): about 15 s on one core.
 MAX_STEPS = 5_000_000

@@ -8,7 +8,7 @@ import time
 import numpy as np
 import trimesh
 
-from ..hand import rotation_xyz
+from ..hand import POINT_KINDS, rotation_xyz
 from ..lp import get_backend
 from ..planner import PlanResult, forget_warm_starts, hand_and_object
 from .protocol import protocol as make_protocol
@@ -21,7 +21,6 @@ __all__ = ["validate", "squeeze_targets", "check_match"]
 MAX_RETREAT = 1000.0
 
 #: Hand point kinds whose points can set the squeeze direction.
-_KINDS = ("precision", "power")
 
 
 def check_match(result, obj, hand, tolerance):
@@ -51,7 +50,7 @@ def check_match(result, obj, hand, tolerance):
     if u.shape != (hand.n_u,):
         raise ValueError(f"the result's configuration u has {u.size} entries but hand {hand.name!r} takes {hand.n_u} "
                          f"({hand.u_labels}): a result planned with another hand? Pass that hand as hand=")
-    labels = set(hand.point_labels(result.grasp if result.grasp in _KINDS else "precision"))
+    labels = set(hand.point_labels(result.grasp if result.grasp in POINT_KINDS else "precision"))
     foreign = sorted(set(result.contact_labels) - labels)
     if foreign:
         raise ValueError(f"the result's contacts {foreign} are not {result.grasp} points of hand {hand.name!r} "
@@ -174,7 +173,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """
     forget_warm_starts(get_backend(backend), obj)  # its LPs start cold: the same squeeze in any process
     points, jacobians, labels = [], [], []
-    for kind in _KINDS:
+    for kind in POINT_KINDS:
         p, jac = hand.points_and_jacobian(u, kind)
         points.append(p)
         jacobians.append(jac[:, :, 6:])

@@ -33,7 +33,7 @@ import numpy as np
 from .. import objects
 from .._jit import clock
 from .._checks import as_vector
-from ..hand import SynergyHand
+from ..hand import SynergyHand, grasp_kind
 from ..lp import get_backend
 from ..pseudo_distance import reset_regime_memory
 from .annealing import anneal, with_history
@@ -214,8 +214,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     """
     if isinstance(grasp, str) and grasp.lower() in GRASPS:
         grasp = grasp.lower()  # "Power" as objects.get("Cup") takes any case
-    if grasp not in GRASPS:
-        raise ValueError(f"grasp must be one of {GRASPS}, got {grasp!r}")
+    grasp_kind(grasp, "grasp")
     opts = _options(method, options, option_values)
     if u0 is not None and approach is not None:
         raise ValueError("give u0 or approach, not both: u0 is the start itself, approach the direction a start is "

@@ -8,9 +8,8 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .._checks import numeric
+from ..hand import POINT_KINDS as GRASPS  # the grasp types the planner knows (re-exported by synergrasp.planner)
 
-#: Grasp types the planner knows.
-GRASPS = ("precision", "power")
 #: Farthest start of the hand from the object's centre (mm): ``start_distance``'s bound, and a given ``u0``'s.
 MAX_START_DISTANCE = 10000.0
 #: Largest friction coefficient ``mu`` the planners (and the physics protocol) take.

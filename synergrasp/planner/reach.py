@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._checks import as_points, as_vector, integer, positive_scalar
-from ..hand import rotation_xyz
+from ..hand import LIMIT_TOLERANCE, rotation_xyz
 from .clearance import HandClearance
 
 __all__ = ["OPENINGS", "Reach", "executable_reach", "open_synergies", "retreat_directions", "widest_opening"]
@@ -207,7 +207,8 @@ def _ascent(grads, z, lo, hi):
     from scipy.optimize import linprog
 
     m, n = grads.shape
-    bounds = [(0.0 if z[i] <= lo[i] + 1e-9 else -1.0, 0.0 if z[i] >= hi[i] - 1e-9 else 1.0) for i in range(n)]
+    bounds = [(0.0 if z[i] <= lo[i] + LIMIT_TOLERANCE else -1.0, 0.0 if z[i] >= hi[i] - LIMIT_TOLERANCE else 1.0)
+              for i in range(n)]
     res = linprog(np.r_[np.zeros(n), -1.0], A_ub=np.c_[-grads, np.ones(m)], b_ub=np.zeros(m),
                   bounds=bounds + [(None, 1e3)], method="highs")
     if res.status != 0 or -res.fun <= 1e-9:

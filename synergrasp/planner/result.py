@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .._records import load_record, save_record
+from ..hand import POINT_KINDS
 
 _FORMAT = "synergrasp.PlanResult/1"
 _ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
@@ -296,8 +297,8 @@ def _validated(data: dict, path) -> dict:
     out["success"] = data["success"]
     for name in ("reason", "backend", "object_name") + (("hand",) if "hand" in data else ()):
         out[name] = text(name)
-    if data["grasp"] not in ("precision", "power"):
-        fail("grasp", "'precision' or 'power'")
+    if data["grasp"] not in POINT_KINDS:
+        fail("grasp", " or ".join(map(repr, POINT_KINDS)))
     out["grasp"] = data["grasp"]
     k = out["iterations"] = integer("iterations")
     out["lp_solves"] = integer("lp_solves")

@@ -23,7 +23,7 @@ import numpy as np
 from .._checks import positive_scalar
 from .._jit import kernel
 from .._vectors import unit_rows
-from ..hand import POINT_KINDS, SynergyHand
+from ..hand import SynergyHand, grasp_kind
 from ..objects import GraspObject
 from ..objects.contact_distance import group_contact_distance
 from ..quality import q_distance
@@ -323,13 +323,6 @@ def capsule_rows(hand, obj, u, status, penetration=None) -> Status:
     return replace(status, g=g, J=J)
 
 
-def check_kind(kind) -> str:
-    """``kind``, a grasp type: "precision" or "power" (`synergrasp.hand.POINT_KINDS`); ValueError otherwise."""
-    if not isinstance(kind, str) or kind not in POINT_KINDS:
-        raise ValueError(f"kind must be {' or '.join(map(repr, POINT_KINDS))}, got {kind!r}")
-    return kind
-
-
 def status_rows(hand, kind):
     """The cP rows of a grasp type's status, and which of them are contacts.
 
@@ -354,7 +347,7 @@ def status_rows(hand, kind):
     >>> labels[:6], int(contact.sum()), labels[-1]
     (['T0', 'I0', 'M0', 'R0', 'L0', 'T1'], 5, 'P')
     """
-    check_kind(kind)
+    grasp_kind(kind)
     rows = _ROWS.setdefault(hand, {})
     if kind not in rows:  # the same for every status of a hand: built once
         rows[kind] = _status_rows(hand, kind)

@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..hand import LIMIT_TOLERANCE
+
 #: Damping and eigenvalue threshold of paper Eq. 16.
 DAMPING = 1e-5
 
@@ -82,7 +84,7 @@ def limited_step(J, e, z, limits, first):
     """
     k, s = J.shape[1], len(z)
     free = np.ones(k, bool)
-    at_low, at_high = z <= limits[:, 0] + 1e-9, z >= limits[:, 1] - 1e-9
+    at_low, at_high = z <= limits[:, 0] + LIMIT_TOLERANCE, z >= limits[:, 1] - LIMIT_TOLERANCE
     for _ in range(s + 1):
         Jf = J * free
         du = priority_step(Jf[first], e[first], Jf[~first], e[~first]) if (~first).any() else dls(Jf, e)[0]

@@ -14,9 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._checks import integer, positive_scalar
+from ..hand import grasp_kind
 from ..objects import GraspObject
 from ..quality import q_distance
-from .status import Status, check_kind
+from .status import Status
 
 
 @dataclass(frozen=True)
@@ -257,7 +258,7 @@ def check_grasp(obj, status, kind, *, eps_c=5.0, mu=0.3, edges=8, backend="nativ
     if not isinstance(obj, GraspObject) or not isinstance(status, Status):
         raise TypeError(f"check_grasp takes a GraspObject and a Status (grasp_status), got {type(obj).__name__} "
                         f"and {type(status).__name__}")
-    check_kind(kind)
+    grasp_kind(kind)
     if (kind == "power") != bool(status.contact.all()):  # every row of a power status is a contact
         raise ValueError(f"the status is of a {'precision' if kind == 'power' else 'power'} grasp, not a {kind} one: "
                          f"pass the kind it was built for (grasp_status(..., kind))")
