@@ -1138,6 +1138,24 @@ def test_a_failed_plan_says_why_its_attempts_ended(ellipsoid):
     assert not r.success and len(r.attempts) == 2
     assert all(a["outcome"] == "cap" for a in r.attempts)
     assert r.reason.startswith("no stable grasp found in 2 attempt(s)") and "2 iteration cap" in r.reason
+    assert "slender" not in r.reason  # (its axis torque: 0.3 x 40 mm / 50 mm = 0.24 of its torque scale)
+
+
+def test_a_failed_plan_on_a_slender_object_says_its_q_distance_stays_near_0():
+    """A 20 x 300 mm rod: friction at 10 mm from its axis against a torque scale of 150 mm caps every grasp's Q
+    distance near -0.02 (its power plan stalls in 36 of 40 attempts there); the reason says so and what to pass."""
+    import trimesh
+
+    from synergrasp.planner.core import axial_torque
+
+    rod = so.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), name="rod", cache=False)
+    arm, torque = axial_torque(rod, 0.3)
+    assert arm == pytest.approx(10.0) and torque == pytest.approx(0.3 * 10.0 / np.hypot(150.0, 10.0))
+    r = plan(rod, "power", restarts=2, executable_reach=False)
+    assert not r.success and "it is slender: its surface lies at most 10 mm from its long axis" in r.reason
+    assert "about 0.020 of 0" in r.reason and "torque_scale=20" in r.reason
+    assert axial_torque(so.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False,
+                                     torque_scale=20.0), 0.3)[1] == pytest.approx(0.15)
 
 
 def test_save_load_round_trip(goblet_plan, tmp_path):

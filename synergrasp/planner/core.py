@@ -41,9 +41,13 @@ from .attempt import Outcome, run_attempt
 from .options import GRASPS, MAX_START_DISTANCE, AnnealingOptions, PlannerOptions
 from .reach import executable_reach, widest_opening
 from .result import PlanResult
-from .starts import Start, opposed_widths, preshape, smallest_pinch, start_configuration, starts, widest_pinch
+from .starts import (Start, opposed_widths, preshape, principal_directions, smallest_pinch, start_configuration, starts,
+                     widest_pinch)
 from .stop import CRITERION
 
+#: A failed plan's reason calls an object slender when friction at its surface can resist a torque about its long
+#: axis of less than this fraction of its torque scale per unit force (``mu * arm / torque_scale``, `axial_torque`).
+SLENDER = 0.05
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
 #: The planners by name, with their options' class.
@@ -399,8 +403,11 @@ def _failure(attempts, grasp, hand, obj, opts):
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
     says so: the
-    hand may not be able to wrap the object. No clock time in it (that is
-    `PlanResult.time_s`): the same plan gives the same words.
+    hand may not be able to wrap the object. When the object is slender
+    (`axial_torque` below `SLENDER`), it says that every grasp's Q distance
+    stays near 0 and that a torque scale near its diameter weighs the
+    torques about its axis as forces at its surface. No clock time in it
+    (that is `PlanResult.time_s`): the same plan gives the same words.
     """
     counts = {}
     for a in attempts:
@@ -439,4 +446,47 @@ def _failure(attempts, grasp, hand, obj, opts):
             reason += (f"; with the palm on it, {most} came within {eps_c:g} mm of its surface in the wrap poses "
                        f"tried, where a power grasp needs the palm and {few - 1} phalanges (g_Q < -0.1) or "
                        f"{many - 1}: the hand may not be able to wrap it (a precision grasp may hold it)")
+    arm, torque = axial_torque(obj, opts.mu)
+    if torque < SLENDER:
+        reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
+                   f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
+                   f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays within "
+                   f"about {torque:.3f} of 0, too little to steer the attempts by. A torque scale near its diameter "
+                   f"(sg.objects.load(..., torque_scale={2.0 * arm:.0f})) weighs those torques as forces at its surface")
     return reason
+
+
+def axial_torque(obj, mu):
+    """How much torque about its long axis friction can apply to an object, against its torque scale.
+
+    The long axis is the object's longest principal axis through its
+    centre (`principal_directions`); a contact at most ``arm`` mm from it
+    with a normal force f applies at most ``mu * arm * f`` about it.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    mu : float
+        Friction coefficient.
+
+    Returns
+    -------
+    arm : float
+        The farthest the object's pieces reach from the axis (mm).
+    torque : float
+        ``mu * arm / obj.torque_scale``.
+
+    Examples
+    --------
+    A rod 20 mm thick and 300 mm long (torque scale 150 mm):
+
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> rod = objects.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False)
+    >>> [round(v, 3) for v in axial_torque(rod, 0.3)]
+    [10.0, 0.02]
+    """
+    axis = principal_directions(obj)[4]  # (shortest axis first: +/- each of the three)
+    points = np.vstack(obj.pieces) - obj.center
+    arm = float(np.linalg.norm(points - np.outer(points @ axis, axis), axis=1).max())
+    return arm, mu * arm / obj.torque_scale
