@@ -947,7 +947,7 @@ def test_a_scale_that_brings_a_file_into_range_is_applied_before_its_pieces_are_
 
 
 def test_a_file_read_as_less_than_it_holds_is_refused(tmp_path):
-    """A truncated ASCII PLY or OFF loaded as a fragment (part of a ball, half a torus) with a warning about holes; a
+    """A truncated ASCII PLY, OFF or OBJ loaded as a fragment (part of a ball, half a torus) with a warning about holes; a
     glTF whose geometry trimesh does not decode (Draco) lost that part as 'debris'. Each is now refused, saying why."""
     ball = trimesh.creation.icosphere(subdivisions=3, radius=35.0)
     raw = trimesh.exchange.ply.export_ply(ball, encoding="ascii")
@@ -958,6 +958,12 @@ def test_a_file_read_as_less_than_it_holds_is_refused(tmp_path):
     (tmp_path / "cut.off").write_text(text[: int(len(text) * 0.8)])
     with pytest.raises(ValueError, match="its header declares: the file is truncated"):
         so.load(tmp_path / "cut.off", cache=False)
+    text = trimesh.exchange.obj.export_obj(ball)  # cut in a face line, then in a vertex line
+    face, vertex = text.index("\nf ", len(text) // 2) + 4, text.index("\nv ") + 8
+    for name, end, line in (("cut.obj", face, "a face needs 3 vertices"), ("cutv.obj", vertex, "a vertex needs 3 coordinates")):
+        (tmp_path / name).write_text(text[:end])  # (read as a mesh with a hole, or as 'points of dimension 1')
+        with pytest.raises(ValueError, match=rf"{name}.*its last line .* is cut short \({line}\): the file is truncated"):
+            so.load(tmp_path / name, cache=False)
     files = trimesh.exchange.gltf.export_gltf(trimesh.Scene(ball))
     gltf = json.loads(files["model.gltf"])
     files["model.gltf"] = json.dumps({**gltf, "extensionsUsed": ["KHR_draco_mesh_compression"]}).encode()

@@ -1153,7 +1153,7 @@ def _why_empty(path, ext) -> str:
 
 def _check_complete(path, ext, data):
     """ValueError for a file read as less than it holds: a PLY or OFF with fewer vertices or faces than its header
-    declares (truncated), a PLY of triangle strips, a glTF whose geometry is compressed or quantised in a way trimesh
+    declares (truncated), an OBJ whose last line is cut short, a PLY of triangle strips, a glTF whose geometry is compressed or quantised in a way trimesh
     does not decode."""
     if ext in (".gltf", ".glb"):
         raw = path.read_bytes()
@@ -1168,6 +1168,9 @@ def _check_complete(path, ext, data):
             raise ValueError(f"its geometry uses {', '.join(unread)}, which the glTF reader does not decode (the parts "
                              "would come out as zeros or integers): export it again without mesh compression or "
                              "quantisation")
+        return
+    if ext == ".obj":
+        _check_obj_end(path)
         return
     if ext not in (".ply", ".off"):
         return
@@ -1188,6 +1191,21 @@ def _check_complete(path, ext, data):
     short = [f"{read[k]} of its {n} {k}{'ices' if k == 'vertex' else 's'}" for k, n in declared.items() if read[k] < n]
     if short:
         raise ValueError(f"it holds {' and '.join(short)} its header declares: the file is truncated or damaged; "
+                         "export it again")
+
+
+def _check_obj_end(path):
+    """ValueError when an OBJ file's last line is a vertex or a face cut short (fewer than 3 numbers): a truncated
+    file, which the OBJ reader reads as a mesh with a hole or as vertices of the wrong dimension."""
+    with open(path, "rb") as handle:
+        handle.seek(0, os.SEEK_END)
+        handle.seek(max(0, handle.tell() - 4096))
+        tail = handle.read().decode("latin-1")
+    lines = tail.rstrip().splitlines()
+    last = lines[-1].split("#")[0].split() if lines else []
+    if last and last[0] in ("v", "f") and len(last) < 4:
+        what = "a vertex needs 3 coordinates" if last[0] == "v" else "a face needs 3 vertices"
+        raise ValueError(f"its last line ({' '.join(last)!r}) is cut short ({what}): the file is truncated; "
                          "export it again")
 
 
