@@ -157,7 +157,6 @@ def output_stem(obj_arg, grasp) -> str:
     >>> output_stem("ellipsoid", "precision"), output_stem("scans/capsule.xyz", "power")
     ('ellipsoid_precision', 'capsule_xyz_power')
     """
-
     path = Path(str(obj_arg))
     suffix = path.suffix.lower().lstrip(".")
     return f"{path.stem}_{suffix}_{grasp}" if suffix else f"{path.stem}_{grasp}"
@@ -211,8 +210,6 @@ def object_from_args(args):
     -------
     GraspObject
     """
-    import time
-
     from . import objects
 
     scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else None
@@ -233,7 +230,6 @@ def object_from_args(args):
 
 
 def _plan(args) -> int:
-
     from tqdm import tqdm
 
     from . import viz

@@ -386,8 +386,9 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
         piece = trimesh.Trimesh(vertices, faces[mine])  # (merged: a closed part whose corners are repeated is closed)
         near = np.vstack([piece.vertices, piece.triangles_center])
         distance = float(trimesh.proximity.closest_point(body, near)[1].min())
-        if distance > 0.0:  # the rest's corners against the part: two surfaces meet at a corner of either
-            low, high = near.min(axis=0) - distance, near.max(axis=0) + distance
+        if distance > 0.0:  # the rest's corners near the part against it: two surfaces meet at a corner of either
+            reach = min(distance, gap)
+            low, high = near.min(axis=0) - reach, near.max(axis=0) + reach
             close = body_points[((body_points >= low) & (body_points <= high)).all(axis=1)]
             if len(close):
                 distance = min(distance, float(trimesh.proximity.closest_point(piece, close)[1].min()))

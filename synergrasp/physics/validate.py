@@ -20,8 +20,6 @@ __all__ = ["validate", "squeeze_targets", "check_match"]
 #: Farthest ``retreat`` (mm): far beyond any hand's reach, the palm is simply away from the object.
 MAX_RETREAT = 1000.0
 
-#: Hand point kinds whose points can set the squeeze direction.
-
 
 def check_match(result, obj, hand, tolerance):
     """Check that a plan result belongs to this object and this hand.
