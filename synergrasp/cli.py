@@ -6,6 +6,7 @@ generated blocks (`write_between_markers`)."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import warnings
@@ -90,8 +91,10 @@ EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp h
               1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written); "
                  "batch: no task gave a plan (every one a load error, timeout or failure; the records are written)",
               2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)",
-              130: "batch: interrupted (Ctrl-C or SIGTERM) after writing the results that had arrived; rerun the same "
-                   "command to plan the rest"}
+              130: "interrupted (Ctrl-C; for batch also SIGTERM): batch after writing the results that had arrived "
+                   "(rerun the same command to plan the rest); plan, validate and report write nothing more",
+              141: "the standard output was closed before the command had printed everything (a pipe into head): "
+                   "the files it writes were written first"}
 
 
 def write_between_markers(path, start, end, text):
@@ -363,8 +366,9 @@ def main(argv=None) -> int:
     int
         Exit status (`EXIT_CODES`): 0 on success, 1 if ``plan`` found no stable
         grasp, 2 on a bad argument, input file or output folder (the error is
-        printed to stderr). Argument errors found by the parser exit with 2 too
-        (``SystemExit``).
+        printed to stderr), 130 when interrupted by Ctrl-C, 141 when standard
+        output was closed before everything was printed. Argument errors found
+        by the parser exit with 2 too (``SystemExit``).
 
     Examples
     --------
@@ -378,7 +382,15 @@ def main(argv=None) -> int:
     with warnings.catch_warnings():
         warnings.showwarning = _show_warning
         try:
-            return args.func(args)
+            status = args.func(args)
+            sys.stdout.flush()  # (a closed pipe is met here, not in Python's last flush at exit)
+            return status
+        except KeyboardInterrupt:  # (batch says what it wrote itself)
+            print("synergrasp: interrupted", file=sys.stderr)
+            return 130
+        except BrokenPipeError:  # the reader of stdout is gone: nothing more to say to it (and Python's last flush)
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 141
         except (ValueError, TypeError, OSError, ImportError) as exc:
             print(f"synergrasp: error: {command_line_hint(str(exc))}", file=sys.stderr)
             return 2

@@ -430,6 +430,24 @@ def test_validation_of_new_and_earlier_plans(tmp_path, cluster):
     again = run(["ellipsoid", "cup", "goblet"], ["precision"], out, scheduler=cluster.scheduler_address,
                 progress=False, validate="synergrasp")
     assert again.finished == 0
+    # another preset validates the plans again with it (its validations of the other preset were taken as its own)
+    other = run(["ellipsoid"], ["precision"], out, scheduler=cluster.scheduler_address, progress=False,
+                validate="dexgraspbench")
+    assert (other.finished, other.revalidated) == (1, 1)
+    saved = sg.physics.Validation.load(out / "results" / "ellipsoid" / "precision.validation.json")
+    assert saved.protocol["name"] == "dexgraspbench" and saved.protocol["mu"] == sg.physics.protocol("dexgraspbench").mu
+
+
+def test_a_task_planned_again_drops_the_validation_of_its_earlier_plan(tmp_path):
+    """A damaged plan planned again (with another backend) kept the earlier plan's validation beside the new plan,
+    and the summary and report showed that verdict for a plan never validated."""
+    store = ResultStore(tmp_path)
+    store.write_result("ellipsoid", "precision", sg.plan("ellipsoid", "precision", max_iter=3))
+    store.validation_path("ellipsoid", "precision").write_text("{}")  # (any file: it is the earlier plan's)
+    store.write_result("ellipsoid", "precision", sg.plan("ellipsoid", "precision", max_iter=4))
+    assert not store.validation_path("ellipsoid", "precision").exists()
+    rows, unreadable = store.scan()
+    assert rows[0]["held"] == "" and unreadable == []
 
 
 def test_killed_worker_is_retried(tmp_path, cluster):
@@ -520,13 +538,20 @@ def test_ctrl_c_is_kept_in_a_flag_even_where_its_exception_is_lost():
 
     outer = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        requested, restore = _note_interrupts()
+        requested, arm, restore = _note_interrupts()
         handler = signal.getsignal(signal.SIGINT)
+        handler(signal.SIGINT, None)  # not armed (the cluster starting or closing): noted, not raised
+        assert requested.is_set()
+        requested.clear()
+        arm(True)
+        with pytest.raises(KeyboardInterrupt):
+            handler(signal.SIGINT, None)
 
         class Finalised:
             def __del__(self):  # a KeyboardInterrupt raised here is printed and dropped by Python
                 handler(signal.SIGINT, None)
 
+        requested.clear()
         Finalised()
         assert requested.is_set()
         restore()
@@ -553,6 +578,27 @@ def test_interrupt_stops_the_command_and_keeps_what_was_written(tmp_path, cluste
     assert 0 < len(written) < 8
     # the summary table was rebuilt from exactly the results written
     assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == written
+
+
+def test_a_second_interrupt_while_the_run_closes_keeps_its_report(tmp_path):
+    """Two Ctrl-C in a row: the second one, while the run closed its local cluster, escaped as if nothing had been
+    planned ("interrupted before planning started; nothing was planned") and no summary was printed."""
+    command = [sys.executable, "-m", "synergrasp.cli", "batch", "ellipsoid", "cup", "bell", "goblet",
+               "--grasp", "precision", "power", "--out", str(tmp_path), "--workers", "1", "--quiet"]
+    batch = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    while not result_files(tmp_path) and batch.poll() is None:
+        time.sleep(0.01)
+    batch.send_signal(signal.SIGINT)
+    time.sleep(0.2)  # (the local cluster takes about a second to close)
+    if batch.poll() is None:
+        batch.send_signal(signal.SIGINT)
+    out, err = batch.communicate(timeout=300)
+    # (130, or the signal itself when the second Ctrl-C lands as Python exits: a shell reports 130 for both)
+    assert batch.returncode in (130, -signal.SIGINT), (batch.returncode, err[-3000:])
+    assert "nothing was planned" not in err and "Traceback" not in err, err[-3000:]
+    assert "rerun the same command to plan the rest" in err and "tasks:" in out
+    assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == result_files(tmp_path)
 
 
 def test_benchmark_quick_mode_kills_a_run_and_resumes_it(tmp_path):

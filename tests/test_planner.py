@@ -1141,6 +1141,16 @@ def test_a_failed_plan_says_why_its_attempts_ended(ellipsoid):
     assert "slender" not in r.reason  # (its axis torque: 0.3 x 40 mm / 50 mm = 0.24 of its torque scale)
 
 
+def test_a_failed_power_plan_says_when_no_wrap_pose_was_free_of_the_object():
+    """A 150 mm ball: with the palm on its surface the thumb reaches 18-50 mm into it in every pose screened, so no
+    wrap seed is made; the reason only counted the stalls of the direction starts."""
+    ball = so.from_mesh(trimesh.creation.icosphere(3, 75.0), name="ball", cache=False)
+    r = plan(ball, "power", restarts=2, executable_reach=False)
+    assert not r.success and {a["kind"] for a in r.attempts}.isdisjoint({"wrap"})
+    assert "no wrap pose (the palm on its surface, the fingers closed around it) was free of it" in r.reason
+    assert "no wrap pose" not in plan(so.cup(), "power", restarts=1, max_iter=2, executable_reach=False).reason
+
+
 def test_a_failed_plan_on_a_slender_object_says_its_q_distance_stays_near_0():
     """A 20 x 300 mm rod: friction at 10 mm from its axis against a torque scale of 150 mm caps every grasp's Q
     distance near -0.02 (its power plan stalls in 36 of 40 attempts there); the reason says so and what to pass."""
@@ -1391,6 +1401,23 @@ def test_an_object_the_hand_cannot_hold():
         huge = so.ellipsoid(300.0, 300.0, 300.0)
     with pytest.raises(sg.planner.ObjectRefused, match="too large for the hand"):  # a ValueError of its own kind
         plan(huge, "precision")
+
+
+def test_the_width_that_decides_a_refusal_is_the_objects_own():
+    """A concave object's pieces stick out of it by a few mm: a pot 158 mm across with a handle read 161 mm on its
+    pieces and was refused by the hand's 160 mm opening, with a hint to check its units. The width is now measured on
+    the mesh (here a 156 mm box whose piece is 164 mm wide), and a refusal of an object of plausible size says to use a
+    larger hand, not to check the units."""
+    opening = hand_opening(SynergyHand.default())
+    mesh, piece = trimesh.creation.box((156.0, 156.0, 200.0)), trimesh.creation.box((164.0, 164.0, 204.0)).vertices
+    pot = so.GraspObject([piece], mesh=mesh, name="pot")
+    assert so.GraspObject([piece]).width == pytest.approx(164.0) and pot.width == pytest.approx(156.0)
+    assert pot.width < opening < 164.0
+    assert plan(pot, "power", max_iter=1, executable_reach=False).total_iterations >= 0  # planned, not refused
+    wide = so.from_mesh(trimesh.creation.box((170.0, 200.0, 200.0)), name="crate", cache=False)
+    with pytest.raises(sg.planner.ObjectRefused, match="170 mm but the hand opens at most 16. mm.*Use a larger hand") as info:
+        plan(wide, "power")
+    assert "units" not in str(info.value)
 
 
 def test_an_approach_of_any_magnitude_is_its_direction(hand, ellipsoid):

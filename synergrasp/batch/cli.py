@@ -78,11 +78,11 @@ def register(sub, epilog: str = "") -> None:
 
 
 def _interrupt(signum, frame):
-    """SIGTERM does what Ctrl-C does at that moment (during a batch: `run` notes it and stops)."""
+    """SIGTERM does what Ctrl-C does at that moment (during a batch: `run` notes it, and stops when it can)."""
     handler = signal.getsignal(signal.SIGINT)
-    if callable(handler):
-        handler(signum, frame)
-    raise KeyboardInterrupt
+    if not callable(handler):
+        raise KeyboardInterrupt
+    handler(signum, frame)
 
 
 def _batch(args) -> int:

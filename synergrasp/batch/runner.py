@@ -12,6 +12,7 @@ only the plans in flight, and a rerun of the same call plans only what is missin
 from __future__ import annotations
 
 import inspect
+import json
 import logging
 import math
 import os
@@ -19,7 +20,7 @@ import signal
 import threading
 import time
 import uuid
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -226,16 +227,28 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
             os.replace(path, path.with_name(path.name + ".unreadable"))
         _check_same_objects(store, rows, tasks, scale)
         done = {(r["object"], r["grasp"]): r for r in rows if r["status"] == "planned" or not retry_failed}
+        wanted = None
+        if validate is not None:
+            from ..physics import protocol
+
+            wanted = json.loads(json.dumps(asdict(protocol(validate))))  # as a validation file holds it
         todo, to_validate = [], {}
         for task in tasks:
             row = done.get((task.key, task.grasp))
             if row is None:
                 todo.append(task)
-            elif validate is not None and row["success"] and row["held"] == "":
-                todo.append(task)
+            elif wanted is not None and row["success"] and (
+                    row["held"] == "" or store.validation_protocol(task.key, task.grasp) != wanted):
+                todo.append(task)  # not validated yet, or with another protocol: validated (again) with this one
                 to_validate[task] = store.result_path(task.key, task.grasp)
-        report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), revalidated=len(to_validate),
-                             unreadable=unreadable)
+        builtins = sorted({task.key for task in todo if task.source.lower() in BUILTINS})
+        if scale != 1.0 and builtins:  # (they were planned in mm, and their records said scale)
+            many = len(builtins) > 1
+            raise ValueError(f"scale applies to object files; the built-in object{'s' * many} "
+                             f"{', '.join(map(repr, builtins))} {'are' if many else 'is'} in millimetres already: "
+                             f"plan {'them' if many else 'it'} in a run of {'their' if many else 'its'} own, without "
+                             "scale=")
+        report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), unreadable=unreadable)
         try:
             if todo:
                 _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale,
@@ -387,34 +400,42 @@ def _connect(workers, scheduler, connect_timeout):
 
 
 def _note_interrupts():
-    """Have Ctrl-C also set a flag, which the batch checks after every result.
+    """Have Ctrl-C set a flag, which the batch checks after every result, and raise only while armed.
 
     Python raises a ``KeyboardInterrupt`` wherever the main thread is when it
     handles the signal, and one raised inside a finalizer or another
-    library's callback is lost; the flag is not. The handler in place before
-    (Python's, or a caller's) still runs first. Nothing changes outside the
+    library's callback is lost; the flag is not. While the batch is armed
+    (its tasks submitted and collected), the handler in place before
+    (Python's, or a caller's) then runs and the interrupt is raised; while
+    the cluster starts or closes, Ctrl-C is only noted (an interrupted start
+    or close left Dask's clusters half made, and a second Ctrl-C escaped
+    the run as if nothing had been planned). Nothing changes outside the
     main thread or where Ctrl-C is ignored.
 
     Returns
     -------
     requested : threading.Event
         Set by Ctrl-C.
+    arm : callable
+        ``arm(True)`` raises on Ctrl-C from then on, ``arm(False)`` only notes it.
     restore : callable
         Puts the previous handler back.
     """
-    requested = threading.Event()
+    requested, armed = threading.Event(), threading.Event()
     previous = signal.getsignal(signal.SIGINT)
     if threading.current_thread() is not threading.main_thread() or previous is signal.SIG_IGN:
-        return requested, lambda: None
+        return requested, lambda on: None, lambda: None
 
     def note(signum, frame):
         requested.set()
-        if callable(previous):
-            previous(signum, frame)
-        raise KeyboardInterrupt
+        if armed.is_set():
+            if callable(previous):
+                previous(signum, frame)
+            raise KeyboardInterrupt
 
     signal.signal(signal.SIGINT, note)
-    return requested, lambda: signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+    return (requested, lambda on: armed.set() if on else armed.clear(),
+            lambda: signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL))
 
 
 def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, options, time_limit, scale, validate,
@@ -422,16 +443,19 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     from distributed import as_completed
     from tqdm import tqdm
 
-    start = time.perf_counter()
     if scheduler is None:  # no more local workers than tasks: each one costs a process start
         workers = min(workers or os.cpu_count() or 1, len(todo))
-    client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
-    report.startup_s = time.perf_counter() - start
-    futures, token = {}, uuid.uuid4().hex[:8]
-    bar = tqdm(total=len(todo), unit="plan", desc="batch", disable=not progress, dynamic_ncols=True)
+    futures, token, client, cluster, bar = {}, uuid.uuid4().hex[:8], None, None, None
     counts = dict.fromkeys(("grasps", "no grasp", "failed"), 0)
-    interrupted, restore = _note_interrupts()
+    interrupted, arm, restore = _note_interrupts()  # a Ctrl-C while the cluster starts stops the run once it is up
     try:
+        start = time.perf_counter()
+        client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
+        report.startup_s = time.perf_counter() - start
+        bar = tqdm(total=len(todo), unit="plan", desc="batch", disable=not progress, dynamic_ncols=True)
+        arm(True)
+        if interrupted.is_set():
+            raise KeyboardInterrupt
         start = time.perf_counter()
         by_object = {}
         for task in todo:
@@ -451,6 +475,7 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
                 store.write_result(task.key, task.grasp, outcome, validation)
             elif validation is not None:  # an earlier plan, validated now
                 store.write_validation(task.key, task.grasp, validation)
+                report.revalidated += 1
             store.log_warnings(task.key, task.grasp, messages)
             report.finished += 1
             report.warnings += len(messages)
@@ -463,13 +488,16 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     except KeyboardInterrupt:
         report.interrupted = True
     finally:
-        restore()
-        bar.close()
+        arm(False)  # a further Ctrl-C while the cluster closes is noted, not raised: the close completes
+        if bar is not None:
+            bar.close()
         if futures:
             client.cancel(list(futures))
-        client.close()
+        if client is not None:
+            client.close()
         if cluster is not None:
             cluster.close()
+        restore()
     if report.interrupted:
         raise BatchInterrupted(report)  # run() rebuilds the summary table on the way out
 

@@ -185,6 +185,8 @@ class ResultStore:
         path.parent.mkdir(parents=True, exist_ok=True)
         if validation is not None:
             self.write_validation(key, grasp, validation)
+        elif not isinstance(outcome, TaskFailure):  # a new plan: an earlier plan's validation is not its own
+            self.validation_path(key, grasp).unlink(missing_ok=True)
         if isinstance(outcome, TaskFailure):
             record = {"format": _FAILURE_FORMAT, "object": key, "grasp": grasp, **asdict(outcome)}
             return _write_text(path, json.dumps(record, indent=1))
@@ -195,6 +197,15 @@ class ResultStore:
     def write_validation(self, key: str, grasp: str, validation) -> Path:
         """Write the physics validation of task (``key``, ``grasp``) (``Validation.save``)."""
         return validation.save(self.validation_path(key, grasp))
+
+    def validation_protocol(self, key: str, grasp: str) -> dict | None:
+        """The protocol settings task (``key``, ``grasp``) was validated with (None if it was not, or unreadably)."""
+        from ..physics.result import Validation
+
+        try:
+            return Validation.load(self.validation_path(key, grasp)).protocol
+        except (OSError, ValueError, TypeError, KeyError):
+            return None
 
     def log_warnings(self, key: str, grasp: str, messages) -> None:
         """Append a task's warnings to ``warnings.log`` (one line each)."""

@@ -57,10 +57,13 @@ class GraspObject:
     center : (3,) array_like, optional
         Reference point c for torques and for the sQ scaling. Default: the
         volume centroid of the pieces (the mesh's centre of mass when a
-        watertight ``mesh`` is given). When that point is outside the object
-        (a torus, a mug), c is moved inside: to the point a quarter of the way
-        from the surface point nearest the centroid towards the centroid of
-        the piece it lies on. The sQ rays need c inside the object.
+        watertight ``mesh`` is given). When that point is outside the pieces
+        (a torus), c is moved inside them: to the point a quarter of the way
+        from the pieces' surface point nearest the centroid towards the
+        centroid of the piece it lies on. The sQ rays need c inside the
+        pieces. Where the pieces fill a cavity or a hole of the mesh (a mug's
+        inside, often), the centre of mass there is inside the pieces and
+        stays, outside the mesh itself.
     torque_scale : float, optional
         Characteristic length L (mm) dividing torques in the wrenches,
         within a factor of `TORQUE_SCALE_RANGE` (100) of the default: the
@@ -290,15 +293,20 @@ class GraspObject:
 
     @cached_property
     def width(self) -> float:
-        """An upper bound of the object's smallest width (mm): its least extent along the pieces' hull's normals.
+        """An upper bound of the object's smallest width (mm): its least extent along its hull's normals.
 
-        Taken along the normals of `hull_planes` and the coordinate axes. A
-        convex solid is thinnest along a facet normal (a box, a slab, a
-        cylinder: then this is exact, however the object is turned) or across
-        two of its edges (a tetrahedron: then this reads more, up to twice the
-        width of a flat one). The bounding box's smallest side grows when the
-        object is turned: a 60 x 200 x 300 mm box turned about two axes by 45
-        degrees spans 292 mm or more along every axis, and is 60 mm wide.
+        Measured on the object's own surface, its mesh's vertices (else its
+        surface points, else its pieces' vertices): the pieces of a concave
+        object can stick out of it by a few mm (a pot with a handle, 158 mm
+        across, read 161 mm on its pieces). Taken along the facet normals of
+        the hull of at most 128 of those vertices (farthest-point sampled) and
+        the coordinate axes. A convex solid is thinnest along a facet normal
+        (a box, a slab, a cylinder: then this is exact, however the object is
+        turned) or across two of its edges (a tetrahedron: then this reads
+        more, up to twice the width of a flat one). The bounding box's
+        smallest side grows when the object is turned: a 60 x 200 x 300 mm box
+        turned about two axes by 45 degrees spans 292 mm or more along every
+        axis, and is 60 mm wide.
 
         Examples
         --------
@@ -309,8 +317,12 @@ class GraspObject:
         >>> round(float(turned.extents.min())), round(turned.width)
         (292, 60)
         """
-        vertices = np.vstack(self.pieces)
-        directions = np.vstack([self.hull_planes[:, :3], np.eye(3)])
+        if self.mesh is None and self.points is None:
+            vertices, planes = np.vstack(self.pieces), self.hull_planes
+        else:
+            vertices = np.asarray(self.mesh.vertices if self.mesh is not None else self.points, dtype=float)
+            planes = ConvexPiece(vertices, name=f"{self.name} surface hull", max_vertices=128).planes
+        directions = np.vstack([planes[:, :3], np.eye(3)])
         return float(min(np.ptp(vertices @ block.T, axis=0).min()
                          for block in np.array_split(directions, -(-len(directions) // 256))))
 
@@ -336,7 +348,8 @@ class GraspObject:
 
     @property
     def volume(self) -> float:
-        """Sum of the pieces' volumes (mm^3; overlapping pieces count twice)."""
+        """Sum of the pieces' volumes (mm^3; overlapping pieces count twice, and pieces that fill a cavity or a hole
+        count it: a mug's reads more than its mesh's ``mesh.volume``)."""
         return float(sum(p.volume for p in self.convex))
 
     def __repr__(self) -> str:

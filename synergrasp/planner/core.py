@@ -106,8 +106,9 @@ def _check_object(obj, hand):
     if width > opening:
         raise ObjectRefused(
             f"{obj.name} is too large for the hand: its smallest width is {width:.0f} mm "
-            f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. Check the object's units "
-            "(sg.objects.load(path, scale=...)) or use a larger hand file."
+            f"but the hand opens at most {opening:.0f} mm between thumb and fingertips. "
+            + ("Check the object's units (sg.objects.load(path, scale=...)) or use a larger hand file."
+               if obj.size > objects.loading.SIZE_RANGE[1] else "Use a larger hand file.")
         )
     return obj
 
@@ -398,7 +399,8 @@ def _failure(attempts, grasp, hand, obj, opts):
     that do are too far apart for the hand's widest pinch (`widest_pinch`)
     less ``opts.seed_opening`` on either side. When most power attempts
     ended with every phalanx more than ``eps_c`` from the object, it says
-    that and how far they stopped: the fingers did not close around it. When no wrap seed it
+    that and how far they stopped: the fingers did not close around it.
+    When no wrap pose passed the screen (`wrap_seeds`), it says so. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
@@ -421,12 +423,12 @@ def _failure(attempts, grasp, hand, obj, opts):
         opposed, widest = opposed_widths(obj, opts.seed), widest_pinch(hand)
         if not len(opposed):
             reason += ("; no two points of its surface face each other, so no pinch seed was tried (the pads "
-                       "press on opposed surfaces)")
+                       "press on opposed surfaces) and every attempt started from a direction around it")
         elif opposed.min() + 2.0 * opts.seed_opening > widest:
             reason += (f"; its opposed surfaces are at least {opposed.min():.0f} mm apart, and {_pinch_words(hand)} "
                        f"open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
-                       "to spare on either side for a pinch seed): it is too wide for this hand's pinch (a power "
-                       "grasp may hold it)")
+                       "to spare on either side for a pinch seed), so no pinch seed was tried and every attempt "
+                       "started from a direction around it")
     band = opts.contact_band[1]  # the farthest the steering brings a fingertip to the surface (within eps_c)
     if widths and max(widths) < pinch - 2.0 * band:
         reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
@@ -440,6 +442,10 @@ def _failure(attempts, grasp, hand, obj, opts):
             reason += (f"; in {apart.sum()} of them no phalanx ended within {eps_c:g} mm of the object (the nearest "
                        f"{np.median(nearest[apart]):.0f} mm off, median): the fingers did not close around it")
         touching = [a["touching"] for a in attempts if a["kind"] == "wrap"]
+        if not touching:
+            reason += ("; no wrap pose (the palm on its surface, the fingers closed around it) was free of it: in "
+                       "every pose screened a phalanx or the palm reached into it, so every attempt started from a "
+                       "direction around it")
         few, many = CRITERION["power"]  # contacts with the palm counted
         if touching and max(touching) < few - 1:
             most = {0: "no phalanx", 1: "at most one phalanx"}.get(max(touching), f"at most {max(touching)} phalanges")

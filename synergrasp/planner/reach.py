@@ -61,14 +61,15 @@ class Reach:
     collision_free : bool
         No row of ``path`` is deeper in the object than ``tolerance``.
     depth : float
-        Deepest penetration along ``path`` (mm, 0 if it never touches).
+        Deepest penetration along ``path`` into the object's convex pieces
+        (mm, 0 if it never touches).
     deepest : str
         The shape that goes deepest (``""`` if none penetrates).
     deepest_row : int
         Its row of ``path``.
     grasp_depth : float
-        Penetration of the grasp itself (mm, 0 if clear); a path cannot end
-        shallower than that.
+        Penetration of the grasp itself into the pieces (mm, 0 if clear); a
+        path cannot end shallower than that.
     grasp_shape : str
         The shape deepest in the object at the grasp (``""`` if none).
     source : str

@@ -43,16 +43,26 @@ class PlanResult:
     target : (n+1,) float
         Target status ``[0 ... 0, -1]``.
     q_history : (k+1,) float
-        g_Q (Q distance of the real contacts) at every iteration; NaN with
-        fewer than two contacts.
+        g_Q (Q distance of the real contacts) at every iteration; NaN
+        without contacts (one or two contacts are never force-closed: their
+        g_Q is > 0).
     contact_points : (c, 3) float
-        Final contacts on the object surface (mm).
+        Final contacts (mm): the points of the object's convex pieces the
+        hand points are nearest to (within a few mm of the true surface where
+        the pieces stick out of it; an accepted grasp's contacts moved to the
+        true surface are within ``eps_c`` of it, and their Q distance is
+        `surface_q`).
     contact_normals : (c, 3) float
-        Their unit normals, pointing into the object.
+        Their unit normals on the pieces, pointing into the object.
     contact_labels : list of str
         Which hand point each contact is (``"T0"``, ``"I2"``, ``"P"``, ...).
     penetration : float
-        Deepest penetration of a hand segment into the object in the final pose (mm).
+        Deepest penetration of a hand segment (phalanx capsule or palm box)
+        into the object's convex pieces in the final pose (mm; python-fcl),
+        raised to its depth in the true mesh where that is deeper than
+        ``max_penetration`` (an accepted grasp's capsules near the limit are
+        measured there too). Where the pieces stick out of the mesh it can
+        read more than the depth in the mesh.
     time_s : float
         Wall-clock time of the search (s): the attempts and, with
         ``validate``, their simulations; not the executable reach nor an
@@ -326,9 +336,9 @@ def _validated(data: dict, path) -> dict:
     out["status"] = array("status", 2)
     if out["status"].shape != (k + 1, m):
         fail("status", f"of shape (iterations + 1, len(target)) = ({k + 1}, {m}), not {out['status'].shape}")
-    out["q_history"] = array("q_history", 1, finite=False)  # NaN: fewer than two contacts
+    out["q_history"] = array("q_history", 1, finite=False)  # NaN: no contact
     if out["q_history"].shape != (k + 1,) or np.isinf(out["q_history"]).any():
-        fail("q_history", f"{k + 1} numbers (iterations + 1), NaN where there were fewer than two contacts")
+        fail("q_history", f"{k + 1} numbers (iterations + 1), NaN where there was no contact")
     labels = data["contact_labels"]
     if not isinstance(labels, list) or not all(isinstance(lab, str) for lab in labels):
         fail("contact_labels", "a list of strings")
