@@ -147,7 +147,7 @@ def output_stem(obj_arg, grasp) -> str:
     Parameters
     ----------
     obj_arg : str
-        The ``--object`` argument: a built-in name or a file path.
+        The ``--object`` argument: a built-in name (in any case: the name in lower case) or a file path.
     grasp : str
         ``"precision"`` or ``"power"``.
 
@@ -157,11 +157,15 @@ def output_stem(obj_arg, grasp) -> str:
 
     Examples
     --------
-    >>> output_stem("ellipsoid", "precision"), output_stem("scans/capsule.xyz", "power")
-    ('ellipsoid_precision', 'capsule_xyz_power')
+    >>> output_stem("ellipsoid", "precision"), output_stem("scans/capsule.xyz", "power"), output_stem("Cup", "power")
+    ('ellipsoid_precision', 'capsule_xyz_power', 'cup_power')
     """
+    from .objects import BUILTINS
+
     path = Path(str(obj_arg))
     suffix = path.suffix.lower().lstrip(".")
+    if str(obj_arg).lower() in BUILTINS:  # a built-in by its name, in any case (as --object takes it)
+        return f"{str(obj_arg).lower()}_{grasp}"
     return f"{path.stem}_{suffix}_{grasp}" if suffix else f"{path.stem}_{grasp}"
 
 

@@ -76,6 +76,12 @@ def _write(folder, name, text=None, data=None):
     return path
 
 
+def _folder(path):
+    """``path`` made a folder (with its parents)."""
+    Path(path).mkdir(parents=True)
+    return Path(path)
+
+
 def _npz_mesh(folder, faces_of):
     ball = trimesh.creation.icosphere(subdivisions=1, radius=30.0)
     path = Path(folder) / "m.npz"
@@ -729,6 +735,9 @@ BATCH = [
     Case("sg.batch.run", "two objects with one results folder", _same_name_meshes, ValueError, "would share the results folder 'mug.obj'"),
     Case("sg.batch.run", "an unknown grasp type", lambda tmp: sg.batch.run(["cup"], ["pinch"], Path(tmp)), ValueError, "each grasp type must be 'precision' or 'power', got 'pinch'"),
     Case("sg.batch.run", "no grasp type", lambda tmp: sg.batch.run(["cup"], [], Path(tmp)), ValueError, "grasps is empty"),
+    Case("sg.batch.run", "a folder named summary.csv in the output folder (found after every plan)",
+         lambda tmp: sg.batch.run(["cup"], ["precision"], _folder(Path(tmp) / "summary.csv").parent), ValueError,
+         "summary.csv' is not a file, and the batch writes its summary.csv there"),
     Case("sg.batch.run", "a scale with a built-in object (recorded, and not applied)",
          lambda tmp: sg.batch.run(["cup"], ["precision"], Path(tmp), scale=1000.0), ValueError,
          "scale applies to object files; the built-in object 'cup' is in millimetres already"),

@@ -116,10 +116,15 @@ class ResultStore:
         Raises
         ------
         ValueError
-            If the folder cannot be created or written; the message names it and the reason.
+            If the folder cannot be created or written, or the name of ``summary.csv`` or
+            ``warnings.log`` is taken by something that is not a file; the message names it and the reason.
         """
         writable_folder(self.out, "output folder")
         writable_folder(self.results, "output folder")
+        for path in (self.summary_path, self.warnings_path):  # (found after every plan, else)
+            if path.exists() and not path.is_file():
+                raise ValueError(f"'{path}' is not a file, and the batch writes its {path.name} there: move it away "
+                                 "or write to another output folder")
 
     @contextmanager
     def lock(self):
