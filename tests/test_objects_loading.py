@@ -682,10 +682,12 @@ def test_an_isolated_outlier_of_a_scan_is_dropped():
     points = rng.normal(size=(2000, 3))
     points *= 40.0 / np.linalg.norm(points, axis=1, keepdims=True)
     points += rng.normal(scale=0.3, size=points.shape)
-    with pytest.warns(UserWarning, match=r"ball scan: 1 stray point\(s\) dropped \(up to 35 mm from the nearest other "
-                                         r"point, where the cloud's typical spacing is 1\.5 mm\)"):
-        obj = so.from_points(np.vstack([points, [[75.0, 0.0, 0.0]]]), name="ball scan", cache=False)
-    assert obj.n_pieces == 1 and obj.extents == pytest.approx([80.0, 80.0, 80.0], abs=2.0)
+    for scale in (1.0, 1000.0):  # the same scan in metres, scaled: its distances in mm too (they read 0.035 "mm")
+        with pytest.warns(UserWarning, match=r"ball scan: 1 stray point\(s\) dropped \(up to 35 mm from the nearest "
+                                             r"other point, where the cloud's typical spacing is 1\.5 mm\)"):
+            obj = so.from_points(np.vstack([points, [[75.0, 0.0, 0.0]]]) / scale, scale=scale, name="ball scan",
+                                 cache=False)
+        assert obj.n_pieces == 1 and obj.extents == pytest.approx([80.0, 80.0, 80.0], abs=2.0)
 
 
 # --------------------------------------------------------------------------- other inputs and messages

@@ -534,8 +534,9 @@ def _spacing(points: np.ndarray) -> float:
     return float(np.median(dist[:, 1]))
 
 
-def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
-    """``points`` (n, 3) without its stray points (a scan's outliers; see `STRAY_FACTOR`), with a warning if any."""
+def _without_strays(points: np.ndarray, what: str, scale: float) -> np.ndarray:
+    """``points`` (n, 3) without its stray points (a scan's outliers; see `STRAY_FACTOR`), with a warning if any
+    (its distances in mm: the points' units times ``scale``)."""
     if len(points) < SMALL_CLOUD:
         return points
     from scipy.spatial import cKDTree
@@ -543,6 +544,7 @@ def _without_strays(points: np.ndarray, what: str) -> np.ndarray:
     dist = cKDTree(points).query(points, k=STRAY_NEIGHBOURS + 1)[0][:, 1:]  # (n, STRAY_NEIGHBOURS): k = 1, 2, ...
     typical = np.median(dist, axis=0)
     stray = (dist > STRAY_FACTOR * typical).any(axis=1)
+    dist, typical = dist * scale, typical * scale  # (for the warnings: in mm)
     if not stray.any():
         return points
     if stray.sum() > STRAY_SHARE * len(points):
@@ -738,7 +740,7 @@ def _from_points(
     scale = positive_scalar(scale, "scale")
     max_parts, max_vertices = _options(max_parts, max_vertices, cache)
     pts = np.unique(as_points(points, what if _source else "points", dim=3), axis=0)
-    pts = _without_strays(pts, what)
+    pts = _without_strays(pts, what, scale)
     _check_scale(pts, scale, what)
     given_scale = scale
     if _scaled_first(pts, scale):
