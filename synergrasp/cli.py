@@ -247,8 +247,8 @@ def _plan(args) -> int:
 
     out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
     get_backend(args.backend)
+    hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
     obj = object_from_args(args)
-    hand = SynergyHand.default()
     bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
                bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
 
@@ -266,7 +266,7 @@ def _plan(args) -> int:
         bar.close()
     compiling = (time.perf_counter() - wall) - (clock() - search)  # numba's, once after an install
     stem = output_stem(args.object, args.grasp)
-    files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png"),
+    files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
     if not args.no_animation:
         files += [viz.animate(result, obj, hand, out / f"{stem}_reach.gif"),
@@ -335,6 +335,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a built-in (ellipsoid, cup, bell, goblet) or a mesh / point-cloud file (default ellipsoid)")
     p.add_argument("--grasp", choices=POINT_KINDS, default="precision", help="grasp type (default precision)")
     p.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
+    p.add_argument("--hand", default=None, metavar="FILE", help="hand file to plan with (default the paper's hand)")
     add_unit_options(p)
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
                    help="direction from the object's centre to the start pose of the hand (default: the planner's list)")

@@ -53,6 +53,16 @@ RESERVED_NAMES = ("palm", "object")
 SYNERGY_GRID_POINTS = 2000
 #: Most rows `SynergyHand.synergy_grid` builds (``max_points``'s bound).
 MAX_GRID_POINTS = 10_000_000
+#: Largest length in a hand file (mm): link lengths, the palm's size, and how far a finger's base or the palm's
+#: points lie from the palm frame (a hand's parts are within its span; larger values are another unit or a typo).
+MAX_HAND_LENGTH = 2000.0
+#: Smallest largest side of the palm (mm): a hand file in metres or centimetres has a palm of a few hundredths or tenths.
+MIN_PALM_SIDE = 5.0
+#: Largest angle in a hand file (rad): a mean pose, a joint offset, a base rotation, and the travel of a joint over a
+#: synergy's range (its synergy entry times the range's largest bound). Larger ones are degrees, or a typo.
+MAX_ANGLE = 4.0 * np.pi
+#: Largest coupling coefficient of a joint to an actuated joint.
+MAX_COUPLING = 10.0
 #: How far (synergy units) a synergy value may lie outside its limits and still be a pose of the hand (round-off).
 LIMIT_TOLERANCE = 1e-9
 
@@ -198,6 +208,20 @@ class _Spec:
             self.fail(field, "must be finite")
         return arr
 
+    def lengths(self, arr, field):
+        """``arr`` (mm), refused beyond `MAX_HAND_LENGTH` in size."""
+        if np.abs(arr).max(initial=0.0) > MAX_HAND_LENGTH:
+            self.fail(field, f"must be at most {MAX_HAND_LENGTH:g} mm in size (a hand's span), got "
+                             f"{np.abs(arr).max():.3g}: lengths are in mm")
+        return arr
+
+    def angles(self, arr, field):
+        """``arr`` (rad), refused beyond `MAX_ANGLE` in size (degrees, most likely)."""
+        if np.abs(arr).max(initial=0.0) > MAX_ANGLE:
+            self.fail(field, f"must be at most {MAX_ANGLE:.3g} rad in size (two turns), got {np.abs(arr).max():.3g}: "
+                             "angles are in radians (degrees?)")
+        return arr
+
     def name_list(self, data, key, field):
         value = self.get(data, key, field)
         if (not isinstance(value, list) or not value
@@ -219,6 +243,23 @@ class _Spec:
         if not isinstance(value, list) or not value:
             self.fail(field, "must be a non-empty list")
         return value
+
+
+def _digest(name, data):
+    """``"name sha256:<16 hex digits>"`` of a hand definition."""
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"))
+    return f"{name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
+
+
+def _numbers_as_floats(data):
+    """A hand definition with every number a float and -0.0 as 0.0 (booleans and text kept)."""
+    if isinstance(data, dict):
+        return {key: _numbers_as_floats(value) for key, value in data.items()}
+    if isinstance(data, list):
+        return [_numbers_as_floats(value) for value in data]
+    if isinstance(data, (int, float)) and not isinstance(data, bool):
+        return float(data) + 0.0
+    return data
 
 
 def _plain(data):
@@ -307,6 +348,13 @@ class SynergyHand:
         self.synergy_limits = spec.array(data, "synergy_limits", "synergy_limits", (self.n_syn, 2))
         if np.any(self.synergy_limits[:, 0] >= self.synergy_limits[:, 1]):
             spec.fail("synergy_limits", "must have lower < upper in every row")
+        spec.angles(self.mean_pose, "mean_pose")
+        travel = np.abs(self.synergies) * np.abs(self.synergy_limits).max(axis=1)  # (n_act, n_syn), rad
+        if travel.max() > MAX_ANGLE:
+            i, j = np.unravel_index(np.argmax(travel), travel.shape)
+            spec.fail(f"synergies[{i}][{j}]", f"moves joint {self.actuated_names[i]!r} by {travel[i, j]:.3g} rad over "
+                      f"synergy {j + 1}'s range {self.synergy_limits[j].tolist()}, more than {MAX_ANGLE:.3g} rad (two "
+                      "turns): synergy entries are radians per unit of the synergy")
         self.finger_radius = float(spec.array(data, "finger_radius", "finger_radius", ()))
         if self.finger_radius <= 0:
             spec.fail("finger_radius", "must be positive")
@@ -318,11 +366,14 @@ class SynergyHand:
             spec.fail("description", f"must be a string, got {data['description']!r}")
         palm = spec.get(data, "palm", "palm")
         spec.known(palm, ("center", "size", "point"), "palm")
-        self._palm_center = spec.array(palm, "center", "palm.center", (3,))
-        self.palm_half_extents = 0.5 * spec.array(palm, "size", "palm.size", (3,))
+        self._palm_center = spec.lengths(spec.array(palm, "center", "palm.center", (3,)), "palm.center")
+        self.palm_half_extents = 0.5 * spec.lengths(spec.array(palm, "size", "palm.size", (3,)), "palm.size")
         if np.any(self.palm_half_extents <= 0):
             spec.fail("palm.size", "must be positive")
-        self.palm_point = spec.array(palm, "point", "palm.point", (3,))
+        if 2.0 * self.palm_half_extents.max() < MIN_PALM_SIDE:
+            spec.fail("palm.size", f"is at most {2.0 * self.palm_half_extents.max():.3g} mm, less than {MIN_PALM_SIDE:g} mm: "
+                      "a hand file's lengths are in mm (is it in metres or centimetres?)")
+        self.palm_point = spec.lengths(spec.array(palm, "point", "palm.point", (3,)), "palm.point")
         if self.finger_radius > 2.0 * self.palm_half_extents.max():
             spec.fail("finger_radius", f"must be smaller than the palm's largest side, "
                       f"{2.0 * self.palm_half_extents.max():g} mm, got {self.finger_radius:g}: a finger thicker "
@@ -358,7 +409,7 @@ class SynergyHand:
                               f"{axis.tolist()}: a unit vector will do")
                 if np.linalg.norm(axis) < 1e-9:
                     spec.fail(f"{jf}.axis", "must be a non-zero vector")
-                length = float(spec.array(joint, "length", f"{jf}.length", ()))
+                length = float(spec.lengths(spec.array(joint, "length", f"{jf}.length", ()), f"{jf}.length"))
                 if length < 0:
                     spec.fail(f"{jf}.length", "must be >= 0")
                 if length > 0 and np.linalg.norm(np.cross(axis / np.linalg.norm(axis), [0.0, 1.0, 0.0])) < 1e-6:
@@ -372,13 +423,17 @@ class SynergyHand:
                     if key not in act_index:
                         spec.fail(f"{jf}.coupling.{key}", f"is not an actuated joint {self.actuated_names}")
                     row[act_index[key]] = spec.array(coupling, key, f"{jf}.coupling.{key}", ())
-                offset = float(spec.array(joint, "offset", f"{jf}.offset", ()))
+                    if abs(row[act_index[key]]) > MAX_COUPLING:
+                        spec.fail(f"{jf}.coupling.{key}", f"must be at most {MAX_COUPLING:g} in size (the joint turns by "
+                                  f"it times the actuated joint's angle), got {row[act_index[key]]:g}")
+                offset = float(spec.angles(spec.array(joint, "offset", f"{jf}.offset", ()), f"{jf}.offset"))
                 joints.append((jname, axis / np.linalg.norm(axis), length, row, offset))
             if not any(j[2] > 0 for j in joints):
                 spec.fail(f"{fld}.joints", "must contain a segment of positive length")
             chains.append((fname,
-                           spec.array(base, "position", f"{fld}.base.position", (3,)),
-                           rotation_xyz(spec.array(base, "rotation_xyz", f"{fld}.base.rotation_xyz", (3,))),
+                           spec.lengths(spec.array(base, "position", f"{fld}.base.position", (3,)), f"{fld}.base.position"),
+                           rotation_xyz(spec.angles(spec.array(base, "rotation_xyz", f"{fld}.base.rotation_xyz", (3,)),
+                                                    f"{fld}.base.rotation_xyz")),
                            joints))
         self.finger_names = [c[0] for c in chains]
         self.joint_names = [j[0] for c in chains for j in c[3]]
@@ -556,22 +611,26 @@ class SynergyHand:
     def identity(self) -> str:
         """str : The hand's name and a digest of its definition (``"name sha256:<16 hex digits>"``).
 
-        Two hands share it exactly when their definitions (`to_dict`) are equal; a `PlanResult`
-        records the identity of the hand it was planned with.
+        Two hands share it exactly when their definitions (`to_dict`) are equal, however their
+        numbers are written (``46`` and ``46.0``, ``-0.0`` and ``0.0``); a `PlanResult` records
+        the identity of the hand it was planned with.
 
         Examples
         --------
         >>> hand = SynergyHand.default()
-        >>> hand.identity.startswith(hand.name + " sha256:"), SynergyHand(hand.to_dict()).identity == hand.identity
+        >>> data = hand.to_dict()
+        >>> data["finger_radius"] = int(data["finger_radius"])
+        >>> hand.identity.startswith(hand.name + " sha256:"), SynergyHand(data).identity == hand.identity
         (True, True)
         """
-        text = json.dumps(self._data, sort_keys=True, separators=(",", ":"))
-        return f"{self.name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
+        return _digest(self.name, _numbers_as_floats(self._data))
 
     def made(self, identity: str) -> bool:
         """Whether a record of the hand ``identity`` (`PlanResult.hand`, `Validation.hand`) is this hand's.
 
-        An empty identity, of a file saved before records kept it, is anyone's.
+        An empty identity, of a file saved before records kept it, is anyone's; so is the digest of
+        the definition as its file wrote its numbers, which records kept before `identity`
+        normalised them.
 
         Examples
         --------
@@ -579,7 +638,7 @@ class SynergyHand:
         >>> hand.made(hand.identity), hand.made(""), hand.made("other sha256:0123456789abcdef")
         (True, True, False)
         """
-        return not identity or identity == self.identity
+        return not identity or identity in (self.identity, _digest(self.name, self._data))
 
     def to_dict(self):
         """A deep copy of the hand's definition, as read from its file (JSON-serialisable).

@@ -99,6 +99,27 @@ def _with_joint_field(key, value):
     return data
 
 
+def _with_synergy(row, column, value):
+    data = _hand_dict()
+    data["synergies"][row][column] = value
+    return data
+
+
+def _in_metres():
+    """The paper's hand with every length divided by 1000."""
+    data = _hand_dict()
+    palm = data["palm"]
+    for key in ("center", "size", "point"):
+        palm[key] = [v / 1000.0 for v in palm[key]]
+    data["finger_radius"] /= 1000.0
+    data["contact_offset"] = data.get("contact_offset", 0.0) / 1000.0
+    for finger in data["fingers"]:
+        finger["base"]["position"] = [v / 1000.0 for v in finger["base"]["position"]]
+        for joint in finger["joints"]:
+            joint["length"] /= 1000.0
+    return data
+
+
 def _nan_obj(folder):
     ball = trimesh.creation.icosphere(subdivisions=1, radius=30.0)
     v = ball.vertices.copy()
@@ -510,6 +531,18 @@ API = [
          ValueError, "field 'fingers[1].joints[0].axis' must be a direction of moderate length (its length overflows)"),
     Case("SynergyHand", "a joint axis along its link", lambda tmp: sg.SynergyHand(_with_joint_field("axis", [0.0, 2.0, 0.0])),
          ValueError, "field 'fingers[1].joints[0].axis' must not be along the link"),
+    Case("SynergyHand", "a synergy entry of 1e10 (LinAlgError in the planner's step)",
+         lambda tmp: sg.SynergyHand(_with_synergy(2, 1, 1e10)), ValueError,
+         "field 'synergies[2][1]' moves joint 'I_mcp' by 1e+10 rad over synergy 2's range [-1.0, 1.0], more than 12.6 rad"),
+    Case("SynergyHand", "a link of 1e100 mm (the cP LP failed)", lambda tmp: sg.SynergyHand(_with_joint_field("length", 1e100)),
+         ValueError, "field 'fingers[1].joints[0].length' must be at most 2000 mm in size (a hand's span), got 1e+100"),
+    Case("SynergyHand", "a coupling of 1e10 (blamed on a path the user never gave)",
+         lambda tmp: sg.SynergyHand(_with_joint_field("coupling", {"I_mcp": 1e10})), ValueError,
+         "field 'fingers[1].joints[0].coupling.I_mcp' must be at most 10 in size"),
+    Case("SynergyHand", "a hand file in metres (refused later as 'opens at most 0 mm')",
+         lambda tmp: sg.SynergyHand(_in_metres()), ValueError, "field 'palm.size' is at most 0.095 mm, less than 5 mm"),
+    Case("SynergyHand", "a mean pose in degrees", lambda tmp: sg.SynergyHand({**_hand_dict(), "mean_pose": [
+         70.0] + _hand_dict()["mean_pose"][1:]}), ValueError, "field 'mean_pose' must be at most 12.6 rad in size (two turns), got 70"),
     Case("SynergyHand", "an unknown field of a joint",
          lambda tmp: sg.SynergyHand(_with_joint_field("lenght", 1.0)), ValueError,
          "field 'fingers[1].joints[0].lenght' is not a field of a hand file (did you mean 'length'?)"),

@@ -271,3 +271,20 @@ def test_output_folder_and_positive_are_usage_errors(tmp_path):
     for kind, text in [(int, "0"), (int, "-2"), (int, "1.5"), (float, "nan"), (float, "inf"), (float, "0")]:
         with pytest.raises(argparse.ArgumentTypeError, match="> 0"):
             positive(kind)(text)
+
+
+def test_plan_takes_a_hand_file(tmp_path, capsys):
+    """`synergrasp validate` took --hand and errors advised it, but `synergrasp plan` had no --hand."""
+    import json
+
+    from synergrasp import SynergyHand, PlanResult
+
+    data = SynergyHand.default().to_dict()
+    data.update(name="thick", finger_radius=9.0)
+    (tmp_path / "thick.json").write_text(json.dumps(data))
+    assert main(["plan", "--object", "cup", "--hand", str(tmp_path / "thick.json"), "--out", str(tmp_path / "out"),
+                 "--quiet", "--no-animation"]) == 0
+    saved = PlanResult.load(tmp_path / "out" / "cup_precision.json")
+    assert saved.success and saved.hand == SynergyHand(data).identity
+    assert main(["plan", "--hand", str(tmp_path / "none.json"), "--out", str(tmp_path / "out")]) == 2
+    assert "hand file not found" in capsys.readouterr().err

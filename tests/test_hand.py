@@ -464,3 +464,23 @@ def test_a_hand_given_numpy_arrays_is_json_and_plans(hand):
     assert json.loads(json.dumps(from_arrays.to_dict())) == hand.to_dict()
     assert from_arrays.identity == hand.identity
     assert sg.plan("ellipsoid", "precision", hand=from_arrays, max_iter=5).iterations == 5
+
+
+def test_the_identity_of_a_hand_does_not_depend_on_how_its_numbers_are_written():
+    """A hand file rewritten with 46.0 as 46 (or 0.0 as -0.0) is the same hand (to_dict compares equal): its identity
+    differed, and the results it had planned were refused by validate. A record of the digest before numbers were
+    normalised is still this hand's."""
+    import hashlib
+    import json
+
+    hand = SynergyHand.default()
+    data = hand.to_dict()
+    as_ints = json.loads(json.dumps(data), parse_float=lambda t: int(float(t)) if float(t).is_integer() else float(t))
+    as_ints["palm"]["center"][0] = -0.0
+    other = SynergyHand(as_ints)
+    assert other.to_dict() == data and other.identity == hand.identity
+    changed = SynergyHand({**data, "finger_radius": data["finger_radius"] + 0.5})
+    assert changed.identity != hand.identity and not hand.made(changed.identity)
+    text = json.dumps(as_ints, sort_keys=True, separators=(",", ":"))  # the digest as records kept it before
+    earlier = f"{other.name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
+    assert earlier != other.identity and other.made(earlier) and not hand.made(earlier)
