@@ -386,6 +386,19 @@ def test_a_batch_of_another_hand_is_validated_and_drawn_with_it(tmp_path):
     assert (tmp_path / "report" / "ellipsoid" / "precision.png").exists()
 
 
+def test_the_batch_and_report_commands_take_a_hand_file(tmp_path, cluster, capsys):
+    """`synergrasp batch` and `report` had no --hand (only Python's options={"hand": hand} and hand=)."""
+    data = sg.SynergyHand.default().to_dict()
+    data["name"] = "copy of the paper hand"
+    (tmp_path / "copy.json").write_text(json.dumps(data))
+    out = tmp_path / "out"
+    assert main(["batch", "cup", "--hand", str(tmp_path / "copy.json"), "--out", str(out), "--scheduler",
+                 cluster.scheduler_address, "--quiet"]) == 0
+    assert sg.PlanResult.load(out / "results" / "cup" / "precision.json").hand == sg.SynergyHand(data).identity
+    assert main(["report", str(out), "--hand", str(tmp_path / "copy.json")]) == 0
+    assert (out / "report" / "cup" / "precision.png").exists()
+
+
 def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):
     # a torus-shaped cloud: its centroid is in the hole, so loading it builds fcl geometry
     # (which cannot be pickled) to move the centre inside

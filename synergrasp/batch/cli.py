@@ -46,6 +46,7 @@ def register(sub, epilog: str = "") -> None:
     b.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="address of a running Dask scheduler (tcp://host:8786) instead of a local cluster")
     b.add_argument("--backend", default="native", help="LP backend: native, highs, clarabel or cvxpy (default native)")
+    b.add_argument("--hand", default=None, metavar="FILE", help="hand file to plan with (default the paper's hand)")
     b.add_argument("--max-iter", type=positive(int), default=None,
                    help="cap on each plan's iterations (default: the planner's)")
     b.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
@@ -73,6 +74,7 @@ def register(sub, epilog: str = "") -> None:
         epilog=epilog,
     )
     r.add_argument("dir", metavar="DIR", help="output folder of `synergrasp batch`")
+    r.add_argument("--hand", default=None, metavar="FILE", help="hand file the batch planned with (default the paper's hand)")
     r.add_argument("--gallery", type=int, default=48, metavar="N", help="most plans in the gallery (default 48)")
     r.set_defaults(func=_report)
 
@@ -88,7 +90,12 @@ def _interrupt(signum, frame):
 def _batch(args) -> int:
     from .runner import BatchInterrupted, run
 
-    options = None if args.max_iter is None else {"max_iter": args.max_iter}
+    from ..hand import SynergyHand
+
+    options = {} if args.max_iter is None else {"max_iter": args.max_iter}
+    if args.hand is not None:
+        options["hand"] = SynergyHand.from_file(args.hand)
+    options = options or None
     scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else 1.0
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _interrupt) if main_thread else None  # SIGTERM stops like Ctrl-C
@@ -129,7 +136,9 @@ def _print_failures(report) -> None:
 
 
 def _report(args) -> int:
+    from ..hand import SynergyHand
     from .report import write_report
 
-    print(f"wrote {write_report(args.dir, gallery=args.gallery)}")
+    hand = None if args.hand is None else SynergyHand.from_file(args.hand)
+    print(f"wrote {write_report(args.dir, gallery=args.gallery, hand=hand)}")
     return 0
