@@ -26,9 +26,13 @@ __all__ = ["animate", "plot_grasps", "plot_poses", "plot_status", "scene", "stat
 #: Colours of a hand's fingers, in the order of `SynergyHand.finger_names` (cycled beyond them).
 _CHAIN_COLORS = ["tab:red", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:blue", "tab:pink", "tab:olive",
                  "tab:cyan"]
-#: The paper hand's: its thumb to little finger (its first five fingers), and the palm.
-_FINGER_COLORS = {**dict(zip("TIMRL", _CHAIN_COLORS)), "P": "black"}
 _FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "little", "P": "palm"}
+
+
+def _finger_and_phalanx(label):
+    """A status row's label as (finger name, phalanx index), e.g. ``("I", 2)``; (label, None) for the palm's."""
+    head = label.rstrip("0123456789")
+    return (head, int(label[len(head):])) if head and head != label else (label, None)
 
 
 def _segment_colors(hand):
@@ -165,9 +169,12 @@ def status_figure(result, labels=None, attempts=None):
     top, bottom = axes[0], axes[1]
     bottom.sharex(top)
     top.tick_params(labelbottom=False)
-    for i, label in enumerate(labels):
-        top.plot(k, status[:, i], color=_FINGER_COLORS.get(label[0], "gray"), lw=1.4,
-                 ls=["-", "--", ":", "-."][int(label[1]) % 4] if label[1:].isdigit() else "-", label=f"$g_{{{label}}}$")
+    rows = [_finger_and_phalanx(label) for label in labels]
+    colours = {name: _CHAIN_COLORS[c % len(_CHAIN_COLORS)]  # the fingers in their order, as the poses figure's
+               for c, name in enumerate(dict.fromkeys(name for name, j in rows if j is not None))}
+    for i, (label, (name, j)) in enumerate(zip(labels, rows)):
+        top.plot(k, status[:, i], color=colours.get(name, "black"), lw=1.4,
+                 ls=["-", "--", ":", "-."][j % 4] if j is not None else "-", label=f"$g_{{{label}}}$")
     eps_c = result.options.get("eps_c", 5.0)
     top.axhline(eps_c, color="k", lw=0.8, ls="--", label=r"$\varepsilon_c$")
     top.axhline(0.0, color="gray", lw=0.6)

@@ -73,3 +73,20 @@ def test_labels_and_plans_given_as_generators_are_drawn(tmp_path, short_plan):
     assert [t.get_text() for t in generated.axes[0].get_legend().get_texts()][:3] == [f"$g_{{{n}}}$" for n in labels]
     hand = sg.SynergyHand.default()
     assert viz.plot_grasps(((result, obj, f"view {i}") for i in range(2)), hand, tmp_path / "g.png").is_file()
+
+
+def test_status_rows_of_renamed_fingers_get_their_fingers_colours(short_plan):
+    """Colours keyed on the paper hand's finger letters: a hand whose fingers are named otherwise drew every row
+    grey and solid. Now the fingers take the poses figure's colours in their order, the phalanges its line styles."""
+    import matplotlib.colors as mcolors
+    import matplotlib.pyplot as plt
+
+    result, _ = short_plan
+    paper, renamed = ["T0", "I0", "M0", "R0", "L0"], ["thumb0", "index0", "middle0", "ring0", "little0"]
+    colours = []
+    for labels in (paper, renamed):
+        fig = viz.status_figure(result, labels=labels)
+        colours.append([mcolors.to_hex(line.get_color()) for line in fig.axes[0].get_lines()[:5]])
+        plt.close(fig)
+    assert colours[0] == colours[1] and len(set(colours[1])) == 5
+    assert viz._finger_and_phalanx("index finger12") == ("index finger", 12) and viz._finger_and_phalanx("P") == ("P", None)
