@@ -393,12 +393,29 @@ def main(argv=None) -> int:
         except KeyboardInterrupt:  # (batch says what it wrote itself)
             print("synergrasp: interrupted", file=sys.stderr)
             return 130
-        except BrokenPipeError:  # the reader of stdout is gone: nothing more to say to it (and Python's last flush)
-            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except BrokenPipeError as exc:
+            if not _stdout_closed():  # (another pipe: an error like the others)
+                print(f"synergrasp: error: {exc}", file=sys.stderr)
+                return 2
+            devnull = os.open(os.devnull, os.O_WRONLY)  # nothing more to say to it, nor in Python's last flush
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
             return 141
         except (ValueError, TypeError, OSError, ImportError) as exc:
             print(f"synergrasp: error: {command_line_hint(str(exc))}", file=sys.stderr)
             return 2
+
+
+def _stdout_closed() -> bool:
+    """Whether the process's standard output is a pipe whose reader has gone (poll reports an error on it)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(events & (select.POLLERR | select.POLLHUP) for _, events in poller.poll(0))
+    except (AttributeError, OSError, ValueError):  # no poll, or stdout not a file (captured, a notebook's)
+        return False
 
 
 #: Library advice (a keyword argument to pass) and the command line's way of saying it.

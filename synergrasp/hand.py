@@ -56,8 +56,9 @@ MAX_GRID_POINTS = 10_000_000
 #: Largest length in a hand file (mm): link lengths, the palm's size, and how far a finger's base or the palm's
 #: points lie from the palm frame (a hand's parts are within its span; larger values are another unit or a typo).
 MAX_HAND_LENGTH = 2000.0
-#: Smallest largest side of the palm (mm): a hand file in metres or centimetres has a palm of a few hundredths or tenths.
-MIN_PALM_SIDE = 5.0
+#: Smallest largest side of the palm (mm): a hand file in metres or centimetres has a palm of a few hundredths of a mm
+#: or a few mm (the paper hand's is 95 mm).
+MIN_PALM_SIDE = 20.0
 #: Largest angle in a hand file (rad): a mean pose, a joint offset, a base rotation, and the travel of a joint over a
 #: synergy's range (its synergy entry times the range's largest bound). Larger ones are degrees, or a typo.
 MAX_ANGLE = 4.0 * np.pi
@@ -88,6 +89,23 @@ def _numbers(value) -> bool:
 
 def grasp_kind(kind, name="kind") -> str:
     """``kind``, a grasp type of `POINT_KINDS` ("precision" or "power"); ValueError naming ``name`` otherwise.
+
+    Parameters
+    ----------
+    kind : str
+        The value to check.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    str
+        ``kind``.
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is not one of `POINT_KINDS`.
 
     Examples
     --------
@@ -753,8 +771,8 @@ class SynergyHand:
         return clipped
 
     def _check_kind(self, kind):
-        if not isinstance(kind, str) or kind not in self._kinds:
-            raise ValueError(f"unknown kind of hand points {kind!r}; kinds are {list(POINT_KINDS)}")
+        if not isinstance(kind, str) or kind not in self._kinds:  # (the blocks the hand keeps for itself are kinds too)
+            grasp_kind(kind)
         return self._kinds[kind]
 
     def pose(self, u):

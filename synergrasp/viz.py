@@ -30,9 +30,9 @@ _FINGER_NAMES = {"T": "thumb", "I": "index", "M": "middle", "R": "ring", "L": "l
 
 
 def _finger_and_phalanx(label):
-    """A status row's label as (finger name, phalanx index), e.g. ``("I", 2)``; (label, None) for the palm's."""
-    head = label.rstrip("0123456789")
-    return (head, int(label[len(head):])) if head and head != label else (label, None)
+    """A status row's label as (finger name, phalanx index): the name and the one digit `SynergyHand.point_labels`
+    appends (``"I2"``: ``("I", 2)``; ``"f12"``, finger ``f1``: ``("f1", 2)``); (label, None) for the palm's."""
+    return (label[:-1], int(label[-1])) if len(label) > 1 and label[-1].isdigit() else (label, None)
 
 
 def _segment_colors(hand):

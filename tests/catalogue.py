@@ -504,7 +504,7 @@ API = [
          "position (mm) must have shape (3,), got shape (2,)"),
     # ------------------------------------------------------------ hand, LP, figures
     Case("SynergyHand.points", "u of 3 numbers", lambda tmp: HAND.points([0.0, 0.0, 0.0]), ValueError, "u must have shape (8,)"),
-    Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "unknown kind of hand points 'grip'"),
+    Case("SynergyHand.points", "an unknown kind of points", lambda tmp: HAND.points(np.zeros(8), "grip"), ValueError, "kind must be 'precision' or 'power', got 'grip'"),
     Case("SynergyHand.points", "a NaN u", lambda tmp: HAND.points(np.full(8, np.nan)), ValueError, "u contains NaN or inf"),
     Case("SynergyHand.segments", "u is a word", lambda tmp: HAND.segments("open"), TypeError, "u must be a numeric vector of 8 numbers"),
     Case("SynergyHand.from_file", "None as the path", lambda tmp: sg.SynergyHand.from_file(None), TypeError,
@@ -540,7 +540,7 @@ API = [
          lambda tmp: sg.SynergyHand(_with_joint_field("coupling", {"I_mcp": 1e10})), ValueError,
          "field 'fingers[1].joints[0].coupling.I_mcp' must be at most 10 in size"),
     Case("SynergyHand", "a hand file in metres (refused later as 'opens at most 0 mm')",
-         lambda tmp: sg.SynergyHand(_in_metres()), ValueError, "field 'palm.size' is at most 0.095 mm, less than 5 mm"),
+         lambda tmp: sg.SynergyHand(_in_metres()), ValueError, "field 'palm.size' is at most 0.095 mm, less than 20 mm"),
     Case("SynergyHand", "a mean pose in degrees", lambda tmp: sg.SynergyHand({**_hand_dict(), "mean_pose": [
          70.0] + _hand_dict()["mean_pose"][1:]}), ValueError, "field 'mean_pose' must be at most 12.6 rad in size (two turns), got 70"),
     Case("SynergyHand", "an unknown field of a joint",
@@ -553,7 +553,7 @@ API = [
     Case("SynergyHand.points", "u of numbers written as text", lambda tmp: HAND.points(["0"] * 6 + ["0.5", "-0.3"]), TypeError,
          "u must be a numeric vector of 8 numbers [p (3), phi (3), z (2)], got list"),
     Case("SynergyHand.points", "a list of kinds", lambda tmp: HAND.points(np.zeros(8), kind=["precision"]), ValueError,
-         "unknown kind of hand points ['precision']; kinds are ['precision', 'power']"),
+         "kind must be 'precision' or 'power', got ['precision']"),
     Case("sg.lp.get_backend", "an unknown name", lambda tmp: sg.lp.get_backend("gurobi"), ValueError, "unknown LP backend 'gurobi'; available"),
     Case("sg.lp.get_backend", "a number, not a name", lambda tmp: sg.lp.get_backend(3), TypeError,
          "an LP backend is a name (['highs'"),

@@ -397,6 +397,13 @@ def test_the_batch_and_report_commands_take_a_hand_file(tmp_path, cluster, capsy
     assert sg.PlanResult.load(out / "results" / "cup" / "precision.json").hand == sg.SynergyHand(data).identity
     assert main(["report", str(out), "--hand", str(tmp_path / "copy.json")]) == 0
     assert (out / "report" / "cup" / "precision.png").exists()
+    # the same folder with the paper's hand: its plans were taken as this run's (one folder, plans of two hands)
+    capsys.readouterr()
+    assert main(["batch", "cup", "ellipsoid", "--out", str(out), "--scheduler", cluster.scheduler_address,
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "the plans of 'cup' in" in err and "were made with hand 'copy of the paper hand sha256:" in err
+    assert "pass that hand (--hand FILE)" in err and not (out / "results" / "ellipsoid").exists()
 
 
 def test_objects_holding_fcl_geometry_plan_on_every_worker(tmp_path, cluster):

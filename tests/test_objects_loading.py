@@ -628,6 +628,17 @@ def test_a_speck_of_debris_far_from_the_object_is_dropped_with_a_warning(tmp_pat
     assert not any("debris" in str(w.message) for w in record)
 
 
+def test_an_open_part_with_depth_on_the_object_is_kept():
+    """A knob modelled as an open cap (no base) on a box's top: small and open, but not flat, and on the box: part
+    of the object (kept, its rim capped), not a sheet beside it."""
+    ball = trimesh.creation.icosphere(subdivisions=2, radius=4.0)
+    cap = trimesh.Trimesh(ball.vertices, ball.faces[ball.triangles_center[:, 2] > 0.0]).apply_translation([0, 0, 30.0])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        obj = so.from_mesh(trimesh.util.concatenate([trimesh.creation.box((60.0, 60.0, 60.0)), cap]), cache=False)
+    assert obj.mesh.bounds[1, 2] == pytest.approx(34.0, abs=0.1) and not any("debris" in str(w.message) for w in caught)
+
+
 @pytest.mark.parametrize("offset", [0.0, 0.5, 300.0])
 def test_an_open_sheet_beside_the_object_is_debris_and_said_to_be_so(offset):
     """A 200 mm ground plane the box stands on (its corners and face centres are over 30 mm from the box), a label
@@ -640,7 +651,7 @@ def test_an_open_sheet_beside_the_object_is_debris_and_said_to_be_so(offset):
         sheet = trimesh.Trimesh([[30.5, -10.0, -15.0], [30.5, 10.0, -15.0], [30.5, 10.0, 15.0], [30.5, -10.0, 15.0]],
                                 [[0, 1, 2], [0, 2, 3]])
     with pytest.warns(UserWarning, match=rf"box: 1 loose fragment\(s\) dropped as debris \(2 faces \d+ mm across, open, "
-                                         rf"{offset:g} mm from the rest\).*or is open and encloses nothing") as record:
+                                         rf"{offset:g} mm from the rest\).*or is a flat open sheet") as record:
         obj = so.from_mesh(trimesh.util.concatenate([box, sheet]), name="box", cache=False)
     assert obj.extents == pytest.approx([60.0, 40.0, 80.0]) and obj.info["method"] == "hull"
     assert not any("hole(s) capped" in str(w.message) for w in record)

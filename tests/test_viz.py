@@ -83,10 +83,12 @@ def test_status_rows_of_renamed_fingers_get_their_fingers_colours(short_plan):
 
     result, _ = short_plan
     paper, renamed = ["T0", "I0", "M0", "R0", "L0"], ["thumb0", "index0", "middle0", "ring0", "little0"]
+    numbered = ["f10", "f20", "f30", "f40", "f50"]  # fingers f1 ... f5: the phalanx is the label's last digit
     colours = []
-    for labels in (paper, renamed):
+    for labels in (paper, renamed, numbered):
         fig = viz.status_figure(result, labels=labels)
         colours.append([mcolors.to_hex(line.get_color()) for line in fig.axes[0].get_lines()[:5]])
         plt.close(fig)
-    assert colours[0] == colours[1] and len(set(colours[1])) == 5
-    assert viz._finger_and_phalanx("index finger12") == ("index finger", 12) and viz._finger_and_phalanx("P") == ("P", None)
+    assert colours[0] == colours[1] == colours[2] and len(set(colours[1])) == 5
+    assert viz._finger_and_phalanx("index finger2") == ("index finger", 2) and viz._finger_and_phalanx("P") == ("P", None)
+    assert viz._finger_and_phalanx("f12") == ("f1", 2)

@@ -225,7 +225,7 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
         rows, unreadable = store.scan()
         for path in unreadable:
             os.replace(path, path.with_name(path.name + ".unreadable"))
-        _check_same_objects(store, rows, tasks, scale)
+        _check_same_objects(store, rows, tasks, scale, (options or {}).get("hand"))
         done = {(r["object"], r["grasp"]): r for r in rows if r["status"] == "planned" or not retry_failed}
         wanted = None
         if validate is not None:
@@ -246,8 +246,8 @@ def run(objects, grasps=("precision",), out="batch-out", *, workers=None, schedu
             many = len(builtins) > 1
             raise ValueError(f"scale applies to object files; the built-in object{'s' * many} "
                              f"{', '.join(map(repr, builtins))} {'are' if many else 'is'} in millimetres already: "
-                             f"plan {'them' if many else 'it'} in a run of {'their' if many else 'its'} own, without "
-                             "scale=")
+                             f"plan {'them' if many else 'it'} in a run of {'their' if many else 'its'} own, at "
+                             "scale 1")
         report = BatchReport(Path(out), len(tasks), len(tasks) - len(todo), unreadable=unreadable)
         try:
             if todo:
@@ -305,14 +305,26 @@ def _check_settings(tasks, backend, options, time_limit, scale, workers, schedul
         raise ValueError(f"the planner rejects the options {options!r}: {exc}") from None
 
 
-def _check_same_objects(store, rows, tasks, scale):
-    """Refuse a run whose objects already have plans in ``store`` made of another file or at another scale.
+def _check_same_objects(store, rows, tasks, scale, hand=None):
+    """Refuse a run whose objects already have plans in ``store`` made of another file, at another scale or with
+    another hand (``hand``; None: the paper's).
 
     Their plans would be taken for this run's (or kept beside new ones at this
-    scale), and ``object.json`` (which `synergrasp report` loads the object by)
-    would name only one of them. A recorded file that no longer exists (a
-    folder moved since) is not compared. The built-ins take no scale.
+    scale, or of this hand), and ``object.json`` (which `synergrasp report`
+    loads the object by) would name only one of them. A recorded file that no
+    longer exists (a folder moved since) is not compared. The built-ins take
+    no scale.
     """
+    from ..hand import SynergyHand
+
+    hand = SynergyHand.default() if hand is None else hand
+    for row in {r["object"]: r for r in rows if r["status"] == "planned"}.values():  # one plan of each object
+        made_with = PlanResult.load(store.out / row["file"]).hand
+        if not hand.made(made_with):
+            raise ValueError(
+                f"the plans of '{row['object']}' in '{store.out}' were made with hand {made_with!r}, and this run plans "
+                f"with {hand.identity!r}: pass that hand (--hand FILE) to go on with them, or write to another output "
+                "folder")
     planned = {r["object"] for r in rows if r["status"] == "planned"}
     for task in tasks:
         key = task.key
@@ -447,9 +459,10 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
         workers = min(workers or os.cpu_count() or 1, len(todo))
     futures, token, client, cluster, bar = {}, uuid.uuid4().hex[:8], None, None, None
     counts = dict.fromkeys(("grasps", "no grasp", "failed"), 0)
-    interrupted, arm, restore = _note_interrupts()  # a Ctrl-C while the cluster starts stops the run once it is up
+    interrupted, arm, restore = _note_interrupts()  # a Ctrl-C while a local cluster starts stops the run once it is up
     try:
         start = time.perf_counter()
+        arm(scheduler is not None)  # (waiting for a remote scheduler's workers stops at once: it makes no cluster)
         client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
         report.startup_s = time.perf_counter() - start
         bar = tqdm(total=len(todo), unit="plan", desc="batch", disable=not progress, dynamic_ncols=True)
@@ -489,15 +502,17 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
         report.interrupted = True
     finally:
         arm(False)  # a further Ctrl-C while the cluster closes is noted, not raised: the close completes
-        if bar is not None:
-            bar.close()
-        if futures:
-            client.cancel(list(futures))
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
-        restore()
+        try:
+            if bar is not None:
+                bar.close()
+            if futures:
+                client.cancel(list(futures))
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()
+        finally:
+            restore()
     if report.interrupted:
         raise BatchInterrupted(report)  # run() rebuilds the summary table on the way out
 

@@ -204,7 +204,19 @@ class ResultStore:
         return validation.save(self.validation_path(key, grasp))
 
     def validation_protocol(self, key: str, grasp: str) -> dict | None:
-        """The protocol settings task (``key``, ``grasp``) was validated with (None if it was not, or unreadably)."""
+        """The protocol settings task (``key``, ``grasp``) was validated with.
+
+        Parameters
+        ----------
+        key, grasp : str
+            The task.
+
+        Returns
+        -------
+        dict or None
+            The validation file's ``protocol`` (`synergrasp.physics.Validation.protocol`), or None if the task
+            was not validated or its file cannot be read.
+        """
         from ..physics.result import Validation
 
         try:

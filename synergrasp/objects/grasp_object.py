@@ -295,7 +295,8 @@ class GraspObject:
     def width(self) -> float:
         """An upper bound of the object's smallest width (mm): its least extent along its hull's normals.
 
-        Measured on the object's own surface, its mesh's vertices (else its
+        Measured on the object's own surface, the vertices of `surface` (its
+        mesh, simplified to within `SURFACE_TOLERANCE` when large; else its
         surface points, else its pieces' vertices): the pieces of a concave
         object can stick out of it by a few mm (a pot with a handle, 158 mm
         across, read 161 mm on its pieces). Taken along the facet normals of
@@ -320,7 +321,7 @@ class GraspObject:
         if self.mesh is None and self.points is None:
             vertices, planes = np.vstack(self.pieces), self.hull_planes
         else:
-            vertices = np.asarray(self.mesh.vertices if self.mesh is not None else self.points, dtype=float)
+            vertices = np.asarray(self.surface.vertices if self.mesh is not None else self.points, dtype=float)
             planes = ConvexPiece(vertices, name=f"{self.name} surface hull", max_vertices=128).planes
         directions = np.vstack([planes[:, :3], np.eye(3)])
         return float(min(np.ptp(vertices @ block.T, axis=0).min()

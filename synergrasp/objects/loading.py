@@ -388,8 +388,8 @@ def _from_mesh(
                           + ("open" if d["open"] else "closed") + f", {d['distance'] * scale:.3g} mm from the rest"
                           for d in debris[:3]) + (", ..." if len(debris) > 3 else "")
               + f"): each has at most {DEBRIS_FRACTION:.1%} of the largest part's volume and either lies more than "
-              f"{PART_GAP:g} mm from the rest, where it would make the object larger than it is, or is open and "
-              "encloses nothing (a ground plane, a label, a stray triangle), where its edges would be capped as holes. "
+              f"{PART_GAP:g} mm from the rest, where it would make the object larger than it is, or is a flat open "
+              "sheet (a ground plane, a label, a stray triangle), where its edges would be capped as holes. "
               "To keep them, set synergrasp.objects.loading.DEBRIS_FRACTION = 0")
     given_scale = scale
     if _scaled_first(vertices, scale):

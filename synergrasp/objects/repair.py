@@ -317,10 +317,11 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
     part has none). A small part is debris when its surface comes no nearer
     than ``gap`` to the surface of the parts that are not small (a speck or a
     stray triangle of a scan, which would make the object larger than it is
-    and its decomposition coarser), or when it is open (no closed surface: a
-    ground plane, a label or a stray triangle, which encloses nothing and
-    whose edges would be capped as holes of the object). A small closed
-    part near the rest (a knob, a button) is kept.
+    and its decomposition coarser), or when it is flat and open (a ground
+    plane, a label or a stray triangle, which encloses nothing and whose
+    edges would be capped as holes of the object). A small part near the
+    rest that is closed or has some depth (a knob, a button, a knob's open
+    cap) is kept.
 
     Parameters
     ----------
@@ -339,7 +340,8 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
     dropped : list of dict
         Per part dropped: ``faces`` (its number of faces), ``size`` (its
         largest bounding-box side), ``distance`` (from the rest's surface;
-        mesh units) and ``open`` (whether it encloses nothing).
+        mesh units) and ``open`` (whether it encloses nothing: a flat sheet,
+        when it lies within ``gap``).
 
     Examples
     --------
@@ -393,7 +395,7 @@ def drop_debris(mesh: trimesh.Trimesh, fraction: float, gap: float):
             if len(close):
                 distance = min(distance, float(trimesh.proximity.closest_point(piece, close)[1].min()))
         is_open = not piece.is_watertight
-        if distance > gap or is_open:
+        if distance > gap or (is_open and volume[parts == part][0] <= 0.0):
             dropped.append({"faces": int(mine.sum()), "size": float(np.ptp(near, axis=0).max()), "distance": distance,
                             "open": is_open})
         else:
