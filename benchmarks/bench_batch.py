@@ -150,7 +150,8 @@ def loop_cost(quick, out, trim):
     if trim is not None:
         env["MALLOC_TRIM_THRESHOLD_"] = str(trim)
     shutil.rmtree(out, ignore_errors=True)
-    done = subprocess.run([sys.executable, __file__, "--loop-cost", str(out), *(["--quick"] if quick else [])],
+    done = subprocess.run([sys.executable, __file__, "--loop-cost", str(out), "--out", str(Path(out).parent),  # (not
+                           *(["--quick"] if quick else [])],  # the default --out, which argparse would create)
                           env=env, capture_output=True, text=True, check=True)
     return json.loads(done.stdout.strip().splitlines()[-1])
 

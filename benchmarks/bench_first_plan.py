@@ -26,6 +26,7 @@ import tempfile
 from pathlib import Path
 
 from synergrasp.cli import output_folder
+from synergrasp.objects import BUILTINS
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -61,8 +62,9 @@ def run(cache: str, obj: str, grasp: str, max_iter: int) -> dict:
 def main(argv=None) -> dict:
     """Run both processes; returns ``{"max_iter", "cold", "warm", "cache_files"}`` (times: [wall s, CPU s])."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--object", default="ellipsoid")
-    parser.add_argument("--grasp", default="precision", choices=["precision", "power"])
+    parser.add_argument("--object", default="ellipsoid", choices=sorted(BUILTINS),
+                        help="the built-in object planned (default ellipsoid)")
+    parser.add_argument("--grasp", default="precision", choices=["precision", "power"], help="grasp type (default precision)")
     parser.add_argument("--quick", action="store_true", help="plans capped at 3 iterations")
     parser.add_argument("--out", type=output_folder, default="bench-out", help="output folder (default ./bench-out)")
     args = parser.parse_args(argv)

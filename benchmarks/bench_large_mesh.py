@@ -91,6 +91,8 @@ def main(argv=None) -> dict:
     args = parser.parse_args(argv)
     if args.open and args.mesh is not None:
         parser.error("--open removes faces of the generated torus: it does not take --mesh")
+    if args.mesh is not None and not args.mesh.is_file():
+        parser.error(f"--mesh {args.mesh} is not a file: name a mesh file")
     with tempfile.TemporaryDirectory() as folder:
         if args.mesh is not None:
             path = args.mesh

@@ -23,6 +23,7 @@ import numpy as np
 import trimesh
 
 import synergrasp.objects as so
+from synergrasp.cli import backend
 
 
 def hand_like_points(obj, n=16, gap=(0.0, 40.0), seed=0):
@@ -69,7 +70,7 @@ def torus_mesh(target_faces=10_000):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--backend", default="native")
+    parser.add_argument("--backend", type=backend, default="native", help="LP backend (default native)")
     parser.add_argument("--quick", action="store_true", help="fewer repetitions, skip the mesh loads")
     args = parser.parse_args()
     repeat = 30 if args.quick else 300

@@ -19,14 +19,14 @@ import warnings
 import numpy as np
 
 import synergrasp as sg
-from synergrasp.cli import positive
+from synergrasp.cli import backend, positive
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=positive(int), default=5)
     parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
-    parser.add_argument("--backend", default="native")
+    parser.add_argument("--backend", type=backend, default="native", help="LP backend (default native)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]

@@ -95,6 +95,9 @@ def main(argv=None):
     groups = {"meshes": mesh_files(MESHES, 1.0), "shapes": household_objects()}
     if args.meshes:
         groups[str(args.meshes)] = mesh_files(args.meshes, args.scale)
+    unknown = sorted(set(args.only or ()) - {name for objects in groups.values() for name in objects})
+    if unknown:
+        parser.error(f"--only names objects the benchmark does not hold: {unknown}")
     grasps = ["precision", "power"] if args.grasp == "both" else [args.grasp]
     rows = []
     for group, objects in groups.items():

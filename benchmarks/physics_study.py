@@ -57,7 +57,7 @@ import numpy as np
 import synergrasp as sg
 from synergrasp.cli import output_folder, positive, write_between_markers
 from synergrasp.planner import ObjectRefused
-from generalise import planner_options
+from generalise import check_options, planner_options
 from household import MESHES, household_objects, mesh_files
 from verification import verify
 from synergrasp.physics import ball_pinch, hand_without, pinch_grasp
@@ -381,8 +381,11 @@ def main(argv=None):
     parser.add_argument("--docs", action="store_true",
                         help=f"write {PAGE.relative_to(ROOT)}, its figures and the README's physics lines")
     args = parser.parse_args(argv)
-    options = planner_options(args.option)
-    sg.planner.PlannerOptions(**options)  # a bad option fails here, before any work
+    try:
+        options = planner_options(args.option)
+        check_options(options)  # a bad option fails here, before any work
+    except (TypeError, ValueError) as exc:
+        parser.error(str(exc))
     if args.docs and options:
         parser.error("--docs writes the study of the default planner: drop --option")
     warnings.simplefilter("ignore")

@@ -37,7 +37,7 @@ sys.path.insert(0, str(HERE))
 
 import synergrasp as sg  # noqa: E402
 from synergrasp.cli import positive  # noqa: E402
-from generalise import placed, planner_options  # noqa: E402
+from generalise import check_options, placed, planner_options  # noqa: E402
 from verification import verify  # noqa: E402
 from objectset import SPLITS, select  # noqa: E402
 from synergrasp.planner import PlannerOptions, run_attempt, starts  # noqa: E402
@@ -80,7 +80,7 @@ def main(argv=None):
                      f"give a file in it, e.g. {args.out / 'attempts.jsonl'}")
     try:
         options = planner_options(args.option)
-        PlannerOptions(**options)  # a bad option fails here, before any work
+        check_options(options)  # a bad option fails here, before any work
         names = [e.name for e in select(args.split, args.only)]
     except (TypeError, ValueError) as exc:
         parser.error(str(exc))

@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from synergrasp.cli import output_folder, positive
+from synergrasp.cli import backend, output_folder, positive
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The committed results (written with --docs).
@@ -301,7 +301,7 @@ def main(argv=None):
     parser.add_argument("--out", type=output_folder, default=None,
                         help=f"output folder (default ./{DEFAULT_OUT}, with --quick ./{DEFAULT_OUT}-quick)")
     parser.add_argument("--docs", action="store_true", help="write the committed results in solvers/results")
-    parser.add_argument("--backend", default="native",
+    parser.add_argument("--backend", type=backend, default="native",
                         help="LP backend (default native, the library's; the baseline without it uses highs)")
     parser.add_argument("--baseline-ref", default=BASELINE_REF)
     parser.add_argument("--repeats", type=positive(int), default=3, help="timed plans per case and round")

@@ -58,6 +58,17 @@ def positive(kind):
     return parse
 
 
+def backend(text):
+    """An argparse type: the name of an installed LP backend (`synergrasp.lp.available_backends`)."""
+    from .lp import get_backend
+
+    try:
+        get_backend(text)
+    except (ValueError, TypeError, ImportError) as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    return text
+
+
 def output_folder(text):
     """An argparse type: a folder to write in, created if needed; a clear usage error if it cannot be.
 

@@ -533,7 +533,7 @@ API = [
          ValueError, "field 'fingers[1].joints[0].axis' must not be along the link"),
     Case("SynergyHand", "a synergy entry of 1e10 (LinAlgError in the planner's step)",
          lambda tmp: sg.SynergyHand(_with_synergy(2, 1, 1e10)), ValueError,
-         "field 'synergies[2][1]' moves joint 'I_mcp' by 1e+10 rad over synergy 2's range [-1.0, 1.0], more than 12.6 rad"),
+         "moves joint 'I_mcp' by 1e+10 rad over synergy 2's range [-1.0, 1.0], more than 12.6 rad"),
     Case("SynergyHand", "a link of 1e100 mm (the cP LP failed)", lambda tmp: sg.SynergyHand(_with_joint_field("length", 1e100)),
          ValueError, "field 'fingers[1].joints[0].length' must be at most 2000 mm in size (a hand's span), got 1e+100"),
     Case("SynergyHand", "a coupling of 1e10 (blamed on a path the user never gave)",
