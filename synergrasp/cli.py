@@ -216,6 +216,23 @@ def add_unit_options(parser):
                        help="the file's length unit (m: --scale 1000, cm: --scale 10; default mm)")
 
 
+def hand_from_args(args):
+    """The hand of a command's ``--hand FILE`` (`SynergyHand.from_file`), or the paper's without it.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        With ``hand`` (a path or None).
+
+    Returns
+    -------
+    SynergyHand
+    """
+    from .hand import SynergyHand
+
+    return SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
+
+
 def object_from_args(args):
     """The object of ``--object``, scaled by ``--scale`` or ``--units`` (files only).
 
@@ -252,13 +269,12 @@ def _plan(args) -> int:
 
     from . import viz
     from ._files import writable_folder
-    from .hand import SynergyHand
     from .lp import get_backend
     from .planner import clock, plan
 
     out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
     get_backend(args.backend)
-    hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
+    hand = hand_from_args(args)
     obj = object_from_args(args)
     bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
                bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
@@ -277,7 +293,8 @@ def _plan(args) -> int:
         bar.close()
     compiling = (time.perf_counter() - wall) - (clock() - search)  # numba's, once after an install
     stem = output_stem(args.object, args.grasp)
-    files = [result.save(out / f"{stem}.json"), viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
+    files = [result.save(out / f"{stem}.json"),
+             viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
     if not args.no_animation:
         files += [viz.animate(result, obj, hand, out / f"{stem}_reach.gif"),

@@ -6,7 +6,7 @@ import signal
 import sys
 import threading
 
-from ..cli import UNITS, command_line_hint, positive
+from ..cli import UNITS, command_line_hint, hand_from_args, positive
 from ..hand import POINT_KINDS
 
 #: Failed tasks whose reasons `_batch` prints (the rest are in summary.csv).
@@ -90,11 +90,9 @@ def _interrupt(signum, frame):
 def _batch(args) -> int:
     from .runner import BatchInterrupted, run
 
-    from ..hand import SynergyHand
-
     options = {} if args.max_iter is None else {"max_iter": args.max_iter}
     if args.hand is not None:
-        options["hand"] = SynergyHand.from_file(args.hand)
+        options["hand"] = hand_from_args(args)
     options = options or None
     scale = args.scale if args.scale is not None else UNITS[args.units] if args.units is not None else 1.0
     main_thread = threading.current_thread() is threading.main_thread()
@@ -136,9 +134,7 @@ def _print_failures(report) -> None:
 
 
 def _report(args) -> int:
-    from ..hand import SynergyHand
     from .report import write_report
 
-    hand = None if args.hand is None else SynergyHand.from_file(args.hand)
-    print(f"wrote {write_report(args.dir, gallery=args.gallery, hand=hand)}")
+    print(f"wrote {write_report(args.dir, gallery=args.gallery, hand=hand_from_args(args))}")
     return 0

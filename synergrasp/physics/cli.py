@@ -6,7 +6,7 @@ import os
 import sys
 from pathlib import Path
 
-from ..cli import add_unit_options, object_from_args, output_stem
+from ..cli import add_unit_options, hand_from_args, object_from_args, output_stem
 from .protocol import PRESETS
 
 __all__ = ["add_validate_parser"]
@@ -55,8 +55,6 @@ def add_validate_parser(subparsers):
 def _validate(args) -> int:
     if sys.platform.startswith("linux"):  # offscreen rendering without a display, if mujoco is not imported yet
         os.environ.setdefault("MUJOCO_GL", "egl")
-    from .. import objects
-    from ..hand import SynergyHand
     from ..planner import PlanResult
     from .figure import RenderingUnavailable, plot_validation, render_still
     from .validate import validate
@@ -66,7 +64,7 @@ def _validate(args) -> int:
     out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
     result = PlanResult.load(args.result)
     obj = object_from_args(args)
-    hand = SynergyHand.default() if args.hand is None else SynergyHand.from_file(args.hand)
+    hand = hand_from_args(args)
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
     stem, own = output_stem(args.object, result.grasp), Path(args.result).stem
