@@ -82,7 +82,8 @@ def main(argv=None) -> dict:
     parser.add_argument("--faces", type=positive(int), default=330_000, help="triangles of the generated torus (default 330000)")
     parser.add_argument("--mesh", type=Path, help="a mesh file to measure instead of the torus")
     parser.add_argument("--scale", type=positive(float), default=1.0, help="scale of --mesh to mm (1000 for metres)")
-    parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
+    parser.add_argument("--grasp", choices=["precision", "power"], default="precision",
+                        help="grasp type to plan (default precision)")
     parser.add_argument("--open", action="store_true",
                         help="two faces of the torus removed, touching at a vertex (an open scan that can be neither "
                         "capped nor simplified)")

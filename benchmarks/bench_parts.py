@@ -114,7 +114,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--stride", type=positive(int), default=6, help="every N-th train object")
     parser.add_argument("--repeats", type=positive(int), default=3, help="passes; the smallest time is kept")
-    parser.add_argument("--out", type=output_folder, default="bench-out/parts")
+    parser.add_argument("--out", type=output_folder, default="bench-out/parts",
+                        help="output folder for parts.csv (default bench-out/parts)")
     parser.add_argument("--quick", action="store_true", help="three objects, one pass (the test suite)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

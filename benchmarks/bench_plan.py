@@ -24,8 +24,10 @@ from synergrasp.cli import backend, positive
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=positive(int), default=5)
-    parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
+    parser.add_argument("--repeats", type=positive(int), default=5,
+                        help="plans per object and grasp type; the median time is reported (default 5)")
+    parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both",
+                        help="grasp type(s) to plan (default both)")
     parser.add_argument("--backend", type=backend, default="native", help="LP backend (default native)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

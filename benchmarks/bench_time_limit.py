@@ -40,7 +40,8 @@ def overrun(obj, grasp, limit):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--repeats", type=positive(int), default=3)
+    parser.add_argument("--repeats", type=positive(int), default=3,
+                        help="plans per object, grasp type and time limit (default 3)")
     parser.add_argument("--quick", action="store_true", help="one plan (the tests run it)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

@@ -279,7 +279,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--subset", type=positive(int), help="only N test objects, evenly spaced in the split's order")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="case names or prefixes (paper/, household/...)")
-    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
+    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"],
+                        help="grasp types to plan (default both)")
     parser.add_argument("--no-physics", action="store_true", help="skip the MuJoCo test of the verified grasps")
     parser.add_argument("--out", type=output_folder, default="bench-out/compare_planners", help="folder of the rows")
     parser.add_argument("--docs", action="store_true", help=f"write {PAGE.relative_to(ROOT)} and its figure")

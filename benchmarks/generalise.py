@@ -258,8 +258,10 @@ def _literal(text):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--split", default="test", choices=SPLITS + ("all",))
-    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
+    parser.add_argument("--split", default="test", choices=SPLITS + ("all",),
+                        help="split of objectset.py to plan; all: train and test (default test)")
+    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"],
+                        help="grasp types to plan (default both)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes (e.g. urdf/)")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")
     parser.add_argument("--runs", type=positive(int), default=1, help="plan every object this many times (a median count)")

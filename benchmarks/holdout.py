@@ -109,7 +109,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--count", type=positive(int), default=40, help="objects drawn")
     parser.add_argument("--size", type=positive(float), default=100.0, help="largest extent (mm)")
-    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"])
+    parser.add_argument("--grasp", nargs="+", default=["precision", "power"], choices=["precision", "power"],
+                        help="grasp types to plan")
     parser.add_argument("--wheel", type=Path, help="the pybullet wheel (default: downloaded into --out)")
     parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes")
     parser.add_argument("--out", type=output_folder, default="bench-out/holdout", help="folder of the rows")

@@ -83,7 +83,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--meshes", type=Path, help="a folder of mesh or point-cloud files to add")
     parser.add_argument("--scale", type=positive(float), default=1.0, help="scale of the files in --meshes (1000 for metres)")
-    parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both")
+    parser.add_argument("--grasp", choices=["precision", "power", "both"], default="both",
+                        help="grasp type(s) to plan (default both)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="plan only these objects")
     parser.add_argument("--docs", action="store_true",
                         help=f"write the table to {PAGE.relative_to(ROOT)}, the galleries to {FIGURES.relative_to(ROOT)} "

@@ -343,7 +343,8 @@ def select(split="all", only=None, urdf_sizes=URDF_SIZES) -> list[Entry]:
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--split", default="all", choices=SPLITS + ("all",))
+    parser.add_argument("--split", default="all", choices=SPLITS + ("all",),
+                        help="split to list; all: train and test (default all)")
     parser.add_argument("--build", action="store_true", help="build every object (fills the decomposition cache)")
     args = parser.parse_args(argv)
     entries = select(args.split)

@@ -73,11 +73,13 @@ def measure(points, noise, rng):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--split", choices=["train", "test"], default="train")
+    parser.add_argument("--split", choices=["train", "test"], default="train",
+                        help="split of objectset.py (default train)")
     parser.add_argument("--stride", type=positive(int), default=3, help="every N-th object of the split")
     parser.add_argument("--views", type=int, default=3, help="camera views per object")
     parser.add_argument("--noise", type=float, default=0.0, help="Gaussian noise (mm) added to every coordinate")
-    parser.add_argument("--out", type=output_folder, default="bench-out/one_sided")
+    parser.add_argument("--out", type=output_folder, default="bench-out/one_sided",
+                        help="folder of the rows (default bench-out/one_sided)")
     parser.add_argument("--quick", action="store_true", help="the first object, one view (the test suite)")
     args = parser.parse_args(argv)
     if args.views < 0 or not args.noise >= 0:

@@ -122,7 +122,8 @@ def main(argv=None):
     parser.add_argument("--grid", type=positive(int), default=9, help="synergy values per synergy")
     parser.add_argument("--samples", type=positive(int), default=32, help="surface points")
     parser.add_argument("--rolls", type=positive(int), default=12, help="rolls of the palm about each normal")
-    parser.add_argument("--out", type=output_folder, default="bench-out/power_reach")
+    parser.add_argument("--out", type=output_folder, default="bench-out/power_reach",
+                        help="folder of power_reach.csv")
     parser.add_argument("--quick", action="store_true", help="a 30 mm ball and the paper's cup, coarser")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")  # the loader's notes on each mesh

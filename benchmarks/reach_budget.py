@@ -34,11 +34,15 @@ from synergrasp.planner import ObjectRefused, executable_reach  # noqa: E402
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--split", default="train", choices=SPLITS + ("all",))
-    parser.add_argument("--grasp", default="power", choices=["precision", "power"])
-    parser.add_argument("--budgets", nargs="+", type=positive(int), default=[12, 24, 40])
+    parser.add_argument("--split", default="train", choices=SPLITS + ("all",),
+                        help="split of objectset.py to plan; all: train and test")
+    parser.add_argument("--grasp", default="power", choices=["precision", "power"],
+                        help="grasp type to plan")
+    parser.add_argument("--budgets", nargs="+", type=positive(int), default=[12, 24, 40],
+                        help="budgets (candidate approaches); each accepted grasp's reach is made with each")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
-    parser.add_argument("--out", type=output_folder, default="bench-out/reach_budget")
+    parser.add_argument("--out", type=output_folder, default="bench-out/reach_budget",
+                        help="folder of the rows")
     args = parser.parse_args(argv)
     try:
         entries = select(args.split, args.only)

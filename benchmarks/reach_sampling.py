@@ -112,3 +112,7 @@ def sampled_clearance(hand, mesh, u, spacing=0.5, band=20.0):
                                 geo.palm_half_extents, spacing)
     out[out >= band] = np.inf  # a shape's nearest point may lie outside the band: only smaller values are exact
     return out
+
+
+if __name__ == "__main__":
+    raise SystemExit(f"{__file__} is a helper module, not a script: bench_reach.py and verification.py import it")

@@ -29,8 +29,12 @@ from physics_study import GRASPS, VARIANTS, case_folder, object_sets, variant_fi
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("folder", type=Path, help="the --out folder of a physics_study.py run")
-    parser.add_argument("--set", nargs="+", choices=["paper", "household", "test"], default=["paper", "household", "test"])
-    parser.add_argument("--variants", nargs="+", choices=sorted(VARIANTS), default=["synergrasp", "dexgraspbench"])
+    parser.add_argument("--set", nargs="+", choices=["paper", "household", "test"],
+                        default=["paper", "household", "test"],
+                        help="object sets of the study whose saved plans are validated again")
+    parser.add_argument("--variants", nargs="+", choices=sorted(VARIANTS),
+                        default=["synergrasp", "dexgraspbench"],
+                        help="the study's validations to run again (physics_study.VARIANTS)")
     args = parser.parse_args(argv)
     if not args.folder.is_dir():
         parser.error(f"{args.folder} is not a folder: name the --out folder of a physics_study.py run")

@@ -64,8 +64,9 @@ def run_object(name, grasp, count, options, posed=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--split", default="train", choices=SPLITS + ("all",))
-    parser.add_argument("--grasp", choices=["precision", "power"], default="precision")
+    parser.add_argument("--split", default="train", choices=SPLITS + ("all",),
+                        help="split of objectset.py; all: train and test")
+    parser.add_argument("--grasp", choices=["precision", "power"], default="precision", help="grasp type")
     parser.add_argument("--starts", type=positive(int), default=4, help="starts per object (the planner's first K)")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
     parser.add_argument("--option", nargs="+", default=[], metavar="NAME=VALUE", help="planner options")

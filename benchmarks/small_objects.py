@@ -37,10 +37,15 @@ SHAPES = {
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", nargs="+", type=positive(float), default=[20.0, 30.0, 40.0, 50.0])
-    parser.add_argument("--shapes", nargs="+", choices=sorted(SHAPES), default=["sphere", "cube", "cylinder"])
-    parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"])
-    parser.add_argument("--out", type=output_folder, default="bench-out/small_objects")
+    parser.add_argument("--sizes", nargs="+", type=positive(float), default=[20.0, 30.0, 40.0, 50.0],
+                        help="sizes (mm): the sphere's and cylinder's diameter, the cube's side")
+    parser.add_argument("--shapes", nargs="+", choices=sorted(SHAPES),
+                        default=["sphere", "cube", "cylinder"],
+                        help="shapes to plan (a cylinder is three diameters long)")
+    parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"],
+                        help="grasp types to plan")
+    parser.add_argument("--out", type=output_folder, default="bench-out/small_objects",
+                        help="folder of small_objects.jsonl")
     parser.add_argument("--quick", action="store_true", help="the 50 mm sphere's precision grasp only")
     args = parser.parse_args(argv)
     if args.quick:

@@ -59,7 +59,8 @@ def main(argv=None):
                         help="seconds per plan (default 30 on the paper's cases, 10 on a split)")
     parser.add_argument("--quick", action="store_true", help="the ellipsoid's power grasp only")
     parser.add_argument("--split", choices=SPLITS, help="the benchmark's split instead")
-    parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"])
+    parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"],
+                        help="grasp types to plan (the paper's cases or the split's)")
     parser.add_argument("--jobs", type=positive(int), default=1, help="worker processes (with --split)")
     args = parser.parse_args(argv)
     warnings.simplefilter("ignore")

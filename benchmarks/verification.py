@@ -66,3 +66,8 @@ def verify(result, obj, hand=None):
     out.update(gap=float(gap.max()), q_true=float(q_true), closed=closed, depth=depth, palm_depth=palm_depth)
     out["verified"] = closed and out["gap"] <= GAP and max(depth, palm_depth) <= DEPTH
     return out
+
+
+if __name__ == "__main__":
+    raise SystemExit(f"{__file__} is a helper module, not a script: compare_planners.py, generalise.py, "
+                     "household.py, physics_study.py and single_attempts.py import it")

@@ -296,9 +296,15 @@ def _plan(args) -> int:
     files = [result.save(out / f"{stem}.json"),
              viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
+    animation = [out / f"{stem}_reach.gif", out / f"{stem}_grasp.html"]
     if not args.no_animation:
-        files += [viz.animate(result, obj, hand, out / f"{stem}_reach.gif"),
-                  viz.write_html(obj, hand, result.u, out / f"{stem}_grasp.html")]
+        files += [viz.animate(result, obj, hand, animation[0]), viz.write_html(obj, hand, result.u, animation[1])]
+    else:  # an earlier run's animation beside this run's files would show another plan
+        stale = [f for f in animation if f.is_file()]
+        for f in stale:
+            f.unlink()
+        if stale:
+            print(f"removed an earlier run's {', '.join(f.name for f in stale)} (--no-animation)", file=sys.stderr)
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
     q = "-" if result.final_q != result.final_q else f"{result.final_q:+.4f}"
     print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {q}, "

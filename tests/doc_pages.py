@@ -69,6 +69,8 @@ def cli_reference() -> str:
         "| `NAME_GRASP_poses.png` | the hand at several iterations around the object, with a legend of the fingers |",
         "| `NAME_GRASP_reach.gif` | the reach, animated (not with `--no-animation`) |",
         "| `NAME_GRASP_grasp.html` | an interactive 3-D view of the final grasp (not with `--no-animation`) |", "",
+        "With `--no-animation` an earlier run's GIF and HTML page of the same name are removed: they would show "
+        "another plan.", "",
         "The output folder is created and checked for writing before planning starts. Each file is written to a "
         "temporary file in the same folder and then renamed, so an interrupted or failed write leaves no partial file.", "",
         "## Units", "",

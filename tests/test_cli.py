@@ -34,6 +34,15 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
         assert (tmp_path / name).stat().st_size > 10_000
 
 
+def test_plan_without_animation_removes_an_earlier_runs_animation(tmp_path, capsys):
+    stale = [tmp_path / "ellipsoid_precision_reach.gif", tmp_path / "ellipsoid_precision_grasp.html"]
+    for f in stale:
+        f.write_text("an earlier plan")
+    assert main(["plan", "--object", "ellipsoid", "--out", str(tmp_path), "--quiet", "--no-animation"]) == 0
+    assert not any(f.exists() for f in stale)
+    assert "removed an earlier run's ellipsoid_precision_reach.gif, ellipsoid_precision_grasp.html" in capsys.readouterr().err
+
+
 def test_plan_says_how_long_the_kernels_compiled(tmp_path, capsys, monkeypatch):
     """The first plan after an install spends seconds in numba's compilation: the output says how many (here a
     clock, perf_counter less the compilation, that lost 5 s during the plan)."""

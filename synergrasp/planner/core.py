@@ -76,6 +76,19 @@ def _pinch_words(hand):
     return f"the {first} and the {second} and {third} fingertips"
 
 
+def _thinnest_pinch(hand, opts):
+    """The thinnest object (mm) a pinch can hold: `smallest_pinch` less the contact band's far edge on either side.
+
+    Returns
+    -------
+    thinnest, pinch, band : float
+        It, the smallest pinch, and ``opts.contact_band[1]`` (the farthest
+        from the surface the steering brings a pad).
+    """
+    pinch, band = smallest_pinch(hand), opts.contact_band[1]  # (the first computes once per hand: ~0.2 s)
+    return pinch - 2.0 * band, pinch, band
+
+
 class ObjectRefused(ValueError):
     """The hand cannot hold the object (too large for its opening, too thin or too small for its fingertips): `plan`
     refuses it before any attempt, with the measured reason. A `ValueError`, so that a bad argument and a refused
@@ -237,8 +250,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         preshape(hand, opts.power_wide_preshape), preshape(hand, opts.power_preshape)  # checked before planning
     obj = _check_object(obj, hand)
     if grasp == "precision" and method == "gradient" and obj.size < objects.loading.SIZE_RANGE[0]:
-        pinch, band = smallest_pinch(hand), opts.contact_band[1]  # (the first computes once per hand: ~0.2 s)
-        if obj.size < pinch - 2.0 * band:
+        thinnest, pinch, band = _thinnest_pinch(hand, opts)
+        if obj.size < thinnest:
             raise ObjectRefused(
                 f"{obj.name} is too small for a pinch: it is at most {obj.size:.3g} mm across, while "
                 f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm apart, and a pad must come within "
@@ -417,7 +430,7 @@ def _failure(attempts, grasp, hand, obj, opts):
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
     reason = f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
-    eps_c, pinch = opts.eps_c, smallest_pinch(hand)
+    eps_c, (thinnest, pinch, band) = opts.eps_c, _thinnest_pinch(hand, opts)
     widths = [a["width"] for a in attempts if a["kind"] == "pinch"]
     if grasp == "precision" and not widths and all(a["kind"] == "direction" for a in attempts):
         opposed, widest = opposed_widths(obj, opts.seed), widest_pinch(hand)
@@ -429,8 +442,7 @@ def _failure(attempts, grasp, hand, obj, opts):
                        f"open at most {widest:.0f} mm apart ({opts.seed_opening:g} mm "
                        "to spare on either side for a pinch seed), so no pinch seed was tried and every attempt "
                        "started from a direction around it")
-    band = opts.contact_band[1]  # the farthest the steering brings a fingertip to the surface (within eps_c)
-    if widths and max(widths) < pinch - 2.0 * band:
+    if widths and max(widths) < thinnest:
         reason += (f"; the opposed surfaces its pinches started from are at most {max(widths):.0f} mm apart, while "
                    f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm, too far "
                    f"apart to bring both within {band:g} mm of it (the contact band the pads are steered into; "
