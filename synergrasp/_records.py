@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict, fields
 from pathlib import Path
 
@@ -51,7 +52,7 @@ def save_record(record, path, tag, arrays) -> Path:
     return Path(path)
 
 
-def load_record(cls, path, tag, arrays, optional=()) -> dict:
+def load_record(cls, path, tag, arrays, optional=(), missing="") -> dict:
     """The fields of a dataclass saved by `save_record`.
 
     Parameters
@@ -64,6 +65,8 @@ def load_record(cls, path, tag, arrays, optional=()) -> dict:
     optional : tuple of str
         Fields a file may lack (written before they existed); they are left
         out of the result, for their defaults.
+    missing : str
+        What to do about a file that lacks other fields (said in the error).
 
     Returns
     -------
@@ -89,12 +92,17 @@ def load_record(cls, path, tag, arrays, optional=()) -> dict:
         data = json.loads(path.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:  # (lists nested 1e5 deep)
         raise ValueError(f"cannot read a {name} from {path}: {exc}") from exc
-    if not isinstance(data, dict) or data.pop("format", None) != tag:
+    found = data.pop("format", None) if isinstance(data, dict) else None
+    if found != tag:
+        family = tag.rsplit("/", 1)[0] + "/"
+        if isinstance(found, str) and found.startswith(family):
+            raise ValueError(f"{path} is a {name} of format {found!r}, which this version of synergrasp does not read "
+                             f"(it reads {tag!r}): read it with the version that wrote it")
         raise ValueError(f"{path} is not a saved synergrasp {name} (no \"format\": \"{tag}\")")
     names = [f.name for f in fields(cls)]
-    missing = [key for key in names if key not in data and key not in optional]
-    if missing:
-        raise ValueError(f"{path} lacks the fields {missing}")
+    lacking = [key for key in names if key not in data and key not in optional]
+    if lacking:
+        raise ValueError(f"{path} lacks the fields {lacking}" + (f": {missing}" if missing else ""))
     for key, shape in arrays.items():
         data[key] = _array(data[key], shape, f"{path}: field '{key}'")
     return {k: data[k] for k in names if k in data}
@@ -118,3 +126,66 @@ def _array(value, shape, where):
         dims = "" if shape is None else " of shape (" + ", ".join("n" if n == -1 else str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
         raise ValueError(f"{where} must be an array of numbers{dims}, got {text[:60] + '...' if len(text) > 60 else text}")
     return arr
+
+
+class FieldChecks:
+    """Checks of the fields of a loaded record (`load_record`'s dict); each error names the file and the field.
+
+    Parameters
+    ----------
+    data : dict
+    path : str or Path
+    """
+
+    def __init__(self, data: dict, path):
+        self.data, self.path = data, path
+
+    def fail(self, name: str, what: str):
+        """Raise the ValueError: field ``name`` must be ``what``."""
+        value = repr(self.data[name])
+        raise ValueError(f"{self.path}: field '{name}' must be {what}, got {value[:60] + '...' if len(value) > 60 else value}")
+
+    def array(self, name: str, ndim: int, finite: bool = True) -> np.ndarray:
+        """Field ``name`` as a float array of ``ndim`` dimensions (an empty 2-D one as (0, 3)), finite if asked."""
+        try:
+            arr = np.asarray(self.data[name], dtype=float)
+        except (TypeError, ValueError):
+            self.fail(name, f"a {ndim}-D array of numbers")
+        if arr.ndim != ndim:
+            if arr.size == 0 and ndim == 2:  # an empty list: no rows
+                return arr.reshape(0, 3)
+            self.fail(name, f"a {ndim}-D array of numbers (shape {arr.shape})")
+        if finite and not np.isfinite(arr).all():
+            self.fail(name, "finite numbers")
+        return arr
+
+    def integer(self, name: str, low: int = 0) -> int:
+        """Field ``name``: an integer >= ``low`` (not a bool)."""
+        value = self.data[name]
+        if isinstance(value, bool) or not isinstance(value, int) or value < low:
+            self.fail(name, f"an integer >= {low}")
+        return value
+
+    def number(self, name: str, low: float | None = None, nan: bool = False) -> float:
+        """Field ``name``: a finite number >= ``low`` (NaN too with ``nan``)."""
+        value = self.data[name]
+        try:  # (an int beyond a float's range overflows)
+            ok = not isinstance(value, bool) and isinstance(value, (int, float)) and (
+                math.isfinite(float(value)) or (nan and math.isnan(value)))
+        except OverflowError:
+            ok = False
+        if not ok or (low is not None and value < low):
+            self.fail(name, "a finite number" + (f" >= {low}" if low is not None else "") + (" or NaN" if nan else ""))
+        return float(value)
+
+    def text(self, name: str) -> str:
+        """Field ``name``: a string."""
+        if not isinstance(self.data[name], str):
+            self.fail(name, "a string")
+        return self.data[name]
+
+    def flag(self, name: str) -> bool:
+        """Field ``name``: true or false."""
+        if not isinstance(self.data[name], bool):
+            self.fail(name, "true or false")
+        return self.data[name]

@@ -315,7 +315,7 @@ def _prepare(points, normals, mu, edges, center, torque_scale):
             raise ValueError(f"torque_scale {L:g} is more than {TORQUE_SCALE_RATIO:g} times smaller than the contacts' "
                              f"largest lever arm |p_i - c|, {reach:.3g}: the forces would vanish beside the torques and "
                              "the LPs lose their accuracy. It is a length in the points' units; omit it for that default")
-        if not reach / TORQUE_SCALE_WARN <= L <= reach * TORQUE_SCALE_WARN:
+        if reach > 0 and not reach / TORQUE_SCALE_WARN <= L <= reach * TORQUE_SCALE_WARN:  # (no arm: no torque)
             warnings.warn(f"torque_scale {L:g} is {max(L / reach, reach / L):.3g} times {'larger' if L > reach else 'smaller'} "
                           f"than the contacts' largest lever arm |p_i - c|, {reach:.3g}: is it in the points' units? (A "
                           "value in metres for points in mm, or the other way round, is 1000 times off.) Q is a different "

@@ -373,6 +373,28 @@ def test_validation_round_trips_through_json(pinch_check, tmp_path):
     assert Validation.load(tmp_path / "old.json").hand == ""
 
 
+@pytest.mark.parametrize("field, value, message", [
+    ("directions", 5, "field 'directions' must be a list of push directions"),
+    ("displacement", [1.0, 2.0], "field 'displacement' must be 6 numbers >= 0 or NaN"),
+    ("held", None, "field 'held' must be true or false"),
+    ("outcome", "exploded", "field 'outcome' must be one of"),
+    ("outcome", "slip", "field 'outcome' must be 'held' exactly when field 'held' is true"),
+    ("protocol", {"mu": -1.0}, "field 'protocol' is not a valid protocol: .*mu"),
+    ("contact_forces", [], "field 'contact_forces' must be .* rows, one per contact body"),
+    ("object_pose", [0.0, 0.0, 0.0], "field 'object_pose' must be 7 numbers"),
+    ("object_mass", "heavy", "field 'object_mass' must be a finite number >= 0"),
+    ("format", "synergrasp.Validation/2", "is a Validation of format 'synergrasp.Validation/2', which this version"),
+])
+def test_a_damaged_validation_file_is_refused_naming_the_field(pinch_check, tmp_path, field, value, message):
+    """A file whose fields contradict the format fails on load, naming the field, not later in a figure or a batch."""
+    data = json.loads(pinch_check.save(tmp_path / "v.json").read_text())
+    assert data["held"] and pinch_check.contact_bodies
+    data[field] = value
+    (tmp_path / "v.json").write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=message):
+        Validation.load(tmp_path / "v.json")
+
+
 def test_protocol_settings_round_trip():
     for p in (*PRESETS.values(), protocol(mu=0.5, mass=0.2, max_penetration=float("inf"))):
         assert Protocol(**json.loads(json.dumps(p.to_dict()))) == p

@@ -142,11 +142,22 @@ def test_load_checks_every_field_and_names_it(saved, field, value, message):
     assert str(info.value).startswith(f"{path}: ")
 
 
+def test_a_file_saved_before_surface_q_and_held_loads_with_their_defaults(saved):
+    path, data = saved
+    del data["surface_q"], data["held"]
+    path.write_text(json.dumps(data))
+    again = sg.PlanResult.load(path)
+    assert np.isnan(again.surface_q) and again.held is None
+
+
 def test_load_names_the_file_for_missing_fields_and_bad_files(saved, tmp_path):
     path, data = saved
     del data["u"]
     path.write_text(json.dumps(data))
-    with pytest.raises(ValueError, match=r"plan.json lacks the fields \['u'\]"):
+    with pytest.raises(ValueError, match=r"plan.json lacks the fields \['u'\]: .* plan it again"):
+        sg.PlanResult.load(path)
+    path.write_text(json.dumps({**data, "format": "synergrasp.PlanResult/2"}))
+    with pytest.raises(ValueError, match="is a PlanResult of format 'synergrasp.PlanResult/2', which this version"):
         sg.PlanResult.load(path)
     path.write_text("{not json")
     with pytest.raises(ValueError, match="cannot read a PlanResult from .*plan.json"):

@@ -234,9 +234,18 @@ def test_a_torque_scale_in_other_units_than_the_points_is_warned_of():
             sg.q_distance(P, N, torque_scale=L)
 
 
-def test_contacts_at_the_centre_need_a_torque_scale():
+def test_contacts_at_the_centre_need_a_torque_scale(backend):
+    """Without a torque scale there is none to take; with one, the torques are all 0 and any scale gives the same
+    Q: six opposed normals at one point close the forces and no torque, so Q is 0 (the edge of force closure)."""
     with pytest.raises(ValueError, match="pass torque_scale"):
         sg.q_distance([[0, 0, 0.0]], [[0, 0, 1.0]])
+    normals = np.vstack([np.eye(3), -np.eye(3)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        q = [sg.q_distance(np.ones((6, 3)), normals, center=[1, 1, 1], torque_scale=L, backend=backend).value
+             for L in (1e-3, 10.0, 1e6)]
+        assert sg.contact_wrenches([[1.0, 2, 3]], [[0, 0, 1.0]], center=[1, 2, 3], torque_scale=10.0)[:, 3:].max() == 0
+    assert q == pytest.approx([0.0] * 3, abs=1e-9)
 
 
 def test_contacts_far_from_the_default_centre_are_warned_of():

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._records import load_record, save_record
+from .._records import FieldChecks, load_record, save_record
 from .protocol import DIRECTIONS, Protocol
 
 __all__ = ["Validation", "OUTCOMES"]
@@ -168,6 +168,61 @@ class Validation:
         ValueError
             If the file is not a saved Validation.
         """
-        data = load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand",))
-        data["directions"] = tuple(data["directions"])
-        return cls(**data)
+        data = load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand",),
+                           missing="a validation an older synergrasp saved lacks the fields added since: validate again")
+        return cls(**_checked(data, path))
+
+
+def _checked(data: dict, path) -> dict:
+    """The fields of a loaded Validation (`load_record`), each checked; errors name the file and the field."""
+    checks = FieldChecks(data, path)
+    out = {"held": checks.flag("held")}
+    if data["outcome"] not in OUTCOMES:
+        checks.fail("outcome", f"one of {OUTCOMES}")
+    if (data["outcome"] == "held") != out["held"]:
+        checks.fail("outcome", f"'held' exactly when field 'held' is true (it is {str(out['held']).lower()})")
+    out["outcome"] = data["outcome"]
+    for name in ("reason", "penetration_body", "object_name", "hand_name", "mujoco_version") + (
+            ("hand",) if "hand" in data else ()):
+        out[name] = checks.text(name)
+    directions = data["directions"]
+    if not isinstance(directions, list) or not all(isinstance(d, str) for d in directions):
+        checks.fail("directions", "a list of push directions such as \"-x\"")
+    out["directions"] = tuple(directions)
+    for name in ("displacement", "rotation"):
+        out[name] = data[name]
+        if out[name].shape != (len(directions),) or (out[name] < 0).any():
+            checks.fail(name, f"{len(directions)} numbers >= 0 or NaN, one per push direction")
+    for name in ("settle_displacement", "settle_rotation"):
+        out[name] = checks.number(name, 0.0, nan=True)
+    for name in ("initial_penetration", "retreat", "cpu_time"):
+        out[name] = checks.number(name, 0.0)
+    out["object_mass"] = checks.number("object_mass", 0.0)
+    bodies, pieces = data["contact_bodies"], data["contact_pieces"]
+    if not isinstance(bodies, list) or not all(isinstance(b, str) for b in bodies):
+        checks.fail("contact_bodies", "a list of hand geom names")
+    if not isinstance(pieces, list) or len(pieces) != len(bodies) or not all(
+            isinstance(k, int) and not isinstance(k, bool) and k >= 0 for k in pieces):
+        checks.fail("contact_pieces", f"{len(bodies)} integers >= 0, one per contact body")
+    out["contact_bodies"], out["contact_pieces"] = bodies, pieces
+    for name in ("contact_points", "contact_normals", "contact_forces"):
+        out[name] = data[name]
+        if len(out[name]) != len(bodies):
+            checks.fail(name, f"{len(bodies)} rows, one per contact body")
+    out["object_pose"] = data["object_pose"]
+    if out["object_pose"].shape != (7,):
+        checks.fail("object_pose", "7 numbers (the centre and a quaternion w, x, y, z)")
+    angles = data["joint_angles"]
+    if not isinstance(angles, dict) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                               for v in angles.values()):
+        checks.fail("joint_angles", "an object of hinge names and angles (rad)")
+    out["joint_angles"] = angles
+    out["u"], out["squeeze_z"] = data["u"], data["squeeze_z"]
+    if not isinstance(data["protocol"], dict):
+        checks.fail("protocol", "an object of protocol settings")
+    try:
+        Protocol(**data["protocol"])
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{path}: field 'protocol' is not a valid protocol: {exc}") from exc
+    out["protocol"] = data["protocol"]
+    return {name: out[name] for name in data}

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._records import load_record, save_record
+from .._records import FieldChecks, load_record, save_record
 from ..hand import POINT_KINDS
 
 _FORMAT = "synergrasp.PlanResult/1"
@@ -86,7 +86,7 @@ class PlanResult:
         Every attempt made, in order: ``start`` (its start configuration),
         ``kind`` (how the start was placed, `synergrasp.planner.Start`) and
         its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
-        ``direction`` of a direction start), ``outcome`` (the name of its
+        ``direction`` and ``roll`` (rad) of a direction start), ``outcome`` (the name of its
         `synergrasp.planner.Outcome`, lower case), ``reason`` (the outcome
         in words), ``iterations`` and ``status`` (its status at every
         iteration); with ``plan(..., validate=True)`` an accepted grasp's
@@ -257,54 +257,18 @@ class PlanResult:
         >>> again.u.tolist() == result.u.tolist(), again.object_name
         (True, 'ellipsoid 30/40/50')
         """
-        return cls(**_validated(load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand",)), path))
+        data = load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand", "held", "surface_q"),
+                           missing="a result an older synergrasp saved lacks the fields added since: plan it again")
+        return cls(**_validated(data, path))
 
 
 def _validated(data: dict, path) -> dict:
     """The fields of a loaded PlanResult (`load_record`), each checked; errors name the file and the field."""
 
-    def fail(name, what):
-        value = repr(data[name])
-        raise ValueError(f"{path}: field '{name}' must be {what}, got {value[:60] + '...' if len(value) > 60 else value}")
+    checks = FieldChecks(data, path)
+    fail, array, integer, number, text = checks.fail, checks.array, checks.integer, checks.number, checks.text
 
-    def array(name, ndim, finite=True):
-        try:
-            arr = np.asarray(data[name], dtype=float)
-        except (TypeError, ValueError):
-            fail(name, f"a {ndim}-D array of numbers")
-        if arr.ndim != ndim:
-            if arr.size == 0 and ndim == 2:  # an empty list: no rows
-                return arr.reshape(0, 3)
-            fail(name, f"a {ndim}-D array of numbers (shape {arr.shape})")
-        if finite and not np.isfinite(arr).all():
-            fail(name, "finite numbers")
-        return arr
-
-    def integer(name, low=0):
-        value = data[name]
-        if isinstance(value, bool) or not isinstance(value, int) or value < low:
-            fail(name, f"an integer >= {low}")
-        return value
-
-    def number(name, low=None):
-        value = data[name]
-        try:  # (an int beyond a float's range overflows)
-            finite = not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(float(value))
-        except OverflowError:
-            finite = False
-        if not finite or (low is not None and value < low):
-            fail(name, "a finite number" + (f" >= {low}" if low is not None else ""))
-        return float(value)
-
-    def text(name):
-        if not isinstance(data[name], str):
-            fail(name, "a string")
-        return data[name]
-
-    out = {}
-    if not isinstance(data["success"], bool):
-        fail("success", "true or false")
-    out["success"] = data["success"]
+    out = {"success": checks.flag("success")}
     for name in ("reason", "backend", "object_name") + (("hand",) if "hand" in data else ()):
         out[name] = text(name)
     if data["grasp"] not in POINT_KINDS:
@@ -382,9 +346,7 @@ def _validated(data: dict, path) -> dict:
     out["clearance"] = array("clearance", 1)
     if out["clearance"].shape != (len(reach),):
         fail("clearance", f"{len(reach)} numbers, one per row of path")
-    if not isinstance(data["collision_free"], bool):
-        fail("collision_free", "true or false")
-    out["collision_free"] = data["collision_free"]
+    out["collision_free"] = checks.flag("collision_free")
     if not isinstance(data["reach"], dict):
         fail("reach", "an object (the summary of the executable reach)")
     out["reach"] = data["reach"]
