@@ -405,6 +405,8 @@ API = [
          ValueError, "tolerance 1e-06 mm is finer than synergrasp builds a shape to"),
     Case("GraspObject.contact_distance", "a NaN hand point", lambda tmp: so.ellipsoid().contact_distance([[np.nan, 0.0, 0.0]]), ValueError, "points contains NaN or inf"),
     Case("GraspObject.contact_distance", "2-D hand points", lambda tmp: so.ellipsoid().contact_distance([[0.0, 0.0]]), ValueError, "hand points must be an (n, 3) array in mm"),
+    Case("GraspObject.contact_distance", "a hand point 1000 km away", lambda tmp: so.ellipsoid().contact_distance([[1e9, 0.0, 0.0]]), ValueError, "farther than 1e+06 mm"),
+    Case("GraspObject.scaled_contacts", "a hand point 1000 km away", lambda tmp: so.cup().scaled_contacts([[0.0, 0.0, 1e157]]), ValueError, "farther than 1e+06 mm"),
     Case("GraspObject.distance_grid", "2-D hand points", lambda tmp: so.ellipsoid().distance_grid(np.zeros((6, 2))), ValueError, "points must have shape (..., 3)"),
     Case("DistanceGrid.posed", "floors of the wrong length", lambda tmp: so.ellipsoid().distance_grid.posed(np.zeros((1, 4, 3)), np.eye(3)[None], np.zeros((1, 3)), floors=[0.0]), ValueError, "floors must have shape (4,)"),
     Case("GraspObject.scaled_contacts", "a point at the centre", lambda tmp: so.ellipsoid().scaled_contacts([[0.0, 0.0, 0.0]]), ValueError, "coincide with the object's centre"),

@@ -79,12 +79,28 @@ class ContactDistance:
     lp_solves: int
 
 
-def check_points(points) -> np.ndarray:
-    """Hand points as a validated (n, 3) float array (a clear ValueError or TypeError otherwise)."""
+#: Farthest (mm) a hand point may lie from an object's centre, along any axis, in its queries (1 km: the LPs lose
+#: their accuracy some thousands of times farther; a point this far is in other units or a wrong frame).
+MAX_REACH = 1e6
+
+
+def check_points(points, obj=None) -> np.ndarray:
+    """Hand points as a validated (n, 3) float array (a clear ValueError or TypeError otherwise).
+
+    With ``obj`` (a GraspObject), points farther than `MAX_REACH` from its
+    centre along an axis are refused too.
+    """
     try:
-        return as_points(points, "points", dim=3)
+        P = as_points(points, "points", dim=3)
     except ValueError as exc:
         raise ValueError(f"{exc}; hand points must be an (n, 3) array in mm") from None
+    if obj is not None and len(P):
+        far = float(np.abs(P - obj.center).max())
+        if far > MAX_REACH:
+            raise ValueError(f"a hand point lies {far:.3g} mm from {obj.name}'s centre along an axis, farther than "
+                             f"{MAX_REACH:.0e} mm (1 km): are the points in other units than the object, or in "
+                             "another frame? Give both in mm, in one frame")
+    return P
 
 
 def contact_distance(obj, points, backend="native", *, ids=None) -> ContactDistance:
@@ -107,7 +123,7 @@ def contact_distance(obj, points, backend="native", *, ids=None) -> ContactDista
     -------
     ContactDistance
     """
-    P = check_points(points)
+    P = check_points(points, obj)
     solver = lp.get_backend(backend)
     return _solve(obj, obj.index.probe(P), solver, None if ids is None else np.asarray(ids, dtype=np.int64))
 
@@ -140,7 +156,7 @@ def cp_bounds(obj, points):
     >>> bool(lower[0] <= value + 1e-9 and value <= upper[0] + 1e-9), bool(lower[1] == -np.inf), bool(upper[1] == 0.0)
     (True, True, True)
     """
-    return obj.index.probe(check_points(points)).bounds()
+    return obj.index.probe(check_points(points, obj)).bounds()
 
 
 def group_contact_distance(obj, points, groups, backend="native", *, ids=None, far=None
@@ -199,7 +215,7 @@ def group_contact_distance(obj, points, groups, backend="native", *, ids=None, f
     >>> r.value.round(2).tolist(), r.piece.tolist(), best.tolist()
     ([10.0, 2.0], [-1, 0], [0, 2])
     """
-    P = check_points(points)
+    P = check_points(points, obj)
     solver = lp.get_backend(backend)
     groups = np.asarray(groups, dtype=np.int64)
     ids = np.arange(len(P)) if ids is None else np.asarray(ids, dtype=np.int64)

@@ -479,7 +479,9 @@ class GraspObject:
         Raises
         ------
         ValueError
-            If ``points`` is not a finite (n, 3) array, or the backend is unknown.
+            If ``points`` is not a finite (n, 3) array, a point lies farther
+            than `synergrasp.objects.contact_distance.MAX_REACH` (1 km) from
+            the centre, or the backend is unknown.
         synergrasp.lp.LPError
             If the backend fails to solve the LP.
 

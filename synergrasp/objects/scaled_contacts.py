@@ -91,7 +91,7 @@ class ScaledContacts:
 
 def scaled_contacts(obj, points, backend="native") -> ScaledContacts:
     """sQ contacts of hand points; see `GraspObject.scaled_contacts`."""
-    P = check_points(points)
+    P = check_points(points, obj)
     solver = lp.get_backend(backend)
     index = obj.index
     c0 = obj.center

@@ -13,9 +13,10 @@
   checked exactly) come first: a pose that already makes a grasp as soon as
   it is checked, the others a batch at a time, by their grasp quality.
 * `direction_starts`: the hand in front of the object along its principal axes
-  and the diagonals between them, palm facing its centre (the starts of
-  objects without opposed surface points, and the power starts after the
-  wrap seeds, in turn with two pre-shapes, see `power_schedule`).
+  and the diagonals between them, palm facing its centre, then the same turned
+  a quarter turn about the approach (the precision starts after the pinch
+  seeds; the power starts after the wrap seeds, in turn with two pre-shapes,
+  see `power_schedule`).
 * `start_configuration`: one such pose from a given direction.
 """
 
@@ -49,6 +50,8 @@ def _sphere_directions(n):
     return np.stack([np.sqrt(1.0 - z**2) * np.cos(angle), np.sqrt(1.0 - z**2) * np.sin(angle), z], axis=1)
 
 
+#: Rolls (rad) of the hand about the approach of `direction_starts`, each over all the directions in turn.
+DIRECTION_ROLLS = (0.0, np.pi / 2)
 #: Directions of `recess`.
 _DIRECTIONS = _sphere_directions(64)
 #: Surface points sampled per plan for the pairs.
@@ -96,7 +99,8 @@ class Start:
     detail: dict
 
 
-def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False):
+def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, clearance=None, palm_centred=False,
+                        roll=0.0):
     """A start in front of the object: mean pose, palm facing the object's centre.
 
     The palm is ``distance`` mm from the centre along ``approach`` (farther if
@@ -104,7 +108,8 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     approach so that the thumb-to-fingers direction (the palm's y axis) lies
     across the object's thinnest extent orthogonal to the approach. An
     approach within 18 degrees of the x axis is tilted up by 19 degrees: with
-    the palm normal along x the XYZ Euler angles are in gimbal lock.
+    the palm normal along x the XYZ Euler angles are in gimbal lock. ``roll``
+    turns the hand further about the approach.
 
     Parameters
     ----------
@@ -121,6 +126,9 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     palm_centred : bool
         Face the object's centre with the palm's centre instead of the
         fingertips' centroid.
+    roll : float
+        Angle (rad) the hand is turned about the approach, from the roll
+        above (counter-clockwise seen from the hand).
 
     Returns
     -------
@@ -138,6 +146,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
     distance = positive_scalar(distance, "distance (mm)")
+    roll = float(as_vector(np.ravel(roll), "roll (rad)", 1)[0])
     clearance = None if clearance is None else positive_scalar(clearance, "clearance (mm)", zero=True)
     a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
@@ -151,7 +160,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     usable = np.linalg.norm(candidates, axis=1) > 0.5
     order = np.lexsort((along, np.where(usable, extents, np.inf)))
     y = candidates[order[0]] / np.linalg.norm(candidates[order[0]])
-    R = np.column_stack([np.cross(y, z), y, z])
+    R = np.column_stack([np.cross(y, z), y, z]) @ rotation_xyz([0.0, 0.0, float(roll)])
     u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
     tips = hand.points(u, "precision")
     aim = np.zeros(3) if palm_centred else np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
@@ -194,6 +203,11 @@ def principal_directions(obj):
 def direction_starts(hand, obj, options):
     """Direction starts of a precision plan (`principal_directions`, `start_configuration`).
 
+    The hand from each direction in turn, then from each again turned a
+    quarter turn about the approach (the thumb-to-fingers axis along the
+    object's other side): a plan whose pinch seeds and first directions
+    fail goes on with other starts while its budget lasts.
+
     Parameters
     ----------
     hand : SynergyHand
@@ -204,9 +218,10 @@ def direction_starts(hand, obj, options):
     ------
     Start
     """
-    for d in principal_directions(obj):
-        u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance)
-        yield Start(u, "direction", {"direction": d.round(6).tolist()})
+    for roll in DIRECTION_ROLLS:
+        for d in principal_directions(obj):
+            u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance, roll=roll)
+            yield Start(u, "direction", {"direction": d.round(6).tolist(), "roll": round(roll, 6)})
 
 
 def surface_samples(obj, count, seed):
