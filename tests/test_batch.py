@@ -395,6 +395,7 @@ def test_the_batch_and_report_commands_take_a_hand_file(tmp_path, cluster, capsy
     assert main(["batch", "cup", "--hand", str(tmp_path / "copy.json"), "--out", str(out), "--scheduler",
                  cluster.scheduler_address, "--quiet"]) == 0
     assert sg.PlanResult.load(out / "results" / "cup" / "precision.json").hand == sg.SynergyHand(data).identity
+    assert [r["hand"] for r in read_summary(out)] == [sg.SynergyHand(data).identity]  # summary.csv names it
     assert main(["report", str(out), "--hand", str(tmp_path / "copy.json")]) == 0
     assert (out / "report" / "cup" / "precision.png").exists()
     # the same folder with the paper's hand: its plans were taken as this run's (one folder, plans of two hands)

@@ -318,9 +318,9 @@ def _check_same_objects(store, rows, tasks, scale, hand=None):
     from ..hand import SynergyHand
 
     hand = SynergyHand.default() if hand is None else hand
-    for row in {r["object"]: r for r in rows if r["status"] == "planned"}.values():  # one plan of each object
-        made_with = PlanResult.load(store.out / row["file"]).hand
-        if not hand.made(made_with):
+    for row in rows:
+        made_with = row["hand"]
+        if row["status"] == "planned" and not hand.made(made_with):
             raise ValueError(
                 f"the plans of '{row['object']}' in '{store.out}' were made with hand {made_with!r}, and this run plans "
                 f"with {hand.identity!r}: pass that hand (--hand FILE) to go on with them, or write to another output "

@@ -38,10 +38,11 @@ from .._files import atomic_path, writable_folder
 from ..planner.result import PlanResult
 
 #: Columns of ``summary.csv``, in order. ``held`` and ``physics`` (the validation's outcome)
-#: are empty for a task without a validation.
+#: are empty for a task without a validation; ``hand`` (the planning hand's `SynergyHand.identity`)
+#: for a task without a PlanResult.
 COLUMNS = (
     "object", "grasp", "status", "success", "reason", "q", "sq", "time_s", "iterations", "attempts",
-    "contacts", "penetration_mm", "lp_solves", "backend", "held", "physics", "object_name", "file",
+    "contacts", "penetration_mm", "lp_solves", "backend", "held", "physics", "object_name", "file", "hand",
 )
 #: Values of the ``status`` column: a PlanResult was written (``planned``, whether or not it
 #: found a grasp), or the task gave none.
@@ -308,7 +309,7 @@ def _plan_row(key, grasp, result: PlanResult, file) -> dict:
         "iterations": int(result.total_iterations), "attempts": len(result.attempts) or 1,
         "contacts": len(result.contact_labels), "penetration_mm": float(result.penetration),
         "lp_solves": int(result.lp_solves), "backend": result.backend, "held": "", "physics": "",
-        "object_name": result.object_name, "file": Path(file).as_posix(),
+        "object_name": result.object_name, "file": Path(file).as_posix(), "hand": result.hand,
     }
 
 
