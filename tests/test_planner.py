@@ -615,13 +615,25 @@ def test_recess_is_the_way_out_to_the_hull(channel, box):
 
 def test_a_mesh_no_inward_ray_leaves_gives_no_pairs_and_the_direction_starts(hand):
     """An object whose mesh is an open sheet (only a box's lid): no inward ray leaves it, so there are no pinch pairs
-    and a precision plan starts from the directions, without an error."""
+    and a precision plan starts from the directions, without an error: the 14 directions, then the 14 again a
+    quarter turn about each approach (the thumb-to-fingers axis turned, the palm facing the same way)."""
     box = trimesh.creation.box((60.0, 50.0, 70.0))
     lid = trimesh.Trimesh(box.vertices, box.faces[box.face_normals[:, 2] > 0.5])
     obj = so.GraspObject([box.vertices], mesh=lid, name="lid only")
     assert all(a.shape == (0, 3) for a in surface_samples(obj, 50, 0))
-    kinds = [s.kind for s in itertools.islice(starts(hand, obj, "precision", PlannerOptions()), 3)]
-    assert kinds == ["direction"] * 3
+    every = list(starts(hand, obj, "precision", PlannerOptions()))
+    assert [s.kind for s in every] == ["direction"] * 28
+    assert [s.detail["roll"] for s in every] == [0.0] * 14 + [round(np.pi / 2, 6)] * 14
+    for first, turned in zip(every[:14], every[14:]):
+        assert first.detail["direction"] == turned.detail["direction"]
+        R, T = rotation_xyz(first.u[3:6]), rotation_xyz(turned.u[3:6])
+        np.testing.assert_allclose(T[:, 2], R[:, 2], atol=1e-12)  # the same approach
+        np.testing.assert_allclose(T[:, 1], -R[:, 0], atol=1e-12)  # y turned a quarter turn about it
+        tips = [hand.points(u, "precision")[:, :].mean(axis=0) for u in (first.u, turned.u)]
+        np.testing.assert_allclose(np.cross(tips[0] - obj.center, R[:, 2]), 0.0, atol=1e-9)  # both aim at the centre
+        np.testing.assert_allclose(np.cross(tips[1] - obj.center, R[:, 2]), 0.0, atol=1e-9)
+    with pytest.raises(ValueError, match="roll must be a finite angle in radians"):
+        start_configuration(hand, obj, roll=float("nan"))
 
 
 def test_pinch_seeds_keep_out_of_recesses_first(hand, channel):

@@ -15,8 +15,8 @@
 * `direction_starts`: the hand in front of the object along its principal axes
   and the diagonals between them, palm facing its centre, then the same turned
   a quarter turn about the approach (the precision starts after the pinch
-  seeds; the power starts after the wrap seeds, in turn with two pre-shapes,
-  see `power_schedule`).
+  seeds). `power_schedule`: the same directions, each with two pre-shapes (the
+  power starts after the wrap seeds).
 * `start_configuration`: one such pose from a given direction.
 """
 
@@ -146,7 +146,9 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
     distance = positive_scalar(distance, "distance (mm)")
-    roll = float(as_vector(np.ravel(roll), "roll (rad)", 1)[0])
+    if isinstance(roll, (bool, np.bool_)) or not isinstance(roll, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(roll):
+        raise ValueError(f"roll must be a finite angle in radians, got {roll!r}")
     clearance = None if clearance is None else positive_scalar(clearance, "clearance (mm)", zero=True)
     a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
