@@ -184,6 +184,13 @@ class FieldChecks:
             self.fail(name, "a string")
         return self.data[name]
 
+    def strings(self, name: str, what: str) -> list:
+        """Field ``name``: a list of strings (``what`` says what they are, in the error)."""
+        value = self.data[name]
+        if not isinstance(value, list) or not all(isinstance(item, str) for item in value):
+            self.fail(name, f"a list of {what}")
+        return value
+
     def flag(self, name: str) -> bool:
         """Field ``name``: true or false."""
         if not isinstance(self.data[name], bool):

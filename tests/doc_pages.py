@@ -100,7 +100,7 @@ def checks_page() -> str:
         "`objects.from_mesh` random shapes, NaN and inf, duplicated and collinear points and scales from 1e-300 "
         "to 1e300 (hypothesis), with the same rule.", "",
         "Numbers the library accepts: lengths in mm, objects from 1e-6 to 1e6 mm across (10-500 mm without a "
-        "warning); hand points within 1e6 mm of an object's centre along each axis in its queries; "
+        "warning); hand points within 1e6 mm beyond an object's size from its centre along each axis in its queries; "
         "friction coefficients up to 1000; 3 to 1000 friction cone edges; points of dimension 2 to 1000 "
         "for `pseudo_distance`, whose data of any magnitude are solved rescaled.", "",
     ]

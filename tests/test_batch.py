@@ -6,6 +6,7 @@ here with ``sg.plan`` directly, on a freshly loaded object and a new backend ins
 
 import csv
 import json
+import logging
 import os
 import re
 import signal
@@ -620,6 +621,37 @@ def test_a_second_interrupt_while_the_run_closes_keeps_its_report(tmp_path):
     assert "nothing was planned" not in err and "Traceback" not in err, err[-3000:]
     assert "rerun the same command to plan the rest" in err and "tasks:" in out
     assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == result_files(tmp_path)
+
+
+def test_a_lost_scheduler_ends_the_run_with_one_message_and_keeps_what_was_written(tmp_path):
+    """The scheduler goes away after the first result: the run raises ConnectionError saying so and how to go on,
+    the summary table holds exactly the results written, and distributed's client logs no error of its own (a
+    remote scheduler lost mid-run printed its reconnection tracebacks before the message)."""
+    cluster = distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                                       silence_logs=False)
+
+    def lose_the_scheduler():
+        while not result_files(tmp_path):
+            time.sleep(0.02)
+        cluster.sync(cluster.scheduler.close)
+
+    threading.Thread(target=lose_the_scheduler, daemon=True).start()
+    client_log = logging.getLogger("distributed.client")
+    level, logged = client_log.level, []
+    handler = logging.Handler(logging.ERROR)
+    handler.emit = logged.append
+    client_log.addHandler(handler)
+    try:
+        with pytest.raises(ConnectionError, match="scheduler lost.*rerun the same command to plan the rest"):
+            run(["ellipsoid", "cup", "bell", "goblet"], ["precision", "power"], out=tmp_path,
+                scheduler=cluster.scheduler_address, progress=False)
+    finally:
+        client_log.removeHandler(handler)
+        cluster.close()
+    assert not logged and client_log.level == level
+    written = result_files(tmp_path)
+    assert 0 < len(written) < 8
+    assert [f"results/{r['object']}/{r['grasp']}.json" for r in read_summary(tmp_path)] == written
 
 
 def test_benchmark_quick_mode_kills_a_run_and_resumes_it(tmp_path):

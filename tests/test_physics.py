@@ -383,6 +383,9 @@ def test_validation_round_trips_through_json(pinch_check, tmp_path):
     ("contact_forces", [], "field 'contact_forces' must be .* rows, one per contact body"),
     ("object_pose", [0.0, 0.0, 0.0], "field 'object_pose' must be 7 numbers"),
     ("object_mass", "heavy", "field 'object_mass' must be a finite number >= 0"),
+    ("u", [1.0, 2.0], "field 'u' must be a configuration of 6 \\+ len\\(squeeze_z\\) = 8 numbers"),
+    ("squeeze_z", [0.1, float("nan")], "field 'squeeze_z' must be finite numbers"),
+    ("contact_bodies", "T3", "field 'contact_bodies' must be a list of hand geom names"),
     ("format", "synergrasp.Validation/2", "is a Validation of format 'synergrasp.Validation/2', which this version"),
 ])
 def test_a_damaged_validation_file_is_refused_naming_the_field(pinch_check, tmp_path, field, value, message):

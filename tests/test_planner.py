@@ -37,7 +37,7 @@ from synergrasp.lp import get_backend
 from synergrasp.planner import attempt as attempt_module
 from synergrasp.planner.core import hand_opening
 from synergrasp.planner.clearance import HandClearance
-from synergrasp.planner.starts import surface_samples
+from synergrasp.planner.starts import DIRECTION_ROLLS, surface_samples
 from synergrasp.planner.status import Status, capsule_rows, contact_quality, hand_penetration, palm_face_point
 from synergrasp.planner.stop import mesh_depth, surface_check
 
@@ -623,7 +623,7 @@ def test_a_mesh_no_inward_ray_leaves_gives_no_pairs_and_the_direction_starts(han
     assert all(a.shape == (0, 3) for a in surface_samples(obj, 50, 0))
     every = list(starts(hand, obj, "precision", PlannerOptions()))
     assert [s.kind for s in every] == ["direction"] * 28
-    assert [s.detail["roll"] for s in every] == [0.0] * 14 + [round(np.pi / 2, 6)] * 14
+    assert [s.detail["turn"] for s in every] == [0.0] * 14 + [round(np.pi / 2, 6)] * 14
     for first, turned in zip(every[:14], every[14:]):
         assert first.detail["direction"] == turned.detail["direction"]
         R, T = rotation_xyz(first.u[3:6]), rotation_xyz(turned.u[3:6])
@@ -658,7 +658,7 @@ def test_an_object_without_opposed_faces_starts_from_directions(hand):
     corners = np.array([[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]) * 30.0
     tetrahedron = so.GraspObject([corners], name="tetrahedron", mesh=trimesh.convex.convex_hull(corners))
     kinds = [s.kind for s in starts(hand, tetrahedron, "precision", PlannerOptions())]
-    assert kinds and set(kinds) == {"direction"} and len(kinds) == 14
+    assert kinds and set(kinds) == {"direction"} and len(kinds) == 14 * len(DIRECTION_ROLLS) == 28
 
 
 def test_power_starts_alternate_the_pre_shapes_and_keep_every_phalanx_clear(hand):

@@ -460,6 +460,9 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     futures, token, client, cluster, bar = {}, uuid.uuid4().hex[:8], None, None, None
     counts = dict.fromkeys(("grasps", "no grasp", "failed"), 0)
     interrupted, arm, restore = _note_interrupts()  # a Ctrl-C while a local cluster starts stops the run once it is up
+    client_log = logging.getLogger("distributed.client")
+    level = client_log.level
+    client_log.setLevel(logging.CRITICAL)  # a lost scheduler: said once (`_outcome`), not as distributed's tracebacks
     try:
         start = time.perf_counter()
         arm(scheduler is not None)  # (waiting for a remote scheduler's workers stops at once: it makes no cluster)
@@ -513,6 +516,7 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
                 cluster.close()
         finally:
             restore()
+            client_log.setLevel(level)
     if report.interrupted:
         raise BatchInterrupted(report)  # run() rebuilds the summary table on the way out
 

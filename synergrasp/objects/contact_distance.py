@@ -79,16 +79,26 @@ class ContactDistance:
     lp_solves: int
 
 
-#: Farthest (mm) a hand point may lie from an object's centre, along any axis, in its queries (1 km: the LPs lose
-#: their accuracy some thousands of times farther; a point this far is in other units or a wrong frame).
+#: Farthest (mm) a hand point may lie beyond an object's size from its centre, along any axis, in its queries (1 km:
+#: the LPs lose their accuracy some thousands of times farther; a point this far is in other units or a wrong frame).
 MAX_REACH = 1e6
 
 
 def check_points(points, obj=None) -> np.ndarray:
     """Hand points as a validated (n, 3) float array (a clear ValueError or TypeError otherwise).
 
-    With ``obj`` (a GraspObject), points farther than `MAX_REACH` from its
-    centre along an axis are refused too.
+    With ``obj`` (a GraspObject), points farther than `MAX_REACH` plus its
+    size (`GraspObject.size`) from its centre along an axis are refused too.
+
+    Parameters
+    ----------
+    points : (n, 3) array_like
+        Hand points (mm).
+    obj : GraspObject, optional
+
+    Returns
+    -------
+    (n, 3) float
     """
     try:
         P = as_points(points, "points", dim=3)
@@ -96,10 +106,10 @@ def check_points(points, obj=None) -> np.ndarray:
         raise ValueError(f"{exc}; hand points must be an (n, 3) array in mm") from None
     if obj is not None and len(P):
         far = float(np.abs(P - obj.center).max())
-        if far > MAX_REACH:
+        if far > MAX_REACH + obj.size:
             raise ValueError(f"a hand point lies {far:.3g} mm from {obj.name}'s centre along an axis, farther than "
-                             f"{MAX_REACH:.0e} mm (1 km): are the points in other units than the object, or in "
-                             "another frame? Give both in mm, in one frame")
+                             f"{MAX_REACH:.0e} mm (1 km) beyond its size ({obj.size:.3g} mm): are the points in other "
+                             "units than the object, or in another frame? Give both in mm, in one frame")
     return P
 
 

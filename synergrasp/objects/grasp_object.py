@@ -480,8 +480,8 @@ class GraspObject:
         ------
         ValueError
             If ``points`` is not a finite (n, 3) array, a point lies farther
-            than `synergrasp.objects.contact_distance.MAX_REACH` (1 km) from
-            the centre, or the backend is unknown.
+            than `synergrasp.objects.contact_distance.MAX_REACH` (1 km) beyond
+            the object's size from its centre, or the backend is unknown.
         synergrasp.lp.LPError
             If the backend fails to solve the LP.
 
@@ -540,7 +540,10 @@ class GraspObject:
         ------
         ValueError
             If ``points`` is not a finite (n, 3) array, a point coincides with
-            the centre, or a ray misses the object (centre outside it).
+            the centre or lies farther than
+            `synergrasp.objects.contact_distance.MAX_REACH` (1 km) beyond the
+            object's size from it, or a ray misses the object (centre outside
+            it).
         synergrasp.lp.LPError
             If the backend fails to solve the LP.
 

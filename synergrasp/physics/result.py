@@ -185,9 +185,7 @@ def _checked(data: dict, path) -> dict:
     for name in ("reason", "penetration_body", "object_name", "hand_name", "mujoco_version") + (
             ("hand",) if "hand" in data else ()):
         out[name] = checks.text(name)
-    directions = data["directions"]
-    if not isinstance(directions, list) or not all(isinstance(d, str) for d in directions):
-        checks.fail("directions", "a list of push directions such as \"-x\"")
+    directions = checks.strings("directions", "push directions such as \"-x\"")
     out["directions"] = tuple(directions)
     for name in ("displacement", "rotation"):
         out[name] = data[name]
@@ -198,9 +196,7 @@ def _checked(data: dict, path) -> dict:
     for name in ("initial_penetration", "retreat", "cpu_time"):
         out[name] = checks.number(name, 0.0)
     out["object_mass"] = checks.number("object_mass", 0.0)
-    bodies, pieces = data["contact_bodies"], data["contact_pieces"]
-    if not isinstance(bodies, list) or not all(isinstance(b, str) for b in bodies):
-        checks.fail("contact_bodies", "a list of hand geom names")
+    bodies, pieces = checks.strings("contact_bodies", "hand geom names"), data["contact_pieces"]
     if not isinstance(pieces, list) or len(pieces) != len(bodies) or not all(
             isinstance(k, int) and not isinstance(k, bool) and k >= 0 for k in pieces):
         checks.fail("contact_pieces", f"{len(bodies)} integers >= 0, one per contact body")
@@ -217,7 +213,10 @@ def _checked(data: dict, path) -> dict:
                                                for v in angles.values()):
         checks.fail("joint_angles", "an object of hinge names and angles (rad)")
     out["joint_angles"] = angles
-    out["u"], out["squeeze_z"] = data["u"], data["squeeze_z"]
+    out["u"], out["squeeze_z"] = checks.array("u", 1), checks.array("squeeze_z", 1)
+    if len(out["u"]) != 6 + len(out["squeeze_z"]) or not len(out["squeeze_z"]):
+        checks.fail("u", f"a configuration of 6 + len(squeeze_z) = {6 + len(out['squeeze_z'])} numbers, with "
+                         "squeeze_z one number per synergy")
     if not isinstance(data["protocol"], dict):
         checks.fail("protocol", "an object of protocol settings")
     try:

@@ -282,7 +282,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
                                         palm_centred=wide)
             if grasp == "power":
                 first[6:] = preshape(hand, opts.power_wide_preshape if wide else opts.power_preshape)
-            queue = itertools.chain([Start(first, "direction", {"direction": direction.tolist()})], queue)
+            queue = itertools.chain([Start(first, "direction", {"direction": direction.tolist(), "turn": 0.0})], queue)
     physics = _validator(validate, obj, hand, solver)
     total, solves, attempts, result, held, fallback = 0, 0, [], None, None, None
     for start in itertools.islice(queue, opts.restarts):

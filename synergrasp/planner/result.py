@@ -86,7 +86,7 @@ class PlanResult:
         Every attempt made, in order: ``start`` (its start configuration),
         ``kind`` (how the start was placed, `synergrasp.planner.Start`) and
         its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
-        ``direction`` and ``roll`` (rad) of a direction start), ``outcome`` (the name of its
+        ``direction`` and ``turn`` (rad, about the approach) of a direction start), ``outcome`` (the name of its
         `synergrasp.planner.Outcome`, lower case), ``reason`` (the outcome
         in words), ``iterations`` and ``status`` (its status at every
         iteration); with ``plan(..., validate=True)`` an accepted grasp's
@@ -303,10 +303,7 @@ def _validated(data: dict, path) -> dict:
     out["q_history"] = array("q_history", 1, finite=False)  # NaN: no contact
     if out["q_history"].shape != (k + 1,) or np.isinf(out["q_history"]).any():
         fail("q_history", f"{k + 1} numbers (iterations + 1), NaN where there was no contact")
-    labels = data["contact_labels"]
-    if not isinstance(labels, list) or not all(isinstance(lab, str) for lab in labels):
-        fail("contact_labels", "a list of strings")
-    out["contact_labels"] = labels
+    labels = out["contact_labels"] = checks.strings("contact_labels", "strings")
     for name in ("contact_points", "contact_normals"):
         out[name] = array(name, 2)
         if out[name].shape != (len(labels), 3):

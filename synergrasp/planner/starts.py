@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import itertools
 import json
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -127,8 +128,9 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
         Face the object's centre with the palm's centre instead of the
         fingertips' centroid.
     roll : float
-        Angle (rad) the hand is turned about the approach, from the roll
-        above (counter-clockwise seen from the hand).
+        Angle (rad) the hand is turned about its palm normal (which points
+        at the object) from the roll above: right-handed, so clockwise seen
+        from the hand.
 
     Returns
     -------
@@ -146,9 +148,12 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
     distance = positive_scalar(distance, "distance (mm)")
-    if isinstance(roll, (bool, np.bool_)) or not isinstance(roll, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(roll):
-        raise ValueError(f"roll must be a finite angle in radians, got {roll!r}")
+    try:
+        if isinstance(roll, (bool, np.bool_)) or not isinstance(roll, (int, float, np.integer, np.floating)) \
+                or not math.isfinite(float(roll)):
+            raise OverflowError
+    except OverflowError:  # (an int beyond a float's range too)
+        raise ValueError(f"roll must be a finite angle in radians, got {roll!r}") from None
     clearance = None if clearance is None else positive_scalar(clearance, "clearance (mm)", zero=True)
     a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
@@ -223,7 +228,7 @@ def direction_starts(hand, obj, options):
     for roll in DIRECTION_ROLLS:
         for d in principal_directions(obj):
             u = start_configuration(hand, obj, d, options.start_distance, options.start_clearance, roll=roll)
-            yield Start(u, "direction", {"direction": d.round(6).tolist(), "roll": round(roll, 6)})
+            yield Start(u, "direction", {"direction": d.round(6).tolist(), "turn": round(roll, 6)})
 
 
 def surface_samples(obj, count, seed):
