@@ -312,7 +312,8 @@ def _plan(args) -> int:
     if len(result.path):
         print(f"executable reach: {len(result.path)} poses, clearance {result.clearance[0]:.1f} mm at the pre-grasp, "
               f"smallest {result.clearance.min():+.1f} mm; {result.reach['reason']}")
-    print(f"time {result.time_s:.2f} s, {result.lp_solves} LP solves ({result.backend})")
+    with_compilation = " (numba's compilation, below, included)" if compiling > 0.5 else ""
+    print(f"time {result.time_s:.2f} s{with_compilation}, {result.lp_solves} LP solves ({result.backend})")
     if compiling > 0.5:
         print(f"numba compiled the library's kernels for {compiling:.1f} s of this run (once after an install: "
               "later runs load them from its cache)")
