@@ -38,6 +38,11 @@ def atomic_path(path):
         If ``path`` is a folder, or a name ending with ``/``.
     FileNotFoundError
         If its folder does not exist.
+    NotADirectoryError
+        If its folder is a file.
+    OSError
+        If no file can be written in its folder (no permission, a read-only
+        file system), naming ``path``.
     ValueError
         If it exists and is not a regular file (a device such as
         ``/dev/null``, a pipe): the rename would replace it. A symbolic link
@@ -62,15 +67,20 @@ def atomic_path(path):
     if path.exists() and not path.is_file():
         raise ValueError(f"cannot write '{path}': it is not a regular file (a device, a pipe or a socket), which "
                          "a saved file would replace; give a file name")
+    if path.parent.exists() and not path.parent.is_dir():
+        raise NotADirectoryError(f"cannot write '{path}': '{path.parent}' is a file, not a folder")
     if not path.parent.is_dir():
         raise FileNotFoundError(f"cannot write '{path}': the folder '{path.parent}' does not exist")
     while True:  # like tempfile.mkstemp, but the file gets the usual permissions (0o666 less the umask)
-        tmp = path.with_name(f".{path.stem}.{secrets.token_hex(4)}.tmp{path.suffix}")
+        tmp = path.with_name(f".{path.stem[:64]}.{secrets.token_hex(4)}.tmp{path.suffix[:16]}")  # (names <= 255)
         try:
             os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
             break
         except FileExistsError:
             continue
+        except OSError as exc:  # (no permission, a read-only file system): named by the file asked for
+            raise type(exc)(exc.errno, f"cannot write '{path}' ({exc.strerror}: a file is first written beside it, "
+                                       "then renamed)") from None
     try:
         yield tmp
         os.replace(tmp, path)

@@ -429,6 +429,7 @@ API = [
          lambda tmp: so.ellipsoid().transformed(np.eye(4) + 5j * np.eye(4)[0:1].T @ np.eye(4)[3:4]), TypeError,
          "matrix must be a (4, 4) array of real numbers, got ndarray"),
     Case("GraspObject.transformed", "a scaling matrix", lambda tmp: so.ellipsoid().transformed(np.diag([2.0, 2.0, 2.0, 1.0])), ValueError, "must be a rigid transform"),
+    Case("GraspObject.transformed", "a NaN matrix", lambda tmp: so.ellipsoid().transformed(np.full((4, 4), np.nan)), ValueError, "it contains NaN or inf"),
     Case("planner.grasp_status", "an object given by name", lambda tmp: grasp_status(HAND, "ellipsoid", np.zeros(8), "precision"), TypeError, "obj must be a GraspObject"),
     Case("objects.group_contact_distance", "far distances of the wrong length", lambda tmp: group_contact_distance(so.ellipsoid(), [[0.0, 0.0, 70.0], [0.0, 0.0, 60.0]], [0, 1], far=[5.0]), ValueError, "far must be one distance per group (2)"),
     Case("planner.grasp_status", "far distances of the wrong length", lambda tmp: grasp_status(HAND, so.ellipsoid(), np.zeros(8), "precision", far=[5.0, 5.0]), ValueError, "far must be 16 distances (one per cP row of a precision status)"),

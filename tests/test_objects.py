@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
 
 import synergrasp as sg
 import synergrasp.objects as so
@@ -149,6 +150,20 @@ def test_transformed(goblet):
     assert t.contact_distance(p + [5, -3, 2]).value == pytest.approx(goblet.contact_distance(p).value, abs=1e-7)
     with pytest.raises(ValueError, match="rigid"):
         goblet.transformed(np.diag([2.0, 1, 1, 1]))
+    # a pose in single precision (R R^T off by about 1e-7) is taken as the nearest rotation; an exact one as given
+    turn = Rotation.from_euler("xyz", [0.3, -0.7, 1.1]).as_matrix()
+    single = np.eye(4)
+    single[:3, :3], single[:3, 3] = turn.astype(np.float32), [100, 0, 0]
+    assert np.abs(single[:3, :3] @ single[:3, :3].T - np.eye(3)).max() > 1e-9
+    near = goblet.transformed(single)
+    exact = np.eye(4)
+    exact[:3, :3], exact[:3, 3] = turn, [100, 0, 0]
+    np.testing.assert_allclose(near.center, goblet.transformed(exact).center, atol=1e-4)
+    piece = near.convex[0].vertices - near.center
+    np.testing.assert_allclose(np.sort(np.linalg.norm(piece, axis=1)),
+                               np.sort(np.linalg.norm(goblet.convex[0].vertices - goblet.center, axis=1)), rtol=1e-9)
+    assert np.array_equal(goblet.transformed(M).convex[0].vertices,
+                          goblet.convex[0].transformed(R, np.array([100.0, 0, 0])).vertices)  # exact: as given
 
 
 # --------------------------------------------------------------------------- cP

@@ -227,3 +227,21 @@ def test_atomic_writes_keep_links_and_refuse_what_is_not_a_file(tmp_path):
         with atomic_path(f"{tmp_path}/new/"):
             pass
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link.txt", "pipe", "real"]
+    with pytest.raises(NotADirectoryError, match="'.*link.txt' is a file, not a folder"):
+        with atomic_path(tmp_path / "link.txt" / "inside.json"):
+            pass
+    longest = tmp_path / ("a" * 250 + ".json")  # the longest name a folder takes: its temporary file is shorter
+    with atomic_path(longest) as tmp:
+        tmp.write_text("long")
+    assert longest.read_text() == "long"
+
+
+def test_a_folder_that_takes_no_file_is_named_by_the_file_asked_for(tmp_path, monkeypatch):
+    """The temporary file is what the system refuses; the error names the file the caller gave."""
+    def refuse(path, *args):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(os, "open", refuse)
+    with pytest.raises(PermissionError, match=r"cannot write '.*plan.json' \(Permission denied: a file is first"):
+        with atomic_path(tmp_path / "plan.json"):
+            pass

@@ -1180,6 +1180,21 @@ def test_a_failed_plan_on_a_slender_object_says_its_q_distance_stays_near_0():
                                      torque_scale=20.0), 0.3)[1] == pytest.approx(0.15)
 
 
+def test_the_steps_are_normalised_by_the_objects_size_not_its_torque_scale(hand):
+    """A torque scale within its range (a hundredth of the default) changes Q, not how far the palm moves per step:
+    the box is grasped (steps normalised by the torque scale moved the palm 0.17 mm per iteration and every attempt
+    stalled before a fingertip reached it); a torque scale far above the size is not called slenderness."""
+    corners = np.array(list(itertools.product([-25.0, 25.0], [-30.0, 30.0], [-45.0, 45.0])))
+    default = so.GraspObject([corners])
+    assert default.radius == default.torque_scale == pytest.approx(np.linalg.norm([25.0, 30.0, 45.0]))
+    small = so.GraspObject([corners], torque_scale=0.01 * default.radius)
+    assert small.radius == default.radius
+    assert plan(small, "precision", executable_reach=False).success
+    large = plan(so.GraspObject([corners], torque_scale=100.0 * default.radius), "precision", restarts=2,
+                 executable_reach=False)
+    assert not large.success and "slender" not in large.reason
+
+
 def test_save_load_round_trip(goblet_plan, tmp_path):
     path = goblet_plan.save(tmp_path / "plan.json")
     back = PlanResult.load(path)

@@ -27,6 +27,9 @@ from .scaled_contacts import ScaledContacts, scaled_contacts
 SURFACE_FACES = TREE_FACES
 #: How far (mm) that simplified surface may lie from the mesh.
 SURFACE_TOLERANCE = 0.1
+#: Largest ``|R R^T - I|`` entry of a transform's rotation taken as a rotation by `GraspObject.transformed` (then
+#: made exactly orthonormal): single-precision poses and rounded quaternions are off by up to about 1e-6.
+RIGID_TOLERANCE = 1e-5
 #: A given torque scale must lie within this factor of the object's bounding radius (a value in other units is refused).
 TORQUE_SCALE_RANGE = 100.0
 #: A given ``center`` must have its neighbours this far (a fraction of the object's size) along each axis inside too:
@@ -91,6 +94,10 @@ class GraspObject:
         The pieces stacked for the hand-point queries (`synergrasp.objects.broad_phase`).
     center : (3,) float
     torque_scale : float
+    radius : float
+        Radius of the bounding sphere about the centre, ``max |v - c|`` over
+        the pieces' vertices (mm): the object's size, which normalises the
+        planner's steps (the default ``torque_scale``).
     name : str
     mesh : trimesh.Trimesh or None
     points : (n, 3) float or None
@@ -171,7 +178,7 @@ class GraspObject:
                     "taken about it and the sQ rays start there, so it must be inside; omit it to use the default "
                     "(the volume centroid, moved inside if needed)"
                 )
-        radius = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
+        self.radius = radius = float(max(np.linalg.norm(p.vertices - self.center, axis=1).max() for p in self.convex))
         if torque_scale is None:
             self.torque_scale = radius
         else:
@@ -411,7 +418,10 @@ class GraspObject:
         Parameters
         ----------
         matrix : (4, 4) array_like
-            Homogeneous rigid transform (rotation and translation).
+            Homogeneous rigid transform (rotation and translation). A
+            rotation within `RIGID_TOLERANCE` of orthonormal (a pose in single
+            precision, a quaternion rounded to six digits) is taken as the
+            nearest rotation.
 
         Returns
         -------
@@ -427,14 +437,22 @@ class GraspObject:
             M = numeric(matrix)  # (complex numbers, text and booleans are not real numbers)
         except (TypeError, ValueError, OverflowError):
             raise TypeError(f"matrix must be a (4, 4) array of real numbers, got {type(matrix).__name__}") from None
-        if M.shape != (4, 4) or not np.isfinite(M).all():
-            raise ValueError(f"matrix must be a finite (4, 4) homogeneous transform, got shape {M.shape}")
+        if M.shape != (4, 4):
+            raise ValueError(f"matrix must be a (4, 4) homogeneous transform, got shape {M.shape}")
+        if not np.isfinite(M).all():
+            raise ValueError("matrix must be a finite (4, 4) homogeneous transform: it contains NaN or inf")
         R, t = M[:3, :3], M[:3, 3]
-        rigid = np.allclose(R @ R.T, np.eye(3), atol=1e-9) and np.linalg.det(R) > 0 and np.allclose(M[3], [0, 0, 0, 1])
-        if not rigid:
+        error = float(np.abs(R @ R.T - np.eye(3)).max())
+        if not (error <= RIGID_TOLERANCE and np.linalg.det(R) > 0 and np.allclose(M[3], [0, 0, 0, 1])):
             raise ValueError(
-                "matrix must be a rigid transform: orthonormal rotation with det +1, last row [0, 0, 0, 1]"
+                f"matrix must be a rigid transform: a rotation with det +1 (R R^T differs from I by {error:.2g}; at "
+                f"most {RIGID_TOLERANCE:g} is taken as the nearest rotation; det {np.linalg.det(R):.3g}), last row "
+                f"[0, 0, 0, 1] (got {M[3].tolist()}). Scale the object with scale= when loading it, not here"
             )
+        if error > 1e-12:  # the nearest rotation (an exact one is kept as given, bit for bit)
+            u, _, vt = np.linalg.svd(R)
+            R = u @ vt
+            M = np.vstack([np.column_stack([R, t]), [0.0, 0.0, 0.0, 1.0]])
         mesh = None
         if self.mesh is not None:
             mesh = self.mesh.copy()

@@ -189,8 +189,8 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         contact = near.value < contact_distance
     if not contact.any():
         raise NoContact(
-            f"no hand point is within {contact_distance:g} mm of {obj.name!r} (the nearest at a contact distance cP of "
-            f"{near.value.min():.1f}: mm at the surface, more than the distance farther from it): "
+            f"no hand point is within {contact_distance:g} mm of {obj.name!r} (the nearest has a contact distance cP of "
+            f"{near.value.min():.1f}, which reads mm near the surface and more than the distance away from it): "
             "this configuration does not grasp the object (another object, or the hand is not at its grasp)")
     normals, jac = near.normal[contact], jacobians[contact]
     direction = np.einsum("ia,iak->k", normals, jac)

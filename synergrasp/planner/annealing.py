@@ -178,11 +178,11 @@ class _Search:
     def __init__(self, hand, obj, grasp, options, backend):
         self.hand, self.obj, self.grasp, self.opts, self.backend = hand, obj, grasp, options, backend
         n_u = hand.n_u
-        self.scale = np.r_[np.full(3, obj.torque_scale), np.ones(n_u - 3)]
+        self.scale = np.r_[np.full(3, obj.radius), np.ones(n_u - 3)]
         lo, hi = obj.bounds
         margin = options.position_margin
-        self.low = np.r_[(lo - margin) / obj.torque_scale, np.full(3, -math.pi), hand.synergy_limits[:, 0]]
-        self.high = np.r_[(hi + margin) / obj.torque_scale, np.full(3, math.pi), hand.synergy_limits[:, 1]]
+        self.low = np.r_[(lo - margin) / obj.radius, np.full(3, -math.pi), hand.synergy_limits[:, 0]]
+        self.high = np.r_[(hi + margin) / obj.radius, np.full(3, math.pi), hand.synergy_limits[:, 1]]
         self.circular = np.r_[np.zeros(3, bool), np.ones(3, bool), np.zeros(n_u - 6, bool)]
         self.evaluations, self.lp_solves = 0, 0
 

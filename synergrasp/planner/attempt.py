@@ -246,7 +246,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     """
     opts = options
     budget = opts.iterations_per_attempt if budget is None else int(budget)
-    size = obj.torque_scale
+    size = obj.radius
     n_u = len(u0)
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size

@@ -178,8 +178,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
     options : PlannerOptions or AnnealingOptions, optional
         Settings of ``method`` (default ``PlannerOptions()``, respectively
         ``AnnealingOptions()``).
-    backend : str
-        LP backend.
+    backend : str or synergrasp.lp.Backend
+        LP backend: a name of `synergrasp.lp.available_backends` or an
+        instance.
     u0 : (n_u,) float, optional
         Start configuration: one attempt from it (its synergies clipped to
         their limits, with a warning, if they lie outside).
@@ -192,7 +193,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         Called as ``progress(check, status)`` after every iteration (with
         ``method="annealing"``: after every auto-grasp, the only steps that
         evaluate a grasp), with read-only copies (`read_only`) of the
-        iteration's `GraspCheck` and `Status`.
+        iteration's `GraspCheck` and `Status`. Its own time counts in
+        ``time_limit``.
     validate : bool or dict
         Also test every accepted grasp in MuJoCo (`synergrasp.validate`; a
         dict gives its protocol settings) and keep searching, through
@@ -389,7 +391,13 @@ def _validator(validate, obj, hand, backend):
         raise TypeError(f"validate's settings are named by strings (as synergrasp.validate's keywords), got {named!r}")
     # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
     mujoco_module()
-    protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
+    try:
+        protocol(settings.get("preset", "synergrasp"),
+                 **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
+    except ValueError as exc:
+        if "unknown protocol settings" not in str(exc):
+            raise
+        raise ValueError(f"{exc}, and validate's own preset and retreat") from None
     retreat_distance(settings.get("retreat", 0.0))
     def check(u):
         try:
@@ -465,12 +473,13 @@ def _failure(attempts, grasp, hand, obj, opts):
                        f"tried, where a power grasp needs the palm and {few - 1} phalanges (g_Q < -0.1) or "
                        f"{many - 1}: the hand may not be able to wrap it (a precision grasp may hold it)")
     arm, torque = axial_torque(obj, opts.mu)
-    if torque < SLENDER:
+    if torque < SLENDER and opts.mu * arm / obj.radius < SLENDER:  # (not a torque scale far above its size)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
                    f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays within "
                    f"about {torque:.3f} of 0, too little to steer the attempts by. A torque scale near its diameter "
-                   f"(sg.objects.load(..., torque_scale={2.0 * arm:.0f})) weighs those torques as forces at its surface")
+                   f"(torque_scale={2.0 * arm:.0f} when loading or building it, e.g. sg.objects.load(..., torque_scale="
+                   f"{2.0 * arm:.0f})) weighs those torques as forces at its surface")
     return reason
 
 
