@@ -49,7 +49,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=positive(int), default=400, help="grasps per backend and size (cvxpy gets a tenth)")
     args = parser.parse_args(argv)
-    print(f"q_distance with value + gradients, 8 cone edges; median / p95 per call in ms")
+    print("q_distance with value + gradients, 8 cone edges; median / p95 per call in ms")
     for n in (5, 16):
         print(f"\n{n} contacts")
         medians = {}

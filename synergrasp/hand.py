@@ -1255,7 +1255,7 @@ def _hand_points(u, R, rot, pos, palm_nodes, axes, q_z, nodes, weights, upstream
     upstream of it (axis ``a_j`` through ``o_j``, the start of link j).
     """
     n_c, n_j1 = pos.shape[0], pos.shape[1]
-    n_j, n_syn = n_j1 - 1, q_z.shape[2]
+    n_syn = q_z.shape[2]
     c1, s1 = np.cos(u[3]), np.sin(u[3])
     wanted = jac.shape[0] > 0
     for i in range(len(nodes)):

@@ -13,7 +13,7 @@ import trimesh
 
 import synergrasp as sg
 from synergrasp.cli import main
-from synergrasp.physics import (DIRECTIONS, PRESETS, Protocol, RenderingUnavailable, Validation, ball_pinch,
+from synergrasp.physics import (DIRECTIONS, PRESETS, Protocol, Validation, ball_pinch,
                                 build_model, hand_without, moving_joints, pinch_grasp, plot_validation, protocol,
                                 render_still, squeeze_targets, validate)
 

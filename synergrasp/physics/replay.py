@@ -149,7 +149,7 @@ def replay_reach(result_or_path, obj, *, hand=None, preset="synergrasp", speed=1
     True
     """
     start = time.process_time()
-    mujoco = mujoco_module()
+    mujoco_module()  # MuJoCo missing: said first
     hand = hand_and_object(hand, obj)
     settings = make_protocol(preset, **protocol)
     if isinstance(result_or_path, PlanResult):
