@@ -13,9 +13,9 @@ import trimesh
 
 import synergrasp as sg
 from synergrasp.cli import main
-from synergrasp.physics import (DIRECTIONS, PRESETS, Protocol, Validation, ball_pinch,
+from synergrasp.physics import (AXIS_TURNS, DIRECTIONS, PRESETS, Protocol, Validation, ball_pinch,
                                 build_model, hand_without, moving_joints, pinch_grasp, plot_validation, protocol,
-                                render_still, squeeze_targets, validate)
+                                render_still, squeeze_targets, turned_scene, validate, validate_turns)
 
 HAND = sg.SynergyHand.default()
 #: A palm pose away from the world frame, so that frame mistakes show.
@@ -396,6 +396,33 @@ def test_a_damaged_validation_file_is_refused_naming_the_field(pinch_check, tmp_
     (tmp_path / "v.json").write_text(json.dumps(data))
     with pytest.raises(ValueError, match=message):
         Validation.load(tmp_path / "v.json")
+
+
+def test_the_axis_turns_and_a_turned_scene():
+    """The 24 rotations that map the axes onto the axes, the identity first; a turned scene is the same grasp: the
+    hand's points and the object's centre turn together."""
+    assert len(AXIS_TURNS) == 24 and np.array_equal(AXIS_TURNS[0], np.eye(3))
+    assert len({R.tobytes() for R in AXIS_TURNS}) == 24
+    for R in AXIS_TURNS:
+        assert np.allclose(R @ R.T, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0) and set(np.abs(R).ravel()) == {0, 1}
+    obj = sg.objects.get("ellipsoid")
+    u = sg.planner.start_configuration(HAND, obj, (1.0, 0.5, 0.2))
+    for R in AXIS_TURNS[[5, 17, 23]]:
+        moved, v = turned_scene(obj, u, R)
+        np.testing.assert_allclose(HAND.points(v, "power"), HAND.points(u, "power") @ R.T, atol=1e-9)
+        np.testing.assert_allclose(moved.center, R @ obj.center, atol=1e-12)
+        np.testing.assert_array_equal(v[6:], u[6:])
+
+
+def test_validate_turns_repeats_the_test_in_turned_scenes(pinch, pinch_check):
+    """The box pinch holds as built and at the next two turns (a grasp far from the thresholds); bad counts refused."""
+    u, box = pinch
+    checks = validate_turns(u, box, 3)
+    assert [c.outcome for c in checks] == ["held"] * 3
+    assert checks[0].displacement.tolist() == pinch_check.displacement.tolist()  # the first is validate's own
+    for bad in (0, 25, 2.5, True):
+        with pytest.raises(ValueError, match="turns must be an integer from 1 to 24"):
+            validate_turns(u, box, bad)
 
 
 def test_protocol_settings_round_trip():

@@ -73,31 +73,12 @@ def test_squeeze_sweep_quick(tmp_path):
     assert not list(tmp_path.iterdir())  # it writes nothing
 
 
-def test_physics_turns_quick(tmp_path, monkeypatch):
-    """The ellipsoid's precision grasp validated with the scene unturned and turned (it slips either way, as in the
-    physics study); the turns are the 24 rotations that map the axes onto the axes, and a turned scene is the same
-    grasp: the hand's points turn with the object."""
+def test_physics_turns_quick(tmp_path):
+    """The ellipsoid's precision grasp validated unturned and turned: it slips either way, as in the physics study."""
     out = run("physics_turns.py", "--quick", cwd=tmp_path)
     assert re.search(r"^ellipsoid +precision +SS +held at 0/2 turns; largest displacement [\d.]+-[\d.]+ mm$", out, re.M), out
     assert "1 of 1 grasps have one verdict at every turn (synergrasp protocol)" in out
     assert not list(tmp_path.iterdir())  # it writes nothing
-    monkeypatch.syspath_prepend(str(ROOT / "benchmarks"))
-    import numpy as np
-
-    import synergrasp as sg
-    from physics_turns import axis_turns, turned
-
-    turns = axis_turns()
-    assert len(turns) == 24 and np.array_equal(turns[0], np.eye(3))
-    assert all(np.allclose(R @ R.T, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0) and set(np.abs(R).ravel()) == {0, 1}
-               for R in turns)
-    assert len({R.tobytes() for R in turns}) == 24
-    obj, hand = sg.objects.get("ellipsoid"), sg.SynergyHand.default()
-    u = sg.plan(obj, "precision", executable_reach=False).u
-    for R in turns[[5, 17]]:
-        moved, v = turned(obj, u, R)
-        np.testing.assert_allclose(hand.points(v, "power"), hand.points(u, "power") @ R.T, atol=1e-9)
-        np.testing.assert_allclose(moved.center, R @ obj.center, atol=1e-12)
 
 
 def test_the_study_s_thresholds_and_roc_areas(monkeypatch):

@@ -4,7 +4,8 @@
 MuJoCo scene (`synergrasp.physics.model`), closes the synergies a step
 further, lets the grasp settle, and pushes the object with its weight along
 six directions (`synergrasp.physics.simulate`); the `Validation` says whether
-it held, and why not. `replay_reach` runs a plan's executable reach with the
+it held, and why not; `validate_turns` repeats it with the whole scene turned
+(a grasp near a threshold can change verdict with the world frame). `replay_reach` runs a plan's executable reach with the
 object free and says how far the hand moved it before closing (`Replay`).
 The settings are a `Protocol`, from one of two `PRESETS`: the project's own
 (default) and DexGraspBench-like ones. Grasps
@@ -23,9 +24,11 @@ from .protocol import DIRECTIONS, PRESETS, Protocol, protocol
 from .replay import Replay, replay_reach
 from .result import OUTCOMES, Validation
 from .simulate import INSTALL_HINT, build_model, mujoco_module, simulate_reach
+from .turns import AXIS_TURNS, turned_scene, validate_turns
 from .validate import NoContact, check_match, retreat_distance, squeeze_targets, validate
 
 __all__ = [
+    "AXIS_TURNS",
     "NoContact",
     "retreat_distance",
     "DIRECTIONS",
@@ -52,5 +55,7 @@ __all__ = [
     "replay_reach",
     "simulate_reach",
     "squeeze_targets",
+    "turned_scene",
     "validate",
+    "validate_turns",
 ]
