@@ -99,14 +99,29 @@ def as_path(value, what: str) -> Path:
     return Path(value)
 
 
-def positive_scalar(value, name: str, maximum: float | None = None, *, zero: bool = False) -> float:
-    """Validate a finite, strictly positive number (0 too with ``zero``; at most ``maximum`` if given)."""
+def _real(value, name: str) -> float:
+    """``value`` as a float (an int beyond a float's range as inf); TypeError naming ``name`` if it is not a real number."""
     try:
         if isinstance(value, (str, bytes, bool, np.bool_, complex, np.complexfloating)):
             raise TypeError(type(value).__name__)
-        out = float(value)
+        return float(value)
+    except OverflowError:
+        return math.inf
     except (TypeError, ValueError) as exc:
         raise TypeError(f"{name} must be a number, got {type(value).__name__}") from exc
+
+
+def finite_scalar(value, name: str, what: str = "a finite number") -> float:
+    """Validate a finite real number (``what`` says what it is, in the error)."""
+    out = _real(value, name)
+    if not math.isfinite(out):
+        raise ValueError(f"{name} must be {what}, got {value!r}")
+    return out
+
+
+def positive_scalar(value, name: str, maximum: float | None = None, *, zero: bool = False) -> float:
+    """Validate a finite, strictly positive number (0 too with ``zero``; at most ``maximum`` if given)."""
+    out = _real(value, name)
     if not math.isfinite(out) or out < 0 or (out == 0 and not zero):
         raise ValueError(f"{name} must be a finite number {'>=' if zero else '>'} 0, got {value!r}")
     if maximum is not None and out > maximum:

@@ -183,6 +183,27 @@ class Protocol:
         return data
 
 
+def check_setting_names(names, also=()):
+    """Refuse names that are neither fields of `Protocol` nor in ``also`` (a caller's own keywords).
+
+    Parameters
+    ----------
+    names : iterable of str
+    also : tuple of str
+        Further names the caller takes beside the protocol's settings.
+
+    Raises
+    ------
+    ValueError
+        Naming the unknown ones and listing the known.
+    """
+    known = {f.name for f in fields(Protocol)}
+    unknown = set(names) - known - set(also)
+    if unknown:
+        raise ValueError(f"unknown protocol settings {sorted(unknown)}; settings are "
+                         f"{sorted((known - {'name'}) | set(also))}")
+
+
 def _real(value) -> bool:
     """A real number (not a bool, not NaN)."""
     return isinstance(value, numbers.Real) and not isinstance(value, bool) and not math.isnan(value)
@@ -233,10 +254,7 @@ def protocol(preset="synergrasp", **settings) -> Protocol:
         base = PRESETS[preset]
     else:
         raise ValueError(f"unknown protocol preset {preset!r}; presets are {sorted(PRESETS)} (or pass a Protocol)")
-    known = {f.name for f in fields(Protocol)}
-    unknown = set(settings) - known
-    if unknown:
-        raise ValueError(f"unknown protocol settings {sorted(unknown)}; settings are {sorted(known - {'name'})}")
+    check_setting_names(settings)
     if not settings:
         return base
     settings.setdefault("name", "custom")

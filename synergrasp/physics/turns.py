@@ -68,7 +68,7 @@ def turned_scene(obj, u, rotation):
     v[:3] = R @ v[:3]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # (angles at their lock: the rotation is still exact)
-        v[3:6] = Rotation.from_matrix(M[:3, :3] @ rotation_xyz(v[3:6])).as_euler("XYZ")
+        v[3:6] = Rotation.from_matrix(R @ rotation_xyz(v[3:6])).as_euler("XYZ")
     return moved, v
 
 

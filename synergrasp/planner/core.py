@@ -383,6 +383,7 @@ def _validator(validate, obj, hand, backend):
     if validate is False:
         return None
     from ..physics import NoContact, mujoco_module, protocol, retreat_distance  # noqa: PLC0415 - MuJoCo when asked for
+    from ..physics.protocol import check_setting_names  # noqa: PLC0415
     from ..physics import validate as simulate  # noqa: PLC0415
 
     settings = {} if validate is True else dict(validate)
@@ -391,13 +392,9 @@ def _validator(validate, obj, hand, backend):
         raise TypeError(f"validate's settings are named by strings (as synergrasp.validate's keywords), got {named!r}")
     # MuJoCo missing, an unknown preset or setting: refused now, not after the planning
     mujoco_module()
-    try:
-        protocol(settings.get("preset", "synergrasp"),
-                 **{k: v for k, v in settings.items() if k not in ("preset", "retreat")})
-    except ValueError as exc:
-        if "unknown protocol settings" not in str(exc):
-            raise
-        raise ValueError(f"{exc}, and validate's own preset and retreat") from None
+    own = ("preset", "retreat")  # validate's keywords beside the protocol's settings
+    check_setting_names(settings, also=own)
+    protocol(settings.get("preset", "synergrasp"), **{k: v for k, v in settings.items() if k not in own})
     retreat_distance(settings.get("retreat", 0.0))
     def check(u):
         try:

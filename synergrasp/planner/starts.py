@@ -24,13 +24,12 @@ from __future__ import annotations
 
 import itertools
 import json
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from .._checks import as_points, as_vector, integer, positive_scalar
+from .._checks import as_points, as_vector, finite_scalar, integer, positive_scalar
 from .._jit import clock, kernel
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
@@ -148,12 +147,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     if not np.abs(a).max() > 0.0:
         raise ValueError("approach must be a non-zero direction (object centre to hand)")
     distance = positive_scalar(distance, "distance (mm)")
-    try:
-        if isinstance(roll, (bool, np.bool_)) or not isinstance(roll, (int, float, np.integer, np.floating)) \
-                or not math.isfinite(float(roll)):
-            raise OverflowError
-    except OverflowError:  # (an int beyond a float's range too)
-        raise ValueError(f"roll must be a finite angle in radians, got {roll!r}") from None
+    roll = finite_scalar(roll, "roll", "a finite angle in radians")
     clearance = None if clearance is None else positive_scalar(clearance, "clearance (mm)", zero=True)
     a = a / np.abs(a).max()  # first to order 1: the norm of a vector of 1e300 overflows, of 1e-200 underflows
     a = a / np.linalg.norm(a)
@@ -167,7 +161,7 @@ def start_configuration(hand, obj, approach=(0.0, 1.0, 0.0), distance=150.0, cle
     usable = np.linalg.norm(candidates, axis=1) > 0.5
     order = np.lexsort((along, np.where(usable, extents, np.inf)))
     y = candidates[order[0]] / np.linalg.norm(candidates[order[0]])
-    R = np.column_stack([np.cross(y, z), y, z]) @ rotation_xyz([0.0, 0.0, float(roll)])
+    R = np.column_stack([np.cross(y, z), y, z]) @ rotation_xyz([0.0, 0.0, roll])
     u = np.r_[np.zeros(6), np.zeros(hand.n_syn)]
     tips = hand.points(u, "precision")
     aim = np.zeros(3) if palm_centred else np.array([tips[:, 0].mean(), tips[:, 1].mean(), 0.0])
