@@ -38,8 +38,10 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     """
     try:
         arr = numeric(value)
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value)}") from exc
+    except OverflowError:
+        raise ValueError(f"{name} has an entry beyond a float's range (about 1.8e308): not finite") from None
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value, exc)}") from exc
     if arr.ndim != 2:
         raise ValueError(f"{name} must have shape (n, d), got shape {arr.shape}")
     if arr.shape[0] == 0:
@@ -70,7 +72,7 @@ def numeric(value) -> np.ndarray:
     if raw.dtype.kind == "O":  # Python objects: each must be a real number itself ("1" and True convert to floats)
         for v in raw.flat:
             if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, np.integer, np.floating)):
-                raise TypeError(type(v).__name__)
+                raise TypeError(f"an entry of type {type(v).__name__}")
     elif raw.dtype.kind not in "iuf":
         raise TypeError(raw.dtype.name)
     return np.asarray(raw, dtype=float)
@@ -80,8 +82,10 @@ def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
     """Validate a finite 1-D vector (optionally of a given size)."""
     try:
         arr = numeric(value)
-    except (TypeError, ValueError, OverflowError) as exc:
-        raise TypeError(f"{name} must be a numeric vector, got {_kind(value)}") from exc
+    except OverflowError:
+        raise ValueError(f"{name} has an entry beyond a float's range (about 1.8e308): not finite") from None
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a numeric vector, got {_kind(value, exc)}") from exc
     if arr.ndim != 1 or (size is not None and arr.shape[0] != size):
         expected = f"({size},)" if size is not None else "(n,)"
         raise ValueError(f"{name} must have shape {expected}, got shape {arr.shape}")
@@ -136,8 +140,11 @@ def integer(value, name: str, minimum: int = 1, what: str = "") -> int:
     return int(value)
 
 
-def _kind(value) -> str:
-    """How a value that is not a numeric array is named in messages."""
+def _kind(value, error=None) -> str:
+    """How a value that is not a numeric array is named in messages (with the entry `numeric` refused, ``error``)."""
+    entry = str(error) if error is not None and str(error).startswith("an entry of type") else ""
+    if entry:
+        return f"{_kind(value)} with {entry} (real numbers only)"
     if np.ma.isMaskedArray(value):
         return "a masked array with masked entries (fill or drop them first)"
     if isinstance(value, np.ndarray):

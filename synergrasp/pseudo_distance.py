@@ -17,8 +17,9 @@ unique optimum, ``d value / d G[r, c] = -y_r x_c`` (``y = d value / d h``), so
 ``d d_s / d a_i = -alpha_i y`` and ``d d_s / d b_j = beta_j y`` (y: the duals of the
 d coordinate rows), and with opposite signs for the active penetration LP.
 Where the LP is degenerate (non-unique primal or dual, or several k attaining
-the max) the derivative does not exist; a valid one-sided choice is returned and
-``degenerate`` is set.
+the max) the derivative does not exist; ``degenerate`` is set, and a simplex
+backend's vertex gives a valid one-sided choice (an interior-point backend's
+centre of the optimal face need not: docs/concepts/pseudo-distance.md).
 """
 
 from __future__ import annotations
@@ -84,6 +85,12 @@ def regular_simplex(d: int) -> np.ndarray:
     return _regular_simplex(int(d)).copy()
 
 
+#: Largest condition number of a user simplex's vertices (at unit size, with a row of ones): a regular
+#: simplex has about 1.7; one flattened to 1e-7 of its size has 1.7e7, where the solvers' answers part by
+#: 2e-7 of the value, and at 1e-9 they call the always-feasible separation LP infeasible.
+MAX_SIMPLEX_CONDITION = 1e7
+
+
 def check_simplex(simplex, d: int) -> np.ndarray:
     """Validate a user simplex: shape (d+1, d), finite, origin strictly inside.
 
@@ -102,8 +109,12 @@ def check_simplex(simplex, d: int) -> np.ndarray:
         raise ValueError(f"simplex must have d+1 = {d + 1} vertices in R^{d}, got {Q.shape[0]}")
     top = float(np.abs(Q).max())
     M = np.vstack([Q.T / (top if top > 0 else 1.0), np.ones(d + 1)])  # at unit size: the test does not depend on Q's
-    if np.linalg.cond(M) > 1e12:
-        raise ValueError("simplex is degenerate (its vertices lie in a hyperplane)")
+    cond = np.linalg.cond(M)
+    if cond > MAX_SIMPLEX_CONDITION:
+        raise ValueError(f"simplex is degenerate or nearly so: its vertices (scaled to unit size) have a condition "
+                         f"number of {cond:.3g}, above {MAX_SIMPLEX_CONDITION:g} (they lie in or near a hyperplane), "
+                         "and the LPs' tolerances cannot resolve so flat a gauge. Use a rounder simplex "
+                         "(sg.regular_simplex(d) is the default)")
     barycentric = np.linalg.solve(M, np.r_[np.zeros(d), 1.0])
     if barycentric.min() <= 1e-12:
         raise ValueError(
@@ -132,7 +143,9 @@ class PseudoDistance:
     degenerate : bool
         True when the derivative does not exist (non-unique LP solution, or a
         tie between penetration directions); the gradients are then a valid
-        one-sided choice.
+        one-sided choice with a simplex backend (native, HiGHS), and the
+        gradient of the centre of the optimal face, which need not be one,
+        with an interior-point backend (Clarabel, cvxpy).
     lp_solves : int
         Number of solver calls made (1 or 2; up to 4 for sets that touch to
         round-off). The d+1 penetration LPs of Eq. 3

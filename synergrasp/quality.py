@@ -447,6 +447,11 @@ class QDistance:
     lp_solves: int
 
 
+def _shape(value) -> str:
+    """An argument's shape in messages: ``shape (n, 3)`` of an array, else its type."""
+    return f"of shape {value.shape}" if isinstance(value, np.ndarray) else f"a {type(value).__name__}"
+
+
 def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=None, backend="native",
                checked=False) -> QDistance:
     """Q distance of a grasp and its gradients (paper Eqs. 4-10).
@@ -513,7 +518,11 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
     if checked and (center is None or torque_scale is None):
         raise ValueError("checked=True is for arrays the library made, with center and torque_scale given: give "
                          "them, or leave checked False")
-    if checked:  # the same arrays as _prepare's for such inputs
+    if checked:  # the same arrays as _prepare's for such inputs (their types and shapes still checked: cheap)
+        if not (isinstance(points, np.ndarray) and isinstance(normals, np.ndarray) and points.ndim == 2
+                and points.shape[1:] == (3,) and normals.shape == points.shape and len(points)):
+            raise ValueError("checked=True is for (n, 3) float arrays the library made, one normal per contact point; "
+                             f"got points {_shape(points)} and normals {_shape(normals)}: leave checked False")
         mu, _ = positive_scalar(mu, "mu", MU_MAX), _angles(edges)
         (nhat, length), arm, c, L = _normalised(normals), points - center, center, float(torque_scale)
     else:

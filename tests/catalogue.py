@@ -15,6 +15,7 @@ Planner-option cases (``PlannerOptions`` and ``AnnealingOptions`` fields, the me
 from __future__ import annotations
 
 import json
+from decimal import Decimal
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -25,6 +26,8 @@ import trimesh
 import synergrasp as sg
 import synergrasp.objects as so
 from synergrasp import viz
+from synergrasp.lp.clarabel import ClarabelBackend
+from synergrasp.lp.cvxpy import CvxpyBackend
 from synergrasp.physics import probes
 from synergrasp.objects.contact_distance import group_contact_distance
 from synergrasp.planner import check_grasp, executable_reach, grasp_status, hand_clearance, path_clearance, recess
@@ -193,6 +196,12 @@ API = [
     Case("sg.pseudo_distance", "points of dimension 1001", _pd(A=np.zeros((1, 1001)), B=np.ones((1, 1001))), ValueError, "at most 1000 is supported"),
     Case("sg.pseudo_distance", "a simplex of the wrong shape", _pd(simplex=np.eye(3)), ValueError, "simplex must have d+1 = 4 vertices"),
     Case("sg.pseudo_distance", "a simplex not around the origin", _pd(simplex=sg.regular_simplex(3) + 5.0), ValueError, "simplex must contain the origin strictly inside"),
+    Case("sg.pseudo_distance", "a simplex flattened to 1e-9 of its size (HiGHS called the LP infeasible, Clarabel was 27 % off)",
+         _pd(simplex=sg.regular_simplex(3) * [1.0, 1.0, 1e-9]), ValueError, "simplex is degenerate or nearly so"),
+    Case("sg.pseudo_distance", "an integer coordinate beyond a float's range", _pd(A=[[10**400, 0, 0]]), ValueError,
+         "A has an entry beyond a float's range"),
+    Case("sg.pseudo_distance", "a coordinate that is a Decimal", _pd(A=[[Decimal(1), 0.0, 0.0]]), TypeError,
+         "A must be a numeric array of shape (n, d), got list with an entry of type Decimal"),
     Case("sg.pseudo_distance", "an unknown backend", _pd(backend="glpk"), ValueError, "unknown LP backend 'glpk'"),
     Case("sg.pseudo_distance", "sets 1e-300 across: solved rescaled", _pd(A=A3 * 1e-300, B=B3 * 1e-300), None, "value 1.2e-298",
          check=lambda r: r.kind == "separation" and abs(r.value / 1.2e-298 - 1) < 1e-9),
@@ -241,6 +250,9 @@ API = [
          "30000 contacts of 8 cone edges make a Q-distance LP of more than the 1e+07 nonzeros synergrasp builds"),
     Case("sg.q_distance", "checked=True without center", _q(checked=True), ValueError,
          "checked=True is for arrays the library made, with center and torque_scale given"),
+    Case("sg.q_distance", "checked=True with fewer normals than points (the last contact was dropped silently)",
+         _q(points=[[0.0, 0.0, 10.0], [0.0, 0.0, -10.0], [10.0, 0.0, 0.0]], normals=[[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]],
+            center=np.zeros(3), torque_scale=10.0, checked=True), ValueError, "one normal per contact point"),
     Case("sg.q_distance", "checked = \"yes\"", _q(checked="yes"), TypeError, "checked must be True or False, got str 'yes'"),
     Case("sg.q_distance", "one contact: a result, not force-closed", _q(points=[[0.0, 0.0, 10.0]], normals=[[0.0, 0.0, -1.0]]), None,
          "Q > 0", check=lambda r: r.value > 0 and not r.force_closure),
@@ -564,6 +576,10 @@ API = [
     Case("sg.lp.get_backend", "an unknown name", lambda tmp: sg.lp.get_backend("gurobi"), ValueError, "unknown LP backend 'gurobi'; available"),
     Case("sg.lp.get_backend", "a number, not a name", lambda tmp: sg.lp.get_backend(3), TypeError,
          "an LP backend is a name (['highs'"),
+    Case("ClarabelBackend", "a negative tolerance", lambda tmp: ClarabelBackend(tol=-1.0), ValueError, "tol must be a finite number > 0"),
+    Case("ClarabelBackend", "a tolerance of 0.5 (a Q 6 % off)", lambda tmp: ClarabelBackend(tol=0.5), ValueError, "tol must be a number in (0, 1e-05]"),
+    Case("CvxpyBackend", "a solver cvxpy does not have (refused at the first solve)", lambda tmp: CvxpyBackend(solver="NOPE"), ValueError,
+         "cvxpy has no solver 'NOPE' installed"),
     Case("Backend.solve", "mismatched shapes", lambda tmp: sg.lp.get_backend("highs").solve([1.0, 1.0], [[1.0, 1.0, 1.0]], [1.0]), ValueError, "LP data of mismatched shapes"),
     Case("Backend.solve", "a NaN cost", lambda tmp: sg.lp.get_backend("highs").solve([np.nan, 1.0], [[1.0, 1.0]], [1.0]), ValueError, "LP data contains NaN or inf"),
     Case("Backend.solve", "a cost that is a word", lambda tmp: sg.lp.get_backend("highs").solve("cheap", [[1.0, 1.0]], [1.0]), TypeError, "LP data c, A and b must be arrays of real numbers"),

@@ -96,6 +96,38 @@ def test_a_repeated_vertex_is_degenerate_on_every_backend(backend):
     assert r.value == pytest.approx(single.value, abs=1e-7) and r.degenerate and not single.degenerate
 
 
+def test_touching_squares_a_simplex_backend_gives_the_one_sided_derivative(backend):
+    """Two squares sharing an edge: the value moves at the same rate (2/sqrt(3)) whichever way B slides along x. A
+    simplex backend returns that rate; an interior-point one the centre of the optimal face, whose gradient is not a
+    one-sided derivative (as documented): both flag the LP degenerate."""
+    A = np.array([[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]])
+    B = A + [2.0, 0.0]
+    r = sg.pseudo_distance(A, B, backend=backend)
+    h = 1e-3  # (the value is linear on either side: an interior-point solver's round-off of 1e-10 is 1e-7 of a step)
+    ahead = (sg.pseudo_distance(A, B + [h, 0.0], backend=backend).value - r.value) / h
+    behind = (r.value - sg.pseudo_distance(A, B - [h, 0.0], backend=backend).value) / h
+    assert ahead == pytest.approx(2 / np.sqrt(3), rel=1e-5) and behind == pytest.approx(2 / np.sqrt(3), rel=1e-5)
+    assert r.degenerate and abs(r.value) < 1e-8
+    if sg.lp.get_backend(backend).vertex_solutions:
+        assert r.grad_b.sum(axis=0) == pytest.approx([2 / np.sqrt(3), 0.0], abs=1e-7)
+
+
+@pytest.mark.parametrize("flat", [1e-8, 1e-9])
+def test_a_simplex_too_flat_for_the_solvers_is_refused(flat):
+    """Flattened to 1e-9 of its size, a simplex around the origin made HiGHS call the always-feasible separation LP
+    infeasible and Clarabel return a value 27 % off: refused, with its condition number."""
+    with pytest.raises(ValueError, match="simplex is degenerate or nearly so: .* condition number"):
+        sg.pseudo_distance(np.eye(3), np.eye(3) + 3.0, simplex=sg.regular_simplex(3) * [1.0, 1.0, flat])
+
+
+def test_a_simplex_flattened_to_a_millionth_still_agrees_on_every_backend(backend):
+    """The flattest simplex accepted by a wide margin: every backend gives the native value to 1e-8."""
+    Q = sg.regular_simplex(3) * [1.0, 1.0, 1e-6]
+    value = sg.pseudo_distance(np.eye(3), np.eye(3) + 3.0, simplex=Q, backend=backend).value
+    assert value == pytest.approx(sg.pseudo_distance(np.eye(3), np.eye(3) + 3.0, simplex=Q, backend="native").value,
+                                  rel=1e-8)
+
+
 def test_sets_too_large_for_the_penetration_lp_are_refused_before_it_is_built():
     rng = np.random.default_rng(0)
     with pytest.raises(ValueError, match=r"301 \+ 301 points in 300 dimensions make a penetration LP of 5.46e\+07"):

@@ -14,7 +14,11 @@ import clarabel
 import numpy as np
 import scipy.sparse as sp
 
+from .._checks import positive_scalar
 from .base import Backend, csc_arrays
+
+#: Loosest ``tol`` a `ClarabelBackend` takes.
+MAX_TOL = 1e-5
 
 _STATUS = {
     "Solved": "optimal",
@@ -32,11 +36,21 @@ class ClarabelBackend(Backend):
     Parameters
     ----------
     tol : float
-        Used for Clarabel's gap and feasibility tolerances.
+        Used for Clarabel's gap and feasibility tolerances, in (0, 1e-5].
+
+    Raises
+    ------
+    ValueError
+        For a ``tol`` outside that range (a looser one gives wrong values and
+        gradients that the library's own LPs, which skip the answer check,
+        would not notice).
     """
+
+    inaccurate = frozenset({"AlmostSolved"})
 
     def __init__(self, tol: float = 1e-10):
         super().__init__(name="clarabel")
+        tol = positive_scalar(tol, "tol", MAX_TOL)
         settings = clarabel.DefaultSettings()
         settings.verbose = False
         settings.tol_gap_abs = settings.tol_gap_rel = tol

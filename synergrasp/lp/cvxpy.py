@@ -33,7 +33,14 @@ class CvxpyBackend(Backend):
         cvxpy solver name, ``"CLARABEL"`` by default (ships with cvxpy).
     solver_options : dict
         Passed to ``Problem.solve``.
+
+    Raises
+    ------
+    ValueError
+        For a ``solver`` cvxpy does not have installed.
     """
+
+    inaccurate = frozenset({cp.OPTIMAL_INACCURATE})
 
     #: cvxpy canonicalises its parametrised dense matrix in time and memory that grow much faster
     #: than the LP (0.6 s for 60 x 1373, gigabytes for 244 x 10000): stacked blocks go in LPs of
@@ -42,6 +49,9 @@ class CvxpyBackend(Backend):
 
     def __init__(self, solver: str = "CLARABEL", **solver_options):
         super().__init__(name="cvxpy")
+        installed = cp.installed_solvers()
+        if solver not in installed:
+            raise ValueError(f"cvxpy has no solver {solver!r} installed; it has {', '.join(installed)}")
         self.solver = solver
         if solver == "CLARABEL" and not solver_options:
             solver_options = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10}

@@ -99,6 +99,10 @@ class AttemptResult:
     lp_solves : int
     surface : SurfaceCheck or None
         The grasp judged on the object's true surface (`surface_check`), None without a grasp.
+    iterations_run : int or None
+        Iterations the attempt ran: `iterations`, plus the refining
+        iterations after the grasp it kept (they count in the plan's
+        ``max_iter``, and ``progress`` was called for them). None: `iterations`.
     """
 
     outcome: Outcome
@@ -111,10 +115,15 @@ class AttemptResult:
     penetration: float
     lp_solves: int
     surface: SurfaceCheck | None = None
+    iterations_run: int | None = None
+
+    def __post_init__(self):
+        if self.iterations_run is None:
+            object.__setattr__(self, "iterations_run", self.iterations)
 
     @property
     def iterations(self) -> int:
-        """Steps taken."""
+        """Steps of the returned trajectory (to the grasp kept, if any)."""
         return len(self.trajectory) - 1
 
     @property
@@ -409,7 +418,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
             if earlier - best < opts.crawl_fraction * (abs(earlier) + 0.1):
                 outcome = Outcome.CRAWLED
                 break
-    surface = None
+    surface, ran = None, len(traj) - 1
     if kept is not None:  # the best grasp met on the way
         k, st, chk, pen, surface = kept
         outcome, traj, statuses, qs = Outcome.GRASP, traj[: k + 1], statuses[: k + 1], qs[: k + 1]
@@ -418,7 +427,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     depth = (pen if pen is not None else hand_penetration(hand, obj, traj[-1])).depth
     reason = _reason(outcome, opts, window, len(traj) - 1, chk, max(depth, deep), judged)
     return AttemptResult(outcome, reason, np.array(traj), np.array(statuses), np.array(qs), st, chk, float(depth), int(solves),
-                         surface)
+                         surface, ran)
 
 
 def _reason(outcome, opts, window, iterations, check, depth, judged):

@@ -293,10 +293,10 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
             break  # (a first attempt past the deadline ends at once, saying so)
         result = run_attempt(hand, obj, grasp, start.u, opts, backend=solver, budget=budget, deadline=deadline,
                              progress=progress)
-        total += result.iterations
+        total += result.iterations_run
         solves += result.lp_solves
         record = {"start": start.u.tolist(), "kind": start.kind, **start.detail, "outcome": result.outcome.name.lower(),
-                  "reason": result.reason, "iterations": result.iterations, "status": result.status.tolist()}
+                  "reason": result.reason, "iterations": result.iterations, "iterations_run": result.iterations_run, "status": result.status.tolist()}
         attempts.append(record)
         if result.success and physics is not None:
             verdict = physics(result.trajectory[-1])

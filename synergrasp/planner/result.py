@@ -88,8 +88,10 @@ class PlanResult:
         its placement (``thumb``, ``finger`` and ``width`` of a pinch seed,
         ``direction`` and ``turn`` (rad, about the approach) of a direction start), ``outcome`` (the name of its
         `synergrasp.planner.Outcome`, lower case), ``reason`` (the outcome
-        in words), ``iterations`` and ``status`` (its status at every
-        iteration); with ``plan(..., validate=True)`` an accepted grasp's
+        in words), ``iterations`` and ``status`` (its trajectory's steps, to
+        the grasp it kept if any, and its status at each), ``iterations_run``
+        (those and the refining iterations after the kept grasp, which count
+        in ``max_iter``; gradient planner); with ``plan(..., validate=True)`` an accepted grasp's
         ``held`` and ``physics`` (the validation's reason). The trajectory is the successful
         attempt's, or the last one's.
     surface_q : float
@@ -176,8 +178,9 @@ class PlanResult:
 
     @property
     def total_iterations(self) -> int:
-        """Iterations over all attempts."""
-        return sum(a["iterations"] for a in self.attempts) if self.attempts else self.iterations
+        """Iterations run over all attempts: their trajectories' steps and the refining iterations after a kept grasp
+        (``iterations_run`` of an attempt's record, where it has one)."""
+        return sum(a.get("iterations_run", a["iterations"]) for a in self.attempts) if self.attempts else self.iterations
 
     @property
     def final_q(self) -> float:
@@ -321,6 +324,10 @@ def _validated(data: dict, path) -> dict:
         iterations = attempt.get("iterations")
         if isinstance(iterations, bool) or not isinstance(iterations, int) or iterations < 0:
             raise ValueError(f"{path}: field '{where}.iterations' must be an integer >= 0, got {iterations!r}")
+        run = attempt.get("iterations_run", iterations)
+        if isinstance(run, bool) or not isinstance(run, int) or run < iterations:
+            raise ValueError(f"{path}: field '{where}.iterations_run' must be an integer >= its iterations "
+                             f"({iterations}), got {run!r}")
         if not isinstance(attempt.get("reason"), str):
             raise ValueError(f"{path}: field '{where}.reason' must be a string, got {attempt.get('reason')!r}")
         if "status" in attempt:
