@@ -284,6 +284,8 @@ API = [
     Case("sg.plan", "a NaN u0", lambda tmp: sg.plan("ellipsoid", u0=[np.nan] * 8), ValueError, "u0 contains NaN or inf"),
     Case("sg.plan", "a u0 a light-year away", lambda tmp: sg.plan("ellipsoid", u0=[1e12] + [0.0] * 7), ValueError,
          "u0 places the palm 1e+12 mm from ellipsoid 30/40/50's centre, farther than 10000 mm"),
+    Case("sg.plan", "u0's Euler angles in degrees", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 150.0, 180.0, 0.0, 90.0, 0.0, 0.0]),
+         ValueError, "u0's Euler angles [180.0, 0.0, 90.0] go beyond 2 pi: they are radians (degrees?"),
     Case("sg.plan", "both u0 and approach", lambda tmp: sg.plan("ellipsoid", u0=[0.0, 0.0, 150.0] + [0.0] * 5,
                                                                  approach=[0.0, 0.0, 1.0]), ValueError,
          "give u0 or approach, not both"),

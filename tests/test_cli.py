@@ -30,6 +30,7 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
     assert printed and int(printed.group(1)) == len(saved["path"]) == len(clearance)
     assert float(printed.group(2)) == round(clearance[0], 1) and float(printed.group(3)) == round(clearance.min(), 1)
     assert (printed.group(4) == "collision-free") == saved["collision_free"]
+    assert f"(Q on the true surface {saved['surface_q']:+.4f})" in out  # the Q it was accepted on, beside g_Q
     for name in ("ellipsoid_precision_status.png", "ellipsoid_precision_poses.png"):
         assert (tmp_path / name).stat().st_size > 10_000
 

@@ -1396,10 +1396,18 @@ def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the
     touching = [a["touching"] for a in r.attempts if a["kind"] == "wrap"]
     assert not r.success and len(touching) == 4 and max(touching) <= 2
     assert "came within 5 mm of its surface in the wrap poses tried" in r.reason
-    assert "may not be able to wrap it" in r.reason
+    assert "may not be able to wrap it (a precision grasp may hold it)" in r.reason
     short = plan(so.ellipsoid(), "power", max_iter=3)
     assert not short.success and short.attempts[0]["kind"] == "wrap" and short.attempts[0]["touching"] >= 3
     assert "wrap poses tried" not in short.reason
+
+
+def test_a_failed_power_plan_points_to_a_precision_grasp_only_where_a_pinch_spans_the_object():
+    """A 155 mm cube is wider than the thumb and fingertips open (145 mm): its failed power plan does not suggest a
+    precision grasp, which its precision plan has no pinch for (it did)."""
+    cube = so.from_mesh(trimesh.creation.box((155.0, 155.0, 155.0)), name="155 mm cube", cache=False)
+    r = plan(cube, "power", max_iter=60)
+    assert not r.success and "may not be able to wrap it" in r.reason and "precision" not in r.reason
 
 
 def test_a_30_mm_ball_has_a_power_grasp_with_the_palm_on_it():

@@ -127,12 +127,17 @@ def _check_object(obj, hand):
 
 
 def _given_start(u0, hand, obj):
-    """``u0`` as a start configuration, refused when its palm is farther from the object than any start."""
+    """``u0`` as a start configuration, refused when its palm is farther from the object than any start or its Euler
+    angles go beyond a turn (degrees, most likely)."""
     u0 = as_vector(u0, "u0", hand.n_u)
     far = float(np.linalg.norm(u0[:3] - obj.center))
     if far > MAX_START_DISTANCE:
         raise ValueError(f"u0 places the palm {far:.4g} mm from {obj.name}'s centre, farther than {MAX_START_DISTANCE:g} "
                          "mm (the largest start_distance): start the hand near the object (coordinates in mm)")
+    angles = u0[3:6]
+    if np.abs(angles).max() > 2.0 * np.pi:
+        raise ValueError(f"u0's Euler angles {np.round(angles, 3).tolist()} go beyond 2 pi: they are radians (degrees? "
+                         "np.radians(...) converts them; np.angle(np.exp(1j * a)) brings radians into (-pi, pi])")
     return np.r_[u0[:6], hand.clip_synergies(u0[6:], "u0's synergies")]
 
 
@@ -183,7 +188,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         instance.
     u0 : (n_u,) float, optional
         Start configuration: one attempt from it (its synergies clipped to
-        their limits, with a warning, if they lie outside).
+        their limits, with a warning, if they lie outside; its Euler angles
+        in radians, each at most 2 pi in size).
     approach : (3,) float, optional
         Direction from the object's centre to the start of the first attempt
         (`start_configuration`); the plan's own starts follow.
@@ -468,7 +474,8 @@ def _failure(attempts, grasp, hand, obj, opts):
             most = {0: "no phalanx", 1: "at most one phalanx"}.get(max(touching), f"at most {max(touching)} phalanges")
             reason += (f"; with the palm on it, {most} came within {eps_c:g} mm of its surface in the wrap poses "
                        f"tried, where a power grasp needs the palm and {few - 1} phalanges (g_Q < -0.1) or "
-                       f"{many - 1}: the hand may not be able to wrap it (a precision grasp may hold it)")
+                       f"{many - 1}: the hand may not be able to wrap it"
+                       + (" (a precision grasp may hold it)" if obj.width <= widest_pinch(hand) else ""))
     arm, torque = axial_torque(obj, opts.mu)
     if torque < SLENDER and opts.mu * arm / obj.radius < SLENDER:  # (not a torque scale far above its size)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
