@@ -177,31 +177,6 @@ class PointSurface:
         inside = -np.einsum("ij,ij->i", points - self.points[nearest], outward)
         return np.where(known, inside, -np.abs(inside))
 
-    def sides_known(self, points, contains) -> np.ndarray:
-        """Whether ``contains`` tells which side of the plane fitted near each point is inside the object.
-
-        As in `signed_distance`: the plane of each point's nearest cloud
-        point, tested half its radius to either side. Where both sides are
-        inside or neither (a concavity the convex pieces cover, a wall
-        thinner than the neighbours' disc, a handle's joint), the cloud does
-        not say which way the surface faces there, and a contact there has no
-        known normal.
-
-        Parameters
-        ----------
-        points : (m, 3) array_like
-            At least one point.
-        contains : callable
-            ``contains(points) -> (k,) bool``, e.g. `GraspObject.contains`.
-
-        Returns
-        -------
-        (m,) bool
-        """
-        points = as_points(points, "points", dim=3)
-        nearest, normals, radius = self._planes(points)
-        return self._outward(nearest, normals, radius, contains)[1]
-
     def net_normal(self, contains) -> np.ndarray:
         """The area-weighted mean of the surface's outward unit normals at the cloud's points.
 

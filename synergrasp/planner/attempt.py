@@ -171,9 +171,8 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
     `GraspObject.mesh_excess` of the limit, every capsule in the pieces for
     a point cloud), then the contacts moved to
     the object's true surface (`surface_check`) within ``options.eps_c`` of
-    it with a Q distance below ``options.q_accept`` (and, on a point cloud,
-    each on a side of the surface the cloud tells, `SurfaceCheck.unknown`);
-    each test only when the previous holds. Both planners accept grasps with it.
+    it with a Q distance below ``options.q_accept``; each test only when the
+    previous holds. Both planners accept grasps with it.
 
     Parameters
     ----------
@@ -215,7 +214,7 @@ def judge_grasp(hand, obj, u, status, check, options, *, backend="native", penet
             return False, replace(pen, depth=depth), None
     surface = surface_check(obj, status.nearest[check.contact], status.normals[check.contact], mu=options.mu,
                             edges=options.edges, backend=backend)
-    return surface.gap <= options.eps_c and surface.q < options.q_accept and not surface.unknown, pen, surface
+    return surface.gap <= options.eps_c and surface.q < options.q_accept, pen, surface
 
 
 def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None, deadline=None, progress=None):
@@ -434,9 +433,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
 def _reason(outcome, opts, window, iterations, check, depth, judged):
     """An outcome in words, with its numbers (``window``: the attempt's stall window; ``judged``: the last `SurfaceCheck`, or None)."""
     last = "" if judged is None else (f"; the last: Q = {judged.q:.4f} on the true surface (q_accept "
-                                      f"{opts.q_accept:g}), contacts up to {judged.gap:.1f} mm off it"
-                                      + (f", {judged.unknown} where the cloud does not tell inside from outside"
-                                         if judged.unknown else ""))
+                                      f"{opts.q_accept:g}), contacts up to {judged.gap:.1f} mm off it")
     details = {
         Outcome.GRASP: f"{check.n_contacts} contacts, g_Q = {check.q:.4f}",
         Outcome.NO_TOUCH: f"in {opts.touch_window} iterations",

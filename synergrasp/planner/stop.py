@@ -35,16 +35,12 @@ class SurfaceCheck:
     q : float
         Q distance of the contacts on the true surface (NaN with fewer than two); for a point cloud the larger
         of those with the fitted normals and with the pieces' normals.
-    unknown : int
-        Contacts where a point cloud does not tell which side of its surface is inside
-        (`PointSurface.sides_known`): their normals are guesses, and the grasp is not accepted. 0 for a mesh.
     """
 
     points: np.ndarray
     normals: np.ndarray
     gap: float
     q: float
-    unknown: int = 0
 
 
 def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") -> SurfaceCheck:
@@ -60,9 +56,7 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     as they are. A cloud's fitted normals are estimates (near an edge the
     plane blends two faces), so its Q is the larger of the Q distances of the
     feet with the fitted normals and with the pieces' ``normals``: the grasp
-    must be force-closed under both; and where the cloud does not tell which
-    side of its surface is inside (`PointSurface.sides_known`) neither
-    estimate can be trusted, which ``unknown`` counts.
+    must be force-closed under both.
 
     Parameters
     ----------
@@ -99,16 +93,14 @@ def surface_check(obj, points, normals, *, mu=0.3, edges=8, backend="native") ->
     else:
         closest, gap, triangle = obj.surface_queries.closest(points)
         inward = -obj.surface.face_normals[triangle]
-    q, unknown = np.nan, 0
-    if obj.point_surface is not None and len(points):
-        unknown = int(np.count_nonzero(~obj.point_surface.sides_known(points, obj.contains)))
+    q = np.nan
     if len(points) >= 2:
         q = q_distance(closest, inward, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
                        backend=backend, checked=True).value
         if obj.point_surface is not None:  # a cloud's normals are estimates: force-closed with the pieces' too
             q = max(q, q_distance(closest, normals, mu=mu, edges=edges, center=obj.center,
                                   torque_scale=obj.torque_scale, backend=backend, checked=True).value)
-    return SurfaceCheck(closest, inward, float(gap.max()) if len(gap) else 0.0, float(q), unknown)
+    return SurfaceCheck(closest, inward, float(gap.max()) if len(gap) else 0.0, float(q))
 
 
 def mesh_depth(obj, capsules, radius, *, spacing=0.5) -> np.ndarray:
