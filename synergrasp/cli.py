@@ -272,10 +272,10 @@ def _plan(args) -> int:
     from .lp import get_backend
     from .planner import clock, plan
 
-    out = writable_folder(args.out, "output folder (--out)")  # before any work, so none is lost
-    get_backend(args.backend)
+    get_backend(args.backend)  # bad input is refused before the output folder is made
     hand = hand_from_args(args)
-    obj = object_from_args(args)
+    obj = object_from_args(args)  # (a new mesh's pieces are cached: a refused --out below loses none of that work)
+    out = writable_folder(args.out, "output folder (--out)")  # before the plan, so it is not lost
     bar = tqdm(desc=f"{args.grasp} grasp of {obj.name}", unit="it", disable=args.quiet,
                bar_format="{desc}: {n_fmt} it [{elapsed}] {postfix}")
 
@@ -293,18 +293,17 @@ def _plan(args) -> int:
         bar.close()
     compiling = (time.perf_counter() - wall) - (clock() - search)  # numba's, once after an install
     stem = output_stem(args.object, args.grasp)
+    animation = [out / f"{stem}_reach.gif", out / f"{stem}_grasp.html"]
+    stale = [f for f in animation if f.is_file()]
+    for f in stale:  # an earlier run's animation beside this run's files would show another plan (--no-animation, or
+        f.unlink()  # this run interrupted before its own are written)
     files = [result.save(out / f"{stem}.json"),
              viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
-    animation = [out / f"{stem}_reach.gif", out / f"{stem}_grasp.html"]
     if not args.no_animation:
         files += [viz.animate(result, obj, hand, animation[0]), viz.write_html(obj, hand, result.u, animation[1])]
-    else:  # an earlier run's animation beside this run's files would show another plan
-        stale = [f for f in animation if f.is_file()]
-        for f in stale:
-            f.unlink()
-        if stale:
-            print(f"removed an earlier run's {', '.join(f.name for f in stale)} (--no-animation)", file=sys.stderr)
+    elif stale:
+        print(f"removed an earlier run's {', '.join(f.name for f in stale)} (--no-animation)", file=sys.stderr)
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
     q = "-" if result.final_q != result.final_q else f"{result.final_q:+.4f}"
     if result.surface_q == result.surface_q:  # a grasp: the Q it was accepted on (q_accept), on the true surface

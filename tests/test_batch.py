@@ -380,7 +380,9 @@ def test_a_batch_of_another_hand_is_validated_and_drawn_with_it(tmp_path):
     store = ResultStore(tmp_path)
     store.write_result("ellipsoid", "precision", result, validation)
     store.write_object("ellipsoid", "ellipsoid", 1.0)
-    page = write_report(tmp_path)  # with the paper hand: the plan is not drawn, and the page says why
+    with pytest.warns(UserWarning, match="1 plan.s. of the gallery were made with another hand .copy of the paper hand "
+                      "sha256:.* synergrasp report DIR --hand FILE"):  # (the page alone said so)
+        page = write_report(tmp_path)  # with the paper hand: the plan is not drawn, and the page says why
     assert "planned with hand copy of the paper hand sha256:" in page.read_text()
     assert not (tmp_path / "report" / "ellipsoid" / "precision.png").exists()
     write_report(tmp_path, hand=hand)
@@ -580,6 +582,25 @@ def test_ctrl_c_is_kept_in_a_flag_even_where_its_exception_is_lost():
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
     finally:
         signal.signal(signal.SIGINT, outer)
+
+
+def test_ctrl_c_that_stops_the_local_workers_starting_is_an_interrupt(tmp_path, monkeypatch, capsys):
+    """Ctrl-C in a terminal reaches the local workers too: caught as they start, they fail, and the cluster's start
+    raised "Nanny failed to start" (exit 1, with advice for scripts) instead of the interrupt (exit 130)."""
+    import synergrasp.batch.runner as runner
+
+    def interrupted_start(*args):
+        signal.getsignal(signal.SIGINT)(signal.SIGINT, None)  # the run's handler notes the Ctrl-C
+        raise RuntimeError("Nanny failed to start.")
+
+    monkeypatch.setattr(runner, "_connect", interrupted_start)
+    outer = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        assert main(["batch", "ellipsoid", "--out", str(tmp_path), "--quiet"]) == 130
+    finally:
+        signal.signal(signal.SIGINT, outer)
+    err = capsys.readouterr().err
+    assert "synergrasp: interrupted" in err and "__main__" not in err
 
 
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])

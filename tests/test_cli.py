@@ -44,6 +44,22 @@ def test_plan_without_animation_removes_an_earlier_runs_animation(tmp_path, caps
     assert "removed an earlier run's ellipsoid_precision_reach.gif, ellipsoid_precision_grasp.html" in capsys.readouterr().err
 
 
+def test_a_plan_interrupted_before_its_animation_leaves_no_earlier_one(tmp_path, monkeypatch):
+    """Interrupted while its GIF is made, a rerun left the earlier run's GIF and page beside its own result."""
+    from synergrasp import viz
+
+    stale = [tmp_path / "ellipsoid_precision_reach.gif", tmp_path / "ellipsoid_precision_grasp.html"]
+    for f in stale:
+        f.write_text("an earlier plan")
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(viz, "animate", interrupted)
+    main(["plan", "--object", "ellipsoid", "--out", str(tmp_path), "--quiet"])
+    assert (tmp_path / "ellipsoid_precision.json").is_file() and not any(f.exists() for f in stale)
+
+
 def test_plan_says_how_long_the_kernels_compiled(tmp_path, capsys, monkeypatch):
     """The first plan after an install spends seconds in numba's compilation: the output says how many (here a
     clock, perf_counter less the compilation, that lost 5 s during the plan)."""
@@ -180,6 +196,18 @@ def test_unwritable_out_is_found_before_planning(tmp_path, capsys, monkeypatch):
         err = capsys.readouterr().err
         assert err.startswith("synergrasp: error: cannot write to the output folder (--out)") and str(out) in err
     assert planned == []
+
+
+def test_bad_input_makes_no_output_folder(tmp_path, capsys):
+    """An unknown object, a folder given as the object, an unknown backend, a missing result to validate: refused
+    (exit 2) after the output folder was made, which stayed behind empty."""
+    (tmp_path / "a folder").mkdir()
+    for argv in (["plan", "--object", "teapot"], ["plan", "--object", str(tmp_path / "a folder")],
+                 ["plan", "--backend", "gurobi"], ["validate", str(tmp_path / "none.json"), "--object", "cup"]):
+        out = tmp_path / "left" / "deep"
+        assert main([*argv, "--out", str(out), "--quiet"] if argv[0] == "plan" else [*argv, "--out", str(out)]) == 2
+        assert not (tmp_path / "left").exists(), argv
+    capsys.readouterr()
 
 
 def test_inputs_never_share_output_files(tmp_path, capsys):

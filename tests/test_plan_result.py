@@ -142,6 +142,29 @@ def test_load_checks_every_field_and_names_it(saved, field, value, message):
     assert str(info.value).startswith(f"{path}: ")
 
 
+def test_load_refuses_a_result_that_contradicts_itself(tmp_path):
+    """Edited by hand, a result loaded and was validated as a grasp it never was: u moved 50 mm from the trajectory's
+    end, a pre-grasp apart from the reach's start, a grasp without contacts, a normal of length 5, true for a number."""
+    path = sg.plan("ellipsoid", "precision").save(tmp_path / "grasp.json")
+    good = json.loads(path.read_text())
+    moved = [good["u"][0] + 50.0] + good["u"][1:]
+    edits = [
+        ({"u": moved}, "field 'u' must be the last row of trajectory"),
+        ({"u": good["u"][:7]}, "field 'u' must be 8 numbers, as each row of trajectory, not 7"),
+        ({"pregrasp": [good["pregrasp"][0] + 5.0] + good["pregrasp"][1:]}, "field 'path' must be the reach from pregrasp"),
+        ({"contact_labels": [], "contact_points": [], "contact_normals": []},
+         "field 'contact_labels' must be two contacts or more for a grasp"),
+        ({"contact_normals": [[5.0 * v for v in n] for n in good["contact_normals"]]}, "field 'contact_normals' must be unit"),
+        ({"u": [True] + good["u"][1:]}, "field 'u' must be an array of numbers"),
+    ]
+    for edit, message in edits:
+        path.write_text(json.dumps({**good, **edit}))
+        with pytest.raises(ValueError, match=message):
+            sg.PlanResult.load(path)
+    path.write_text(json.dumps(good))
+    assert sg.PlanResult.load(path).success
+
+
 def test_a_file_saved_before_surface_q_and_held_loads_with_their_defaults(saved):
     path, data = saved
     del data["surface_q"], data["held"]
@@ -154,7 +177,7 @@ def test_load_names_the_file_for_missing_fields_and_bad_files(saved, tmp_path):
     path, data = saved
     del data["u"]
     path.write_text(json.dumps(data))
-    with pytest.raises(ValueError, match=r"plan.json lacks the fields \['u'\]: .* plan it again"):
+    with pytest.raises(ValueError, match=r"plan.json lacks the fields \['u'\]: a file edited by hand, or .* plan it again"):
         sg.PlanResult.load(path)
     path.write_text(json.dumps({**data, "format": "synergrasp.PlanResult/2"}))
     with pytest.raises(ValueError, match="is a PlanResult of format 'synergrasp.PlanResult/2', which this version"):

@@ -95,7 +95,11 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
         warnings.warn(f"{len(unreadable)} result file(s) in '{store.out}' could not be read and are left out of the report "
                       f"({', '.join(unreadable)}): `synergrasp batch` on the same folder plans them again", UserWarning,
                       stacklevel=2)
-    pictures = _gallery(store, rows, gallery, hand or SynergyHand.default())
+    pictures, other_hands = _gallery(store, rows, gallery, hand or SynergyHand.default())
+    if other_hands:
+        warnings.warn(f"{sum(other_hands.values())} plan(s) of the gallery were made with another hand "
+                      f"({', '.join(sorted(other_hands))}) and have no picture: write the report with that hand "
+                      "(hand=...; on the command line: synergrasp report DIR --hand FILE)", UserWarning, stacklevel=2)
     page = store.out / "report.html"
     with atomic_path(page) as tmp:
         tmp.write_text(_page(store, rows, pictures, unreadable), encoding="utf-8")
@@ -103,12 +107,13 @@ def write_report(out, gallery: int = 48, hand=None) -> Path:
 
 
 def _gallery(store, rows, count, hand):
-    """[(row, picture path relative to OUT or None, note)] for the gallery's plans."""
+    """[(row, picture path relative to OUT or None, note)] for the gallery's plans, and {hand: plans} of the plans
+    made with another hand than ``hand``."""
     from ..viz import plot_grasps
 
     planned = [r for r in rows if r["status"] == "planned"]
     chosen = ([r for r in planned if r["success"]] + [r for r in planned if not r["success"]])[:count]
-    objects, shown = {}, []
+    objects, shown, other_hands = {}, [], {}
     for row in chosen:
         json_path = store.out / row["file"]
         picture = store.out / "report" / row["object"] / f"{row['grasp']}.png"
@@ -122,13 +127,15 @@ def _gallery(store, rows, count, hand):
                 continue
             result = PlanResult.load(json_path)
             if not hand.made(result.hand):
-                shown.append((row, None, f"planned with hand {result.hand}: write the report with that hand (hand=)"))
+                shown.append((row, None, f"planned with hand {result.hand}: write the report with that hand (hand=; "
+                                         "on the command line --hand FILE)"))
+                other_hands[result.hand] = other_hands.get(result.hand, 0) + 1
                 continue
             picture.parent.mkdir(parents=True, exist_ok=True)
             caption = f"{row['object']}, {row['grasp']}"
             plot_grasps([(result, obj, caption)], hand, picture, columns=1)
         shown.append((row, picture.relative_to(store.out).as_posix(), ""))
-    return shown
+    return shown, other_hands
 
 
 def _cell(value) -> str:

@@ -466,7 +466,12 @@ def _plan_all(todo, to_validate, store, report, workers, scheduler, backend, opt
     try:
         start = time.perf_counter()
         arm(scheduler is not None)  # (waiting for a remote scheduler's workers stops at once: it makes no cluster)
-        client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
+        try:
+            client, cluster, report.workers = _connect(workers, scheduler, connect_timeout)
+        except RuntimeError:  # Ctrl-C reached the local workers as they started: they did not, and that is why
+            if interrupted.is_set():
+                raise KeyboardInterrupt from None
+            raise
         report.startup_s = time.perf_counter() - start
         bar = tqdm(total=len(todo), unit="plan", desc="batch", disable=not progress, dynamic_ncols=True)
         arm(True)

@@ -34,7 +34,9 @@ def add_validate_parser(subparsers):
         "still of the settled grasp. NAME is the object's as synergrasp plan names it (the built-in's name, or the "
         "file's stem and extension) and GRASP the result's grasp type, so the results of objects of different names "
         "(such as a batch's results/OBJECT/GRASP.json) never share output files; a result file named otherwise (run1.json) "
-        "adds its stem: NAME_GRASP_run1_validation.json. Exit status 0 if the grasp holds, 1 if "
+        "adds its stem: NAME_GRASP_run1_validation.json. Settings other than the defaults add theirs, so that a "
+        "variant does not overwrite the validation it is compared with: NAME_GRASP_dexgraspbench_mu0.5_retreat40_"
+        "validation.json. Exit status 0 if the grasp holds, 1 if "
         "not. Needs pip install \"synergrasp[sim]\".",
     )
     p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
@@ -61,20 +63,30 @@ def _validate(args) -> int:
 
     from .._files import writable_folder
 
-    out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
-    result = PlanResult.load(args.result)
+    result = PlanResult.load(args.result)  # bad input is refused before the output folder is made
     obj = object_from_args(args)
     hand = hand_from_args(args)
+    out = writable_folder(args.out, "output folder (--out)")  # before the simulation, so no work is lost
     settings = {} if args.mu is None else {"mu": args.mu}
     check = validate(result, obj, hand=hand, preset=args.preset, retreat=args.retreat, **settings)
     stem, own = output_stem(args.object, result.grasp), Path(args.result).stem
     if own not in (stem, result.grasp):  # run1.json, run2.json of one object: their own files
         stem += f"_{own}"
+    if args.preset != "synergrasp":  # a variant's own files, beside the validation it is compared with
+        stem += f"_{args.preset}"
+    if args.mu is not None:
+        stem += f"_mu{args.mu:g}"
+    if args.retreat != 0.0:
+        stem += f"_retreat{args.retreat:g}"
     stem += "_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
+    still = out / f"{stem}_still.png"
+    if args.no_still and still.is_file():  # an earlier run's still beside this run's files would show another grasp
+        still.unlink()
+        print(f"removed an earlier run's {still.name} (--no-still)")
     if not args.no_still:
         try:
-            files.append(render_still(check, obj, out / f"{stem}_still.png", hand=hand))
+            files.append(render_still(check, obj, still, hand=hand))
         except RenderingUnavailable as exc:
             print(f"skipped the still: {exc}")
     print(f"{'held' if check.held else 'NOT HELD'} ({check.outcome}): {check.reason}")

@@ -261,7 +261,8 @@ class PlanResult:
         (True, 'ellipsoid 30/40/50')
         """
         data = load_record(cls, path, _FORMAT, _ARRAYS, optional=("hand", "held", "surface_q"),
-                           missing="a result an older synergrasp saved lacks the fields added since: plan it again")
+                           missing="a file edited by hand, or one an older synergrasp saved before they were "
+                                   "added (then plan it again)")
         return cls(**_validated(data, path))
 
 
@@ -294,8 +295,12 @@ def _validated(data: dict, path) -> dict:
     if len(u) < 7:
         fail("u", "a configuration of 6 + n_syn >= 7 numbers")
     out["trajectory"] = array("trajectory", 2)
+    if out["trajectory"].ndim == 2 and out["trajectory"].shape[1:] != u.shape:
+        fail("u", f"{out['trajectory'].shape[1]} numbers, as each row of trajectory, not {len(u)}")
     if out["trajectory"].shape != (k + 1, len(u)):
         fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}")
+    if not np.array_equal(out["trajectory"][-1], u):
+        fail("u", "the last row of trajectory (the configuration the plan reached): one of them was edited")
     out["target"] = array("target", 1)
     m = len(out["target"])
     if m < 2:
@@ -311,6 +316,10 @@ def _validated(data: dict, path) -> dict:
         out[name] = array(name, 2)
         if out[name].shape != (len(labels), 3):
             fail(name, f"of shape ({len(labels)}, 3), one row per contact label")
+    if np.abs(np.linalg.norm(out["contact_normals"], axis=1) - 1.0).max(initial=0.0) > 1e-6:
+        fail("contact_normals", "unit vectors")
+    if out["success"] and len(labels) < 2:
+        fail("contact_labels", "two contacts or more for a grasp (success is true)")
     if not isinstance(data["options"], dict):
         fail("options", "an object of planner settings")
     out["options"] = data["options"]
@@ -346,6 +355,8 @@ def _validated(data: dict, path) -> dict:
     reach = array("path", 2) if np.size(data["path"]) else np.zeros((0, len(u)))
     if reach.shape[1:] != (len(u),):
         fail("path", f"an array of shape (p, len(u) = {len(u)})")
+    if len(reach) and not (np.array_equal(reach[0], pregrasp) and np.array_equal(reach[-1], u)):
+        fail("path", "the reach from pregrasp (its first row) to u (its last row): one of them was edited")
     out["path"] = reach
     out["clearance"] = array("clearance", 1)
     if out["clearance"].shape != (len(reach),):
