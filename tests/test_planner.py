@@ -1402,6 +1402,17 @@ def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the
     assert "wrap poses tried" not in short.reason
 
 
+def test_a_plan_ended_before_its_first_step_says_that_and_nothing_of_the_object():
+    """With time_limit=0.01 the power plan's reason said that no wrap pose was free of the cup and that the fingers did
+    not close around it: its time had ended the wrap poses' screen and the attempt before its first step."""
+    for grasp in ("precision", "power"):
+        r = plan(so.cup(), grasp, time_limit=1e-6)
+        assert not r.success and r.total_iterations == 0
+        assert r.reason.endswith("ran out before the first step (max_iter, time_limit): no attempt tells anything of "
+                                 "the object")
+        assert "wrap pose" not in r.reason and "did not close" not in r.reason
+
+
 def test_a_failed_power_plan_points_to_a_precision_grasp_only_where_a_pinch_spans_the_object():
     """A 155 mm cube is wider than the thumb and fingertips open (145 mm): its failed power plan does not suggest a
     precision grasp, which its precision plan has no pinch for (it did)."""

@@ -424,7 +424,9 @@ def _failure(attempts, grasp, hand, obj, opts):
     less ``opts.seed_opening`` on either side. When most power attempts
     ended with every phalanx more than ``eps_c`` from the object, it says
     that and how far they stopped: the fingers did not close around it.
-    When no wrap pose passed the screen (`wrap_seeds`), it says so. When no wrap seed it
+    When no wrap pose passed the screen (`wrap_seeds`), it says so, unless the
+    plan's budget ended it (its time also ends the screen). A plan whose budget
+    ended it before its first step says that alone. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
@@ -458,6 +460,10 @@ def _failure(attempts, grasp, hand, obj, opts):
                    f"{_pinch_words(hand)} close to no less than {pinch:.0f} mm, too far "
                    f"apart to bring both within {band:g} mm of it (the contact band the pads are steered into; "
                    f"accepted within {eps_c:g} mm): a wall or sheet too thin for this hand's pinch")
+    cut = attempts[-1]["outcome"] == Outcome.BUDGET.name.lower()  # the plan's iterations or time ended it
+    if cut and not any(a["iterations"] for a in attempts):
+        return reason + ("; its iterations or time ran out before the first step (max_iter, time_limit): no "
+                         "attempt tells anything of the object")
     if grasp == "power":
         nearest = np.array([min(a["status"][-1][:-2]) for a in attempts])  # each attempt's nearest phalanx at its end
         apart = nearest > eps_c
@@ -465,7 +471,7 @@ def _failure(attempts, grasp, hand, obj, opts):
             reason += (f"; in {apart.sum()} of them no phalanx ended within {eps_c:g} mm of the object (the nearest "
                        f"{np.median(nearest[apart]):.0f} mm off, median): the fingers did not close around it")
         touching = [a["touching"] for a in attempts if a["kind"] == "wrap"]
-        if not touching:
+        if not touching and not cut:  # (the time limit also ends the screening of wrap poses)
             reason += ("; no wrap pose (the palm on its surface, the fingers closed around it) was free of it: in "
                        "every pose screened a phalanx or the palm reached into it, so every attempt started from a "
                        "direction around it")
