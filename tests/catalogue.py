@@ -858,7 +858,7 @@ BATCH = [
     Case("synergrasp batch", "--max-iter 0", argv=["batch", "cup", "--max-iter", "0", "--out", "{tmp}/out"],
          says="argument --max-iter: expected an integer > 0, got '0'"),
     Case("synergrasp batch", "--time-limit 0", argv=["batch", "cup", "--time-limit", "0", "--out", "{tmp}/out"],
-         says="time_limit must be a finite number > 0"),
+         says="argument --time-limit: expected a finite number > 0, got '0'"),
     Case("synergrasp batch", "--scale and --units together", argv=["batch", "cup", "--scale", "10", "--units", "m"],
          says="not allowed with argument"),
     Case("synergrasp batch", "an unknown validation preset", argv=["batch", "cup", "--validate", "isaac"], says="invalid choice: 'isaac'"),

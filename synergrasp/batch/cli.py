@@ -49,7 +49,7 @@ def register(sub, epilog: str = "") -> None:
     b.add_argument("--hand", default=None, metavar="FILE", help="hand file to plan with (default the paper's hand)")
     b.add_argument("--max-iter", type=positive(int), default=None,
                    help="cap on each plan's iterations (default: the planner's)")
-    b.add_argument("--time-limit", type=float, default=None, metavar="SECONDS",
+    b.add_argument("--time-limit", type=positive(float), default=None, metavar="SECONDS",
                    help="a plan running longer is recorded as timed out, in place of the planner's own limit "
                    "(default: the planner's, 10 s, after which a plan ends without a grasp)")
     units = b.add_mutually_exclusive_group()
