@@ -62,6 +62,10 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     return arr
 
 
+class EntryTypeError(TypeError):
+    """An entry of an array of Python objects that is not a real number (its type's name is the message)."""
+
+
 def numeric(value) -> np.ndarray:
     """``value`` as floats; real numbers only: not text, booleans, complex numbers, dates or masked entries."""
     if type(value) is np.ndarray and value.dtype == np.float64:  # already floats (the common case)
@@ -72,7 +76,7 @@ def numeric(value) -> np.ndarray:
     if raw.dtype.kind == "O":  # Python objects: each must be a real number itself ("1" and True convert to floats)
         for v in raw.flat:
             if isinstance(v, (bool, np.bool_)) or not isinstance(v, (numbers.Real, np.integer, np.floating)):
-                raise TypeError(f"an entry of type {type(v).__name__}")
+                raise EntryTypeError(type(v).__name__)
     elif raw.dtype.kind not in "iuf":
         raise TypeError(raw.dtype.name)
     return np.asarray(raw, dtype=float)
@@ -142,9 +146,8 @@ def integer(value, name: str, minimum: int = 1, what: str = "") -> int:
 
 def _kind(value, error=None) -> str:
     """How a value that is not a numeric array is named in messages (with the entry `numeric` refused, ``error``)."""
-    entry = str(error) if error is not None and str(error).startswith("an entry of type") else ""
-    if entry:
-        return f"{_kind(value)} with {entry} (real numbers only)"
+    if isinstance(error, EntryTypeError) and isinstance(value, (list, tuple, np.ndarray)) and np.ndim(value):
+        return f"{_kind(value)} with an entry of type {error} (real numbers only)"
     if np.ma.isMaskedArray(value):
         return "a masked array with masked entries (fill or drop them first)"
     if isinstance(value, np.ndarray):

@@ -111,7 +111,7 @@ def load_record(cls, path, tag, arrays, optional=(), missing="") -> dict:
 def _array(value, shape, where):
     """``value`` as a float array of ``shape`` (-1: any length; None: any shape); ValueError naming ``where``."""
     try:
-        arr = None if _holds_bool(value) else np.asarray(value)  # (numpy reads true as 1.0 beside numbers)
+        arr = None if holds_bool(value) else np.asarray(value)  # (numpy reads true as 1.0 beside numbers)
     except (TypeError, ValueError):  # ragged lists
         arr = None
     if arr is not None:  # numbers only: JSON's strings, true/false and null are not read as numbers
@@ -148,8 +148,6 @@ class FieldChecks:
     def array(self, name: str, ndim: int, finite: bool = True) -> np.ndarray:
         """Field ``name`` as a float array of ``ndim`` dimensions (an empty 2-D one as (0, 3)), finite if asked."""
         try:
-            if _holds_bool(self.data[name]):  # (numpy reads true as 1.0 beside numbers)
-                raise TypeError("true or false")
             arr = np.asarray(self.data[name], dtype=float)
         except (TypeError, ValueError):
             self.fail(name, f"a {ndim}-D array of numbers")
@@ -200,8 +198,8 @@ class FieldChecks:
         return self.data[name]
 
 
-def _holds_bool(value) -> bool:
-    """Whether nested lists ``value`` hold a true or false anywhere."""
+def holds_bool(value) -> bool:
+    """Whether nested lists ``value`` hold a true or false anywhere (numpy reads them as 1.0 and 0.0 beside numbers)."""
     stack = [value]
     while stack:
         item = stack.pop()

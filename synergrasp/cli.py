@@ -306,8 +306,8 @@ def _plan(args) -> int:
         print(f"removed an earlier run's {', '.join(f.name for f in stale)} (--no-animation)", file=sys.stderr)
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")
     q = "-" if result.final_q != result.final_q else f"{result.final_q:+.4f}"
-    if result.surface_q == result.surface_q:  # a grasp: the Q it was accepted on (q_accept), on the true surface
-        q += f" (Q on the true surface {result.surface_q:+.4f})"
+    if result.surface_q == result.surface_q and f"{result.surface_q:.4f}" != f"{result.final_q:.4f}":  # as the reason
+        q += f" (Q on the true surface, which it was accepted on: {result.surface_q:+.4f})"
     print(f"iterations {result.iterations}, g_sQ {result.final_sq:+.4f}, g_Q {q}, "
           f"contacts {', '.join(result.contact_labels) or 'none'}, penetration {result.penetration:.1f} mm")
     if len(result.path):

@@ -520,9 +520,12 @@ def q_distance(points, normals, *, mu=0.3, edges=8, center=None, torque_scale=No
                          "them, or leave checked False")
     if checked:  # the same arrays as _prepare's for such inputs (their types and shapes still checked: cheap)
         if not (isinstance(points, np.ndarray) and isinstance(normals, np.ndarray) and points.ndim == 2
-                and points.shape[1:] == (3,) and normals.shape == points.shape and len(points)):
-            raise ValueError("checked=True is for (n, 3) float arrays the library made, one normal per contact point; "
-                             f"got points {_shape(points)} and normals {_shape(normals)}: leave checked False")
+                and points.shape[1:] == (3,) and normals.shape == points.shape and np.shape(center) == (3,)):
+            raise ValueError("checked=True is for (n, 3) float arrays the library made, one normal per contact point, "
+                             f"and a (3,) center; got points {_shape(points)}, normals {_shape(normals)} and center "
+                             f"{_shape(center)}: leave checked False")
+        if not len(points):
+            raise ValueError("points is empty: it needs at least one contact")
         mu, _ = positive_scalar(mu, "mu", MU_MAX), _angles(edges)
         (nhat, length), arm, c, L = _normalised(normals), points - center, center, float(torque_scale)
     else:

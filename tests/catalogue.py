@@ -690,6 +690,7 @@ PLANNER_OPTIONS: list[Case] = [
     _option("contact_band", (4.0, 2.0), "PlannerOptions.contact_band must be"),
     _option("contact_band", (1.0, np.inf), "PlannerOptions.contact_band must be"),
     _option("contact_band", None, "PlannerOptions.contact_band must be (low, high) mm with 0 <= low < high <= eps_c (5), got None"),
+    _option("contact_band", (10**400, 1.0), "PlannerOptions.contact_band must be (low, high) mm"),
     _option("clearance", -0.5, "PlannerOptions.clearance must be in"),
     _option("band_step", 0.0, "PlannerOptions.band_step must be in"),
     _option("band_step", float("nan"), "PlannerOptions.band_step must be a number"),

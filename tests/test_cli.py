@@ -5,6 +5,7 @@ import re
 
 import numpy as np
 import pytest
+import trimesh
 
 from synergrasp.cli import build_parser, main
 
@@ -30,9 +31,22 @@ def test_plan_writes_the_result_and_figures(tmp_path, capsys):
     assert printed and int(printed.group(1)) == len(saved["path"]) == len(clearance)
     assert float(printed.group(2)) == round(clearance[0], 1) and float(printed.group(3)) == round(clearance.min(), 1)
     assert (printed.group(4) == "collision-free") == saved["collision_free"]
-    assert f"(Q on the true surface {saved['surface_q']:+.4f})" in out  # the Q it was accepted on, beside g_Q
+    differs = f"{saved['surface_q']:.4f}" != f"{saved['q_history'][-1]:.4f}"  # the Q it was accepted on, beside g_Q
+    assert (f"(Q on the true surface, which it was accepted on: {saved['surface_q']:+.4f})" in out) == differs
     for name in ("ellipsoid_precision_status.png", "ellipsoid_precision_poses.png"):
         assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_plan_prints_the_q_a_grasp_was_accepted_on_where_it_differs_from_g_q(tmp_path, capsys):
+    """A 70 mm ball's piece is its mesh's hull cut to 256 vertices: a grasp's Q on the mesh differs from g_Q on the
+    piece, and the printed line gave g_Q alone (-0.0008 beside q_accept -0.01 for a user's object)."""
+    ball = tmp_path / "ball.stl"
+    trimesh.creation.icosphere(subdivisions=3, radius=35.0).export(ball)
+    assert main(["plan", "--object", str(ball), "--grasp", "power", "--out", str(tmp_path), "--quiet",
+                 "--no-animation"]) == 0
+    saved = json.loads((tmp_path / "ball_stl_power.json").read_text())
+    assert f"{saved['surface_q']:.4f}" != f"{saved['q_history'][-1]:.4f}"
+    assert f"(Q on the true surface, which it was accepted on: {saved['surface_q']:+.4f})" in capsys.readouterr().out
 
 
 def test_plan_without_animation_removes_an_earlier_runs_animation(tmp_path, capsys):
@@ -129,9 +143,6 @@ def test_python_dash_m_synergrasp_is_the_command_line(capsys, monkeypatch):
 
 def write_capsule_cloud(path, scale=1.0):
     """Points on a capsule 70 mm wide and 130 mm long, times ``scale`` (0.001: in metres), as .xyz or .npy."""
-    import numpy as np
-    import trimesh
-
     points = trimesh.sample.sample_surface(trimesh.creation.capsule(height=60.0, radius=35.0), 1500, seed=0)[0] * scale
     if path.suffix == ".npy":
         np.save(path, points)

@@ -259,6 +259,37 @@ def test_custom_backend_object_is_accepted():
         sg.pseudo_distance([[0.0, 0.0]], [[1.0, 0.0]], backend=Fixed(name="fixed"))
 
 
+def test_an_answer_the_solver_calls_inaccurate_is_checked_even_without_verify():
+    """Clarabel's AlmostSolved and cvxpy's optimal_inaccurate were taken as optimal where the library's own LPs skip
+    the answer check (verify=False): a wrong answer so marked comes back failed; unmarked, it is trusted as asked."""
+    class Loose(Backend):
+        inaccurate = frozenset({"almost"})
+
+        def __init__(self, message):
+            super().__init__(name="loose")
+            self.message = message
+
+        def _solve(self, c, A, b):  # min x0 + x1, x0 - x1 = 2: the optimum is x = (2, 0), objective 2
+            return "optimal", np.array([3.0, 1.0]), np.array([1.0]), 5, self.message
+
+    c, A, b = [1.0, 1.0], [[1.0, -1.0]], [2.0]
+    marked = Loose("almost").solve(c, A, b, verify=False)
+    assert marked.status == "failed" and "called it optimal (almost)" in marked.message
+    assert Loose("solved").solve(c, A, b, verify=False).status == "optimal"
+    assert Loose("solved").solve(c, A, b).status == "failed"
+
+
+def test_the_cvxpy_backend_takes_its_solver_in_any_case_and_refuses_a_missing_one():
+    from synergrasp.lp.cvxpy import CvxpyBackend
+
+    for solver in ("clarabel", "CLARABEL", "Clarabel"):
+        be = CvxpyBackend(solver=solver)
+        assert be.solver_options and be.solve([1.0, 1.0], [[1.0, -1.0]], [2.0]).objective == pytest.approx(2.0)
+    assert CvxpyBackend(solver=None).solve([1.0, 1.0], [[1.0, -1.0]], [2.0]).objective == pytest.approx(2.0, abs=1e-6)
+    with pytest.raises(ValueError, match="cvxpy has no solver 'NOPE' installed; it has .*CLARABEL"):
+        CvxpyBackend(solver="NOPE")
+
+
 def test_highs_runs_with_a_global_scheduler_of_another_thread_count():
     highspy = pytest.importorskip("highspy")
     from synergrasp.lp.highs import THREADS, HighsBackend

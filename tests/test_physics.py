@@ -517,7 +517,7 @@ def test_cli_validates_a_saved_result(pinch, tmp_path, capsys):
     still = out / "box_stl_precision_pinch_validation_still.png"
     still.write_bytes(b"an earlier run's still")
     assert main(["validate", str(path), "--object", str(mesh), "--out", str(out), "--no-still"]) == 0
-    assert not still.exists() and "removed an earlier run's" in capsys.readouterr().out
+    assert not still.exists() and "removed an earlier run's" in capsys.readouterr().err
     assert main(["validate", str(path), "--object", "ellipsoid", "--out", str(out), "--no-still"]) == 2
     assert "planned for another object" in capsys.readouterr().err
     metres = tmp_path / "box_m.stl"  # the same box in a file in metres: validated with --units m, as it was planned

@@ -132,6 +132,10 @@ def test_the_status_figure_of_a_failed_plan_shows_every_attempt(failed_plan):
     ("attempts", [{"iterations": "4", "reason": "x"}], "field 'attempts\\[0\\].iterations' must be an integer"),
     ("attempts", [{"iterations": 4}], "field 'attempts\\[0\\].reason' must be a string"),
     ("attempts", [{"iterations": 1, "reason": "x", "status": [[0.0]]}], "field 'attempts\\[0\\].status' must be"),
+    ("attempts", [{"iterations": 4, "iterations_run": 3, "reason": "x"}],
+     "field 'attempts\\[0\\].iterations_run' must be an integer >= its iterations \\(4\\), got 3"),
+    ("attempts", [{"iterations": 0, "reason": "x", "status": [[True] * 6]}], "field 'attempts\\[0\\].status' must be"),
+    ("trajectory", [[0.0] * 7] * 5, "field 'trajectory' must be of shape .* \\(its rows of 7 numbers, u of 8\\)"),
 ])
 def test_load_checks_every_field_and_names_it(saved, field, value, message):
     path, data = saved
@@ -150,7 +154,7 @@ def test_load_refuses_a_result_that_contradicts_itself(tmp_path):
     moved = [good["u"][0] + 50.0] + good["u"][1:]
     edits = [
         ({"u": moved}, "field 'u' must be the last row of trajectory"),
-        ({"u": good["u"][:7]}, "field 'u' must be 8 numbers, as each row of trajectory, not 7"),
+        ({"u": good["u"][:7]}, "field 'trajectory' must be of shape .* \\(its rows of 8 numbers, u of 7\\)"),
         ({"pregrasp": [good["pregrasp"][0] + 5.0] + good["pregrasp"][1:]}, "field 'path' must be the reach from pregrasp"),
         ({"contact_labels": [], "contact_points": [], "contact_normals": []},
          "field 'contact_labels' must be two contacts or more for a grasp"),
@@ -163,6 +167,10 @@ def test_load_refuses_a_result_that_contradicts_itself(tmp_path):
             sg.PlanResult.load(path)
     path.write_text(json.dumps(good))
     assert sg.PlanResult.load(path).success
+    # a reach that was not collision-free was cut short of u before 2026-11-30: such a file loads
+    short = {**good, "path": good["path"][:-1], "clearance": good["clearance"][:-1], "collision_free": False}
+    path.write_text(json.dumps(short))
+    assert len(sg.PlanResult.load(path).path) == len(good["path"]) - 1
 
 
 def test_a_file_saved_before_surface_q_and_held_loads_with_their_defaults(saved):

@@ -1013,8 +1013,10 @@ def test_every_iteration_run_is_counted_and_kept_within_max_iter():
     assert r.success and last["iterations_run"] > last["iterations"] == r.iterations
     assert len(calls) == r.total_iterations == sum(a["iterations_run"] for a in r.attempts)
     assert f"{r.total_iterations} iterations in all" in r.reason
-    capped = sg.plan(so.goblet(), "precision", max_iter=r.total_iterations - 1)
-    assert capped.total_iterations <= r.total_iterations - 1
+    capped_calls = []
+    capped = sg.plan(so.goblet(), "precision", max_iter=r.total_iterations - 1,
+                     progress=lambda check, status: capped_calls.append(1))
+    assert len(capped_calls) == capped.total_iterations <= r.total_iterations - 1
 
 
 def test_power_plan_has_a_palm_contact():

@@ -29,8 +29,9 @@ class CvxpyBackend(Backend):
 
     Parameters
     ----------
-    solver : str
-        cvxpy solver name, ``"CLARABEL"`` by default (ships with cvxpy).
+    solver : str or None
+        cvxpy solver name (any case), ``"CLARABEL"`` by default (ships with
+        cvxpy); None lets cvxpy choose.
     solver_options : dict
         Passed to ``Problem.solve``.
 
@@ -50,10 +51,11 @@ class CvxpyBackend(Backend):
     def __init__(self, solver: str = "CLARABEL", **solver_options):
         super().__init__(name="cvxpy")
         installed = cp.installed_solvers()
-        if solver not in installed:
-            raise ValueError(f"cvxpy has no solver {solver!r} installed; it has {', '.join(installed)}")
+        if solver is not None and (not isinstance(solver, str) or solver.upper() not in installed):
+            raise ValueError(f"cvxpy has no solver {solver!r} installed; it has {', '.join(installed)} (None: "
+                             "cvxpy picks one)")
         self.solver = solver
-        if solver == "CLARABEL" and not solver_options:
+        if solver is not None and solver.upper() == "CLARABEL" and not solver_options:
             solver_options = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10}
         self.solver_options = solver_options
         self._models = {}

@@ -34,9 +34,9 @@ def add_validate_parser(subparsers):
         "still of the settled grasp. NAME is the object's as synergrasp plan names it (the built-in's name, or the "
         "file's stem and extension) and GRASP the result's grasp type, so the results of objects of different names "
         "(such as a batch's results/OBJECT/GRASP.json) never share output files; a result file named otherwise (run1.json) "
-        "adds its stem: NAME_GRASP_run1_validation.json. Settings other than the defaults add theirs, so that a "
-        "variant does not overwrite the validation it is compared with: NAME_GRASP_dexgraspbench_mu0.5_retreat40_"
-        "validation.json. Exit status 0 if the grasp holds, 1 if "
+        "adds its stem: NAME_GRASP_run1_validation.json. Another preset, and --mu or --retreat when given, add "
+        "theirs, so that a variant does not overwrite the validation it is compared with: "
+        "NAME_GRASP_dexgraspbench_mu0.5_retreat40_validation.json. Exit status 0 if the grasp holds, 1 if "
         "not. Needs pip install \"synergrasp[sim]\".",
     )
     p.add_argument("result", help="a PlanResult JSON file (written by synergrasp plan)")
@@ -75,15 +75,16 @@ def _validate(args) -> int:
     if args.preset != "synergrasp":  # a variant's own files, beside the validation it is compared with
         stem += f"_{args.preset}"
     if args.mu is not None:
-        stem += f"_mu{args.mu:g}"
+        stem += f"_mu{args.mu:.12g}"
     if args.retreat != 0.0:
-        stem += f"_retreat{args.retreat:g}"
+        stem += f"_retreat{args.retreat:.12g}"
     stem += "_validation"
     files = [check.save(out / f"{stem}.json"), plot_validation(check, out / f"{stem}.png")]
     still = out / f"{stem}_still.png"
-    if args.no_still and still.is_file():  # an earlier run's still beside this run's files would show another grasp
-        still.unlink()
-        print(f"removed an earlier run's {still.name} (--no-still)")
+    if still.is_file():  # an earlier run's still beside this run's files would show another grasp (--no-still, or no
+        still.unlink()  # offscreen rendering this time)
+        if args.no_still:
+            print(f"removed an earlier run's {still.name} (--no-still)", file=sys.stderr)
     if not args.no_still:
         try:
             files.append(render_still(check, obj, still, hand=hand))

@@ -302,7 +302,8 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         total += result.iterations_run
         solves += result.lp_solves
         record = {"start": start.u.tolist(), "kind": start.kind, **start.detail, "outcome": result.outcome.name.lower(),
-                  "reason": result.reason, "iterations": result.iterations, "iterations_run": result.iterations_run, "status": result.status.tolist()}
+                  "reason": result.reason, "iterations": result.iterations, "iterations_run": result.iterations_run,
+                  "status": result.status.tolist()}
         attempts.append(record)
         if result.success and physics is not None:
             verdict = physics(result.trajectory[-1])

@@ -65,7 +65,7 @@ def _values(value, name, what, size=None, allow_none=True):
         return None
     try:
         arr = numeric(value)  # (text and booleans are not numbers)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # (an int beyond a float's range: not finite)
         arr = None
     if arr is None or arr.ndim != 1 or not len(arr) or (size and len(arr) != size) or not np.all(np.isfinite(arr)):
         raise ValueError(f"PlannerOptions.{name} must be {what}{' or None' if allow_none else ''}, got {value!r}")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._records import FieldChecks, load_record, save_record
+from .._records import FieldChecks, holds_bool, load_record, save_record
 from ..hand import POINT_KINDS
 
 _FORMAT = "synergrasp.PlanResult/1"
@@ -295,12 +295,12 @@ def _validated(data: dict, path) -> dict:
     if len(u) < 7:
         fail("u", "a configuration of 6 + n_syn >= 7 numbers")
     out["trajectory"] = array("trajectory", 2)
-    if out["trajectory"].ndim == 2 and out["trajectory"].shape[1:] != u.shape:
-        fail("u", f"{out['trajectory'].shape[1]} numbers, as each row of trajectory, not {len(u)}")
     if out["trajectory"].shape != (k + 1, len(u)):
-        fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}")
+        rows = (f" (its rows of {out['trajectory'].shape[1]} numbers, u of {len(u)})"
+                if len(out["trajectory"]) and out["trajectory"].shape[1] != len(u) else "")
+        fail("trajectory", f"of shape (iterations + 1, len(u)) = ({k + 1}, {len(u)}), not {out['trajectory'].shape}{rows}")
     if not np.array_equal(out["trajectory"][-1], u):
-        fail("u", "the last row of trajectory (the configuration the plan reached): one of them was edited")
+        fail("u", "the last row of trajectory (the configuration the plan reached; edited by hand?)")
     out["target"] = array("target", 1)
     m = len(out["target"])
     if m < 2:
@@ -341,7 +341,7 @@ def _validated(data: dict, path) -> dict:
             raise ValueError(f"{path}: field '{where}.reason' must be a string, got {attempt.get('reason')!r}")
         if "status" in attempt:
             try:
-                trace = np.asarray(attempt["status"], dtype=float)
+                trace = None if holds_bool(attempt["status"]) else np.asarray(attempt["status"], dtype=float)
             except (TypeError, ValueError):
                 trace = None
             if trace is None or trace.shape != (iterations + 1, m):
@@ -355,13 +355,15 @@ def _validated(data: dict, path) -> dict:
     reach = array("path", 2) if np.size(data["path"]) else np.zeros((0, len(u)))
     if reach.shape[1:] != (len(u),):
         fail("path", f"an array of shape (p, len(u) = {len(u)})")
-    if len(reach) and not (np.array_equal(reach[0], pregrasp) and np.array_equal(reach[-1], u)):
-        fail("path", "the reach from pregrasp (its first row) to u (its last row): one of them was edited")
     out["path"] = reach
     out["clearance"] = array("clearance", 1)
     if out["clearance"].shape != (len(reach),):
         fail("clearance", f"{len(reach)} numbers, one per row of path")
     out["collision_free"] = checks.flag("collision_free")
+    # (a reach that was not collision-free was cut short of u before 2026-11-30)
+    if len(reach) and not (np.array_equal(reach[0], pregrasp)
+                           and (np.array_equal(reach[-1], u) or not out["collision_free"])):
+        fail("path", "the reach from pregrasp (its first row) to u (its last row; edited by hand?)")
     if not isinstance(data["reach"], dict):
         fail("reach", "an object (the summary of the executable reach)")
     out["reach"] = data["reach"]
