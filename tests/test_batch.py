@@ -462,6 +462,21 @@ def test_validation_of_new_and_earlier_plans(tmp_path, cluster):
     assert saved.protocol["name"] == "dexgraspbench" and saved.protocol["mu"] == sg.physics.protocol("dexgraspbench").mu
 
 
+def test_a_scan_reads_each_validation_file_once(tmp_path, monkeypatch):
+    """A validating batch's start read every validation file twice: for the held column (scan) and for the protocol
+    it was made with (validation_protocol)."""
+    result = sg.plan("ellipsoid", "precision")
+    store = ResultStore(tmp_path)
+    store.write_result("ellipsoid", "precision", result, sg.validate(result, sg.objects.get("ellipsoid")))
+    reads = []
+    load = sg.physics.Validation.load
+    monkeypatch.setattr(sg.physics.Validation, "load", classmethod(lambda cls, path: reads.append(path) or load(path)))
+    store.scan()
+    assert store.validation_protocol("ellipsoid", "precision")["name"] == "synergrasp" and len(reads) == 1
+    store.write_result("ellipsoid", "precision", result)  # planned again: its earlier validation is dropped
+    assert store.validation_protocol("ellipsoid", "precision") is None
+
+
 def test_a_task_planned_again_drops_the_validation_of_its_earlier_plan(tmp_path):
     """A damaged plan planned again (with another backend) kept the earlier plan's validation beside the new plan,
     and the summary and report showed that verdict for a plan never validated."""

@@ -98,6 +98,7 @@ class ResultStore:
         self.results = self.out / "results"
         self.summary_path = self.out / "summary.csv"
         self.warnings_path = self.out / "warnings.log"
+        self._protocols = {}  # (key, grasp) -> the protocol of the validation file `scan` read
 
     def result_path(self, key: str, grasp: str) -> Path:
         """File of the PlanResult of task (``key``, ``grasp``)."""
@@ -193,6 +194,7 @@ class ResultStore:
             self.write_validation(key, grasp, validation)
         elif not isinstance(outcome, TaskFailure):  # a new plan: an earlier plan's validation is not its own
             self.validation_path(key, grasp).unlink(missing_ok=True)
+            self._protocols.pop((key, grasp), None)
         if isinstance(outcome, TaskFailure):
             record = {"format": _FAILURE_FORMAT, "object": key, "grasp": grasp, **asdict(outcome)}
             return _write_text(path, json.dumps(record, indent=1))
@@ -202,7 +204,9 @@ class ResultStore:
 
     def write_validation(self, key: str, grasp: str, validation) -> Path:
         """Write the physics validation of task (``key``, ``grasp``) (``Validation.save``)."""
-        return validation.save(self.validation_path(key, grasp))
+        path = validation.save(self.validation_path(key, grasp))
+        self._protocols.pop((key, grasp), None)  # (read back from the file when asked: its form, JSON's)
+        return path
 
     def validation_protocol(self, key: str, grasp: str) -> dict | None:
         """The protocol settings task (``key``, ``grasp``) was validated with.
@@ -216,10 +220,13 @@ class ResultStore:
         -------
         dict or None
             The validation file's ``protocol`` (`synergrasp.physics.Validation.protocol`), or None if the task
-            was not validated or its file cannot be read.
+            was not validated or its file cannot be read. As `scan` read it, if it did and the file was not
+            written since (a batch's start reads each validation file once).
         """
         from ..physics.result import Validation
 
+        if (key, grasp) in self._protocols:
+            return self._protocols[key, grasp]
         try:
             return Validation.load(self.validation_path(key, grasp)).protocol
         except (OSError, ValueError, TypeError, KeyError):
@@ -267,8 +274,10 @@ class ResultStore:
                     try:  # a damaged validation is the one set aside (and the plan validated again), not the plan
                         validation = Validation.load(checked)
                         row.update(held=bool(validation.held), physics=validation.outcome)
+                        self._protocols[key, grasp] = validation.protocol
                     except (OSError, ValueError, TypeError, KeyError):
                         unreadable.append(checked)
+                        self._protocols.pop((key, grasp), None)
                 rows[key, grasp] = row
                 continue
             if (key, grasp) in rows or self.result_path(key, grasp).is_file():
