@@ -34,14 +34,10 @@ def as_points(value, name: str, dim: int | None = None, min_dim: int = 1) -> np.
     TypeError
         If the value is not numeric.
     ValueError
-        If it is not 2-D, is empty, has the wrong dimension or a non-finite entry.
+        If it is not 2-D, is empty, has the wrong dimension or a non-finite entry (an integer beyond a
+        float's range included).
     """
-    try:
-        arr = numeric(value)
-    except OverflowError:
-        raise ValueError(f"{name} has an entry beyond a float's range (about 1.8e308): not finite") from None
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric array of shape (n, d), got {_kind(value, exc)}") from exc
+    arr = _numbers(value, name, "a numeric array of shape (n, d)")
     if arr.ndim != 2:
         raise ValueError(f"{name} must have shape (n, d), got shape {arr.shape}")
     if arr.shape[0] == 0:
@@ -82,14 +78,20 @@ def numeric(value) -> np.ndarray:
     return np.asarray(raw, dtype=float)
 
 
-def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
-    """Validate a finite 1-D vector (optionally of a given size)."""
+def _numbers(value, name: str, what: str) -> np.ndarray:
+    """`numeric` of ``value``, its errors naming ``name`` (``what`` it must be): an entry beyond a float's range as
+    not finite (ValueError), anything not a real number as a TypeError."""
     try:
-        arr = numeric(value)
+        return numeric(value)
     except OverflowError:
         raise ValueError(f"{name} has an entry beyond a float's range (about 1.8e308): not finite") from None
     except (TypeError, ValueError) as exc:
-        raise TypeError(f"{name} must be a numeric vector, got {_kind(value, exc)}") from exc
+        raise TypeError(f"{name} must be {what}, got {_kind(value, exc)}") from exc
+
+
+def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
+    """Validate a finite 1-D vector (optionally of a given size)."""
+    arr = _numbers(value, name, "a numeric vector")
     if arr.ndim != 1 or (size is not None and arr.shape[0] != size):
         expected = f"({size},)" if size is not None else "(n,)"
         raise ValueError(f"{name} must have shape {expected}, got shape {arr.shape}")
