@@ -291,7 +291,8 @@ def _plan(args) -> int:
                       hand=hand, progress=progress, **limit)
     finally:
         bar.close()
-    compiling = (time.perf_counter() - wall) - (clock() - search)  # numba's, once after an install
+    wall = time.perf_counter() - wall
+    compiling = wall - (clock() - search)  # numba's, once after an install
     stem = output_stem(args.object, args.grasp)
     animation = [out / f"{stem}_reach.gif", out / f"{stem}_grasp.html"]
     stale = [f for f in animation if f.is_file()]
@@ -313,11 +314,11 @@ def _plan(args) -> int:
     if len(result.path):
         print(f"executable reach: {len(result.path)} poses, clearance {result.clearance[0]:.1f} mm at the pre-grasp, "
               f"smallest {result.clearance.min():+.1f} mm; {result.reach['reason']}")
-    with_compilation = " (numba's compilation, below, included)" if compiling > 0.5 else ""
+    with_compilation = " (with part of numba's compilation, below)" if compiling > 0.5 else ""
     print(f"time {result.time_s:.2f} s{with_compilation}, {result.lp_solves} LP solves ({result.backend})")
-    if compiling > 0.5:
-        print(f"numba compiled the library's kernels for {compiling:.1f} s of this run (once after an install: "
-              "later runs load them from its cache)")
+    if compiling > 0.5:  # over the whole call: the plan's own time starts after its checks of the object
+        print(f"numba compiled the library's kernels for {compiling:.1f} s of this run's {wall:.1f} s (once after an "
+              "install: later runs load them from its cache)")
     if not result.success:
         print(f"attempts ({result.total_iterations} iterations in all; every attempt's status trace is in "
               f"{Path(files[1]).name}):")

@@ -155,6 +155,24 @@ def test_opening_and_closing(hand):
         assert np.all(np.diff(spread) > 5) and np.all(np.diff(reach) > 5)
 
 
+def test_fingertips_as_the_hand_format_page_states(hand):
+    """docs/hand_format.md's figures of the paper's hand: fingertips on the axes and on the pads, their distances and
+    the opposition angles (to the page's rounding)."""
+    ends = hand.segments(at(0, 0)).capsules.reshape(5, 3, 2, 3)[:, -1, 1]
+    pads, jac = hand.points_and_jacobian(at(0, 0), "precision")
+    assert np.abs(ends - [[16, 24, 78], [30, 86, 73], [9, 83, 80], [-11, 72, 79], [-28, 50, 69]]).max() < 0.5
+    assert np.abs(pads - [[15, 32, 75], [29, 80, 78], [9, 76, 84], [-10, 65, 83], [-27, 43, 70]]).max() < 0.5
+    assert np.linalg.norm(ends[0] - ends[1:3], axis=1).round().tolist() == [64.0, 59.0]
+    assert np.linalg.norm(pads[0] - pads[1:3], axis=1).round().tolist() == [50.0, 46.0]
+    for z, degrees in (((0, 0), 124), ((0, 0.5), 135)):
+        t = hand.segments(at(*z)).capsules.reshape(5, 3, 2, 3)[:, -1, 1]
+        assert round(angle_deg(t[0] - t.mean(0), (t[1] + t[2]) / 2 - t.mean(0))) == degrees, z
+    h = 1e-6
+    closing = (hand.segments(at(0, -h)).capsules - hand.segments(at(0, h)).capsules).reshape(5, 3, 2, 3)[:, -1, 1]
+    assert round(angle_deg(closing[0], closing[1:].mean(axis=0))) == 133
+    assert round(angle_deg(-jac[0, :, 7], -jac[1:, :, 7].mean(axis=0))) == 125
+
+
 def test_thumb_opposes_fingers(hand):
     tips, jac = hand.points_and_jacobian(at(0, 0), "precision")
     for finger in (1, 2):                                       # index and middle

@@ -548,3 +548,16 @@ def test_cli_validations_of_two_objects_results_keep_their_own_files(pinch, tmp_
         assert main(["validate", str(path), "--object", str(tmp_path / "box_a.stl"), "--out", str(out), "--no-still"]) == 0
     assert {"box_a_stl_precision_run1_validation.json", "box_a_stl_precision_run2_validation.json"} <= {
         p.name for p in out.glob("*.json")}
+
+
+def test_a_verdict_names_the_push_that_moved_or_turned_the_object_most():
+    """Of the pushes beyond the limits, the reason quotes the farthest (not the first in DIRECTIONS' order)."""
+    from synergrasp.physics.simulate import verdict
+
+    p = protocol()
+    moved = np.array([p.max_displacement + 1.0, 0.0, 2.0 * p.max_displacement, 0.0, 0.0, 0.0])
+    outcome, reason = verdict(p, moved, np.zeros(6), contacts=[0])
+    assert outcome == "slip" and f"moved {moved[2]:.1f} mm along -y" in reason and "along -x, -y:" in reason
+    turned = np.array([0.0, 0.0, 0.0, p.max_rotation + 1.0, 0.0, 3.0 * p.max_rotation])
+    outcome, reason = verdict(p, np.zeros(6), turned, contacts=[0])
+    assert outcome == "rotation" and f"{turned[5]:.1f} deg along +z" in reason

@@ -33,7 +33,9 @@ class Protocol:
     Attributes
     ----------
     name : str
-        The preset these settings come from (``"custom"`` once changed).
+        The preset these settings come from, and the settings changed from
+        it (``"dexgraspbench (mu=0.3)"``); ``"custom"`` for changes to
+        settings of another name.
     mu : float
         Sliding friction coefficient of every contact.
     torsional_friction : float
@@ -228,8 +230,8 @@ def protocol(preset="synergrasp", **settings) -> Protocol:
         A name in `PRESETS` (``"synergrasp"``, the default, or
         ``"dexgraspbench"``) or a `Protocol`.
     **settings
-        Fields of `Protocol` to change; the name becomes ``"custom"`` unless
-        given.
+        Fields of `Protocol` to change; unless a name is given, the name
+        becomes the preset's with the settings that differ from it.
 
     Returns
     -------
@@ -246,7 +248,9 @@ def protocol(preset="synergrasp", **settings) -> Protocol:
     (0.3, 0.6)
     >>> p = protocol("dexgraspbench", mu=0.3)
     >>> p.name, p.mu, p.mass
-    ('custom', 0.3, 0.1)
+    ('dexgraspbench (mu=0.3)', 0.3, 0.1)
+    >>> protocol(p, mass=0.2).name, protocol(p, mu=0.6).name
+    ('dexgraspbench (mass=0.2, mu=0.3)', 'dexgraspbench')
     """
     if isinstance(preset, Protocol):
         base = preset
@@ -257,5 +261,15 @@ def protocol(preset="synergrasp", **settings) -> Protocol:
     check_setting_names(settings)
     if not settings:
         return base
-    settings.setdefault("name", "custom")
-    return replace(base, **settings)
+    changed = replace(base, **settings)
+    return changed if "name" in settings else replace(changed, name=_named(changed, base.name))
+
+
+def _named(settings, name):
+    """The name of ``settings`` made from those of the preset ``name`` (as `protocol` names them)."""
+    preset = PRESETS.get(name.split(" (")[0])
+    if preset is None:
+        return "custom"
+    changes = [f"{f.name}={getattr(settings, f.name)!r}" for f in fields(Protocol)
+               if f.name != "name" and getattr(settings, f.name) != getattr(preset, f.name)]
+    return preset.name + (f" ({', '.join(sorted(changes))})" if changes else "")

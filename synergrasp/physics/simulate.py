@@ -15,7 +15,7 @@ from ..hand import rotation_xyz
 from .model import MM, OBJECT, PALM, grasp_mjcf, mujoco_quat
 from .protocol import DIRECTIONS, MAX_STEPS
 
-__all__ = ["mujoco_module", "build_model", "simulate", "simulate_reach", "INSTALL_HINT"]
+__all__ = ["mujoco_module", "build_model", "simulate", "simulate_reach", "verdict", "INSTALL_HINT"]
 
 INSTALL_HINT = 'pip install "synergrasp[sim]"'
 #: Simulated time between two checks of the object during a push (s).
@@ -227,6 +227,46 @@ def _simulated(hand, obj, u, protocol, mocap, phases):
         return phases(_Simulation(mujoco, model, mujoco.MjData(model), scene, protocol, messages))
 
 
+def verdict(p, displacement, rotation, contacts):
+    """The outcome of a hold test and its reason, from the six pushes' results.
+
+    Parameters
+    ----------
+    p : Protocol
+    displacement, rotation : (6,) float
+        The object's largest displacement (mm) and rotation (degrees) under
+        each push, in the order of `DIRECTIONS`.
+    contacts : sequence
+        The hand's contacts with the object after the squeeze (empty: none).
+
+    Returns
+    -------
+    outcome : str
+        ``"held"``, ``"slip"``, ``"rotation"`` or ``"no contact"``.
+    reason : str
+        In words; a slip or a rotation quotes the push that moved or turned
+        the object most.
+    """
+    moved = displacement >= p.max_displacement
+    turned = rotation >= p.max_rotation
+    failed = moved | turned
+    where = ", ".join(DIRECTIONS[k] for k in np.flatnonzero(failed))
+    if not contacts:  # whatever the pushes did: a push too short or too weak can leave a free object in place
+        lost = f" (lost along {where})" if where else " (the pushes did not move it far enough to say)"
+        return "no contact", f"no contact after the squeeze: the hand does not touch the object{lost}"
+    if not failed.any():
+        k = int(np.argmax(displacement))
+        return "held", (f"held along all six directions (largest displacement {displacement[k]:.2f} mm along "
+                        f"{DIRECTIONS[k]}, largest rotation {rotation.max():.2f} deg)")
+    if moved.any():  # the farthest of the pushes that moved it too far
+        k = int(np.argmax(np.where(moved, displacement, -np.inf)))
+        return "slip", (f"slipped under the push along {where}: moved {displacement[k]:.1f} mm along {DIRECTIONS[k]} "
+                        f"(max_displacement {p.max_displacement:g} mm)")
+    k = int(np.argmax(np.where(turned, rotation, -np.inf)))
+    return "rotation", (f"turned under the push along {where}: {rotation[k]:.1f} deg along {DIRECTIONS[k]} "
+                        f"(max_rotation {p.max_rotation:g} deg)")
+
+
 class _Simulation:
     """The phases of one hold test on a compiled model."""
 
@@ -301,7 +341,7 @@ class _Simulation:
         contacts = self.contacts()
         pose = self.pose()
         displacement, rotation = np.array(results).T
-        outcome, reason = self.verdict(displacement, rotation, contacts)
+        outcome, reason = verdict(self.p, displacement, rotation, contacts)
         return dict(outcome=outcome, reason=reason, displacement=displacement, rotation=rotation,
                    settle_displacement=float(np.linalg.norm(pose[:3] - planned[:3]) * 1e3),
                    settle_rotation=_angle(planned[3:], pose[3:]),
@@ -362,29 +402,6 @@ class _Simulation:
         finally:
             d.xfrc_applied[:] = 0.0
         return worst_d, worst_r
-
-    # ------------------------------------------------------------------ verdict
-
-    def verdict(self, displacement, rotation, contacts):
-        p = self.p
-        moved = displacement >= p.max_displacement
-        turned = rotation >= p.max_rotation
-        failed = moved | turned
-        where = ", ".join(DIRECTIONS[k] for k in np.flatnonzero(failed))
-        if not contacts:  # whatever the pushes did: a push too short or too weak can leave a free object in place
-            lost = f" (lost along {where})" if where else " (the pushes did not move it far enough to say)"
-            return "no contact", f"no contact after the squeeze: the hand does not touch the object{lost}"
-        if not failed.any():
-            k = int(np.argmax(displacement))
-            return "held", (f"held along all six directions (largest displacement {displacement[k]:.2f} mm along "
-                            f"{DIRECTIONS[k]}, largest rotation {rotation.max():.2f} deg)")
-        if moved.any():
-            k = int(np.flatnonzero(moved)[0])
-            return "slip", (f"slipped under the push along {where}: moved {displacement[k]:.1f} mm along {DIRECTIONS[k]} "
-                            f"(max_displacement {p.max_displacement:g} mm)")
-        k = int(np.flatnonzero(turned)[0])
-        return "rotation", (f"turned under the push along {where}: {rotation[k]:.1f} deg along {DIRECTIONS[k]} "
-                            f"(max_rotation {p.max_rotation:g} deg)")
 
     # ------------------------------------------------------------------ a reach
 
