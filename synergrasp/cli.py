@@ -6,6 +6,7 @@ generated blocks (`write_between_markers`)."""
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import sys
 import time
@@ -421,8 +422,9 @@ def main(argv=None) -> int:
     0
     """
     args = build_parser().parse_args(argv)
+    given = _unit_option(args)
     with warnings.catch_warnings():
-        warnings.showwarning = _show_warning
+        warnings.showwarning = functools.partial(_show_warning, given=given)
         try:
             status = args.func(args)
             sys.stdout.flush()  # (a closed pipe is met here, not in Python's last flush at exit)
@@ -439,7 +441,7 @@ def main(argv=None) -> int:
             os.close(devnull)
             return 141
         except (ValueError, TypeError, OSError, ImportError) as exc:
-            print(f"synergrasp: error: {command_line_hint(str(exc))}", file=sys.stderr)
+            print(f"synergrasp: error: {command_line_hint(str(exc), given)}", file=sys.stderr)
             return 2
 
 
@@ -459,12 +461,15 @@ def _stdout_closed() -> bool:
 _COMMAND_LINE_ADVICE = {"scale=": "--units m or cm, or --scale FACTOR", "as hand=": "--hand FILE"}
 
 
-def command_line_hint(message: str) -> str:
+def command_line_hint(message: str, given: str | None = None) -> str:
     """A library message that suggests ``scale=...`` or ``hand=...``, with the command line's way of saying it.
 
     Parameters
     ----------
     message : str
+    given : str, optional
+        The unit option the file was read with (``"--units m"``): advice on
+        the scale then says so, instead of suggesting that option again.
 
     Returns
     -------
@@ -475,14 +480,25 @@ def command_line_hint(message: str) -> str:
     --------
     >>> command_line_hint("pass scale=1000")
     'pass scale=1000 (on the command line: --units m or cm, or --scale FACTOR)'
+    >>> command_line_hint("pass scale=0.001", given="--units m")
+    'pass scale=0.001 (on the command line: it was read with --units m; drop it if the file is in mm, or give other --units or --scale)'
     """
-    hints = [flags for advice, flags in _COMMAND_LINE_ADVICE.items() if advice in message]
+    hints = [f"it was read with {given}; drop it if the file is in mm, or give other --units or --scale"
+             if advice == "scale=" and given else flags
+             for advice, flags in _COMMAND_LINE_ADVICE.items() if advice in message]
     return message + "".join(f" (on the command line: {flags})" for flags in hints)
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None):
+def _unit_option(args) -> str | None:
+    """The ``--units`` or ``--scale`` the command was given, as typed (None: neither)."""
+    if getattr(args, "scale", None) is not None:
+        return f"--scale {args.scale:g}"
+    return f"--units {args.units}" if getattr(args, "units", None) is not None else None
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None, *, given=None):
     """Warnings as one line on stderr, without the library's file and line."""
-    print(f"synergrasp: warning: {command_line_hint(str(message))}", file=sys.stderr)
+    print(f"synergrasp: warning: {command_line_hint(str(message), given)}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -164,6 +164,16 @@ def test_scale_and_units(tmp_path, capsys, units):
     assert "applies to object files" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("units, given", [(["--units", "m"], "--units m"), (["--scale", "1000"], "--scale 1000")])
+def test_a_file_in_mm_read_with_a_unit_option_is_told_to_drop_it(tmp_path, capsys, units, given):
+    """A file already in mm, read with --units m: the advice names the option it was given, not that option again."""
+    path = write_capsule_cloud(tmp_path / "capsule.xyz")
+    assert main(["plan", "--object", str(path), *units, "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert f"(on the command line: it was read with {given}; drop it if the file is in mm" in err
+    assert "(on the command line: --units m or cm" not in err
+
+
 def test_loading_a_file_says_what_it_is_doing(tmp_path, capsys):
     """A file's decomposition can take a minute: the command says so before, and what it made after."""
     path = write_capsule_cloud(tmp_path / "capsule.npy")

@@ -1423,6 +1423,18 @@ def test_a_failed_power_plan_points_to_a_precision_grasp_only_where_a_pinch_span
     assert not r.success and "may not be able to wrap it" in r.reason and "precision" not in r.reason
 
 
+def test_a_failed_power_plan_of_an_object_too_small_for_a_pinch_says_so():
+    """A 3 mm cube's power plan pointed to a precision grasp, which is refused for it: it now says the cube is thinner
+    than a pinch can hold."""
+    cube = so.from_mesh(trimesh.creation.box((3.0, 3.0, 3.0)), name="3 mm cube", cache=False)
+    with pytest.raises(ValueError, match="too small for a pinch"):
+        plan(cube, "precision")
+    r = plan(cube, "power", restarts=4, executable_reach=False)
+    assert not r.success and "may not be able to wrap it" in r.reason and "a precision grasp may hold it" not in r.reason
+    assert "it is at most 3 mm across, thinner than a pinch of the thumb and the index and middle fingertips can " \
+           "hold (6 mm), so a precision grasp is refused too" in r.reason
+
+
 def test_a_30_mm_ball_has_a_power_grasp_with_the_palm_on_it():
     """The ball touches the palm's face between its nine skin points; the face point sees it (with the nine points
     alone every wrap stalled and the plan failed; a ball this small is at the edge of a power grasp's reach, and the

@@ -482,7 +482,11 @@ def _failure(attempts, grasp, hand, obj, opts):
             reason += (f"; with the palm on it, {most} came within {eps_c:g} mm of its surface in the wrap poses "
                        f"tried, where a power grasp needs the palm and {few - 1} phalanges (g_Q < -0.1) or "
                        f"{many - 1}: the hand may not be able to wrap it"
-                       + (" (a precision grasp may hold it)" if obj.width <= widest_pinch(hand) else ""))
+                       + (" (a precision grasp may hold it)" if thinnest <= obj.size and obj.width <= widest_pinch(hand)
+                          else ""))
+    if grasp == "power" and obj.size < thinnest:
+        reason += (f"; it is at most {obj.size:.3g} mm across, thinner than a pinch of {_pinch_words(hand)} can hold "
+                   f"({thinnest:.0f} mm), so a precision grasp is refused too")
     arm, torque = axial_torque(obj, opts.mu)
     if torque < SLENDER and opts.mu * arm / obj.radius < SLENDER:  # (not a torque scale far above its size)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
