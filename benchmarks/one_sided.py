@@ -2,7 +2,8 @@
 
 Usage::
 
-    python benchmarks/one_sided.py [--split train|test] [--stride 3] [--views 3] [--noise MM] [--out DIR] [--quick]
+    python benchmarks/one_sided.py [--split train|test] [--stride 3] [--views 3] [--noise MM] [--plan]
+                                   [--out DIR] [--quick]
 
 For every ``--stride``-th object of a split of ``benchmarks/objectset.py``, a cloud of 3000 points
 sampled on its whole mesh (as ``generalise.py --cloud 3000`` plans) and ``--views`` clouds of one
@@ -10,9 +11,14 @@ camera view each (the first hits of a 120 x 120 grid of rays from a camera three
 in a random direction; at most 3000 of them) are loaded with ``sg.objects.from_points``. For each it
 prints the length of the cloud's net outward normal (`PointSurface.net_normal`: the area-weighted
 mean of its points' outward normals, 0 for a closed surface), whether the loader warned that the
-cloud is seen from one side (above ``ONE_SIDED``), how the pieces were made, or the loader's error.
+cloud is seen from one side (above ``ONE_SIDED``, or taken for one camera view: ``ONE_VIEW``), how
+the pieces were made, or the loader's error.
 A summary gives the largest value of the whole clouds, the smallest of the views, and how many of
-each were warned of. ``--noise 0.5`` adds Gaussian noise of 0.5 mm to every coordinate. Rows go to
+each were warned of. ``--noise 0.5`` adds Gaussian noise of 0.5 mm to every coordinate. ``--plan``
+also plans a precision and a power grasp of every camera view (default options) and verifies each
+accepted grasp on the object's true mesh (``verification.verify``: contacts within 5 mm, force-closed
+by qhull at the mesh's normals, no phalanx capsule and not the palm box deeper than 3 mm in it); the
+summary counts the accepted grasps, the verified ones and why the others fail. Rows go to
 ``DIR/one_sided_<split>.jsonl`` (default ``bench-out/one_sided``). ``--quick`` (the test suite):
 the first object, one view.
 """
@@ -35,7 +41,8 @@ import synergrasp as sg  # noqa: E402
 from synergrasp.cli import output_folder, positive  # noqa: E402
 from generalise import true_surface  # noqa: E402
 from objectset import select  # noqa: E402
-from synergrasp.objects.loading import ONE_SIDED  # noqa: E402
+from verification import DEPTH, GAP, verify  # noqa: E402
+from synergrasp.objects.loading import ONE_SIDED, ONE_VIEW  # noqa: E402
 
 #: Rays per side of the camera's square grid, and the most points a view keeps.
 PIXELS, MAX_POINTS = 120, 3000
@@ -65,10 +72,31 @@ def measure(points, noise, rng):
         try:
             obj = sg.objects.from_points(points, cache=False)
         except ValueError as error:
-            return {"net": None, "warned": False, "method": None, "error": str(error)}
+            return {"net": None, "warned": False, "view": False, "method": None, "error": str(error)}
     net = float(np.linalg.norm(obj.point_surface.net_normal(obj.contains)))
-    warned = any("seen from one side" in str(w.message) for w in caught)
-    return {"net": net, "warned": warned, "method": obj.info["method"], "error": None}
+    warned = any("seen from one side" in str(w.message) or "is one camera view" in str(w.message) for w in caught)
+    return {"net": net, "warned": warned, "view": "camera" in obj.info, "method": obj.info["method"], "error": None}
+
+
+def plan_view(points, mesh_obj):
+    """Plan a precision and a power grasp of a view's cloud; each accepted grasp verified on ``mesh_obj``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            obj = sg.objects.from_points(points, cache=False)
+        except ValueError:
+            return {}
+    out = {}
+    for grasp in ("precision", "power"):
+        try:
+            result = sg.plan(obj, grasp)
+        except ValueError as error:  # refused (too wide, too thin): no grasp claimed
+            out[grasp] = {"accepted": False, "refused": str(error)[:120]}
+            continue
+        check = verify(result, mesh_obj)
+        out[grasp] = {"accepted": bool(result.success), "time_s": result.time_s,
+                      **{k: check[k] for k in ("verified", "gap", "closed", "depth", "palm_depth")}}
+    return out
 
 
 def main(argv=None):
@@ -78,6 +106,8 @@ def main(argv=None):
     parser.add_argument("--stride", type=positive(int), default=3, help="every N-th object of the split")
     parser.add_argument("--views", type=int, default=3, help="camera views per object")
     parser.add_argument("--noise", type=float, default=0.0, help="Gaussian noise (mm) added to every coordinate")
+    parser.add_argument("--plan", action="store_true",
+                        help="plan each camera view's grasps and verify them on the true mesh")
     parser.add_argument("--out", type=output_folder, default="bench-out/one_sided",
                         help="folder of the rows (default bench-out/one_sided)")
     parser.add_argument("--quick", action="store_true", help="the first object, one view (the test suite)")
@@ -91,14 +121,19 @@ def main(argv=None):
     for entry in entries:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            mesh = true_surface(entry.make())
+            mesh_obj = entry.make()
+            mesh = true_surface(mesh_obj)
         clouds = [("whole", trimesh.sample.sample_surface(mesh, MAX_POINTS, seed=0)[0])]
         clouds += [(f"view {k + 1}", camera_view(mesh, rng.normal(size=3), rng)) for k in range(views)]
         for kind, points in clouds:
             row = {"name": entry.name, "cloud": kind, "points": len(points), **measure(points, args.noise, rng)}
+            if args.plan and kind != "whole" and row["error"] is None:
+                row["plans"] = plan_view(points, mesh_obj)
             rows.append(row)
             shown = row["error"][:70] if row["error"] else f"{row['net']:.3f}{' warned' if row['warned'] else ''}"
-            print(f"{entry.name:32s} {kind:7s} {shown}  {row['method'] or ''}", flush=True)
+            planned = " ".join(f"{g} {'refused' if 'refused' in p else 'verified' if p['verified'] else 'FALSE ACCEPT' if p['accepted'] else 'failed'}"
+                               for g, p in row.get("plans", {}).items())
+            print(f"{entry.name:32s} {kind:7s} {shown}  {row['method'] or ''}  {planned}", flush=True)
     with open(args.out / f"one_sided_{args.split}.jsonl", "w") as f:
         f.writelines(json.dumps(row) + "\n" for row in rows)
     for kind, test in (("whole clouds", lambda r: r["cloud"] == "whole"), ("camera views", lambda r: r["cloud"] != "whole")):
@@ -107,7 +142,18 @@ def main(argv=None):
         extreme = (max if kind == "whole clouds" else min)(nets, default=float("nan"))
         print(f"{kind}: {len(chosen)}, warned as seen from one side {sum(r['warned'] for r in chosen)} "
               f"(ONE_SIDED = {ONE_SIDED}), net normal {'largest' if kind == 'whole clouds' else 'smallest'} "
-              f"{extreme:.3f}, refused {sum(r['error'] is not None for r in chosen)}")
+              f"{extreme:.3f}, taken for one camera view and swept away from it {sum(r['view'] for r in chosen)} "
+              f"(ONE_VIEW = {ONE_VIEW}), refused {sum(r['error'] is not None for r in chosen)}")
+    if args.plan:
+        for grasp in ("precision", "power"):
+            plans = [r["plans"][grasp] for r in rows if grasp in r.get("plans", {})]
+            accepted = [p for p in plans if p["accepted"]]
+            false = [p for p in accepted if not p["verified"]]
+            print(f"{grasp}: {len(plans)} views planned, {len(accepted)} grasps accepted, "
+                  f"{len(accepted) - len(false)} verified on the mesh; of the {len(false)} others: "
+                  f"{sum(max(p['depth'], p['palm_depth']) > DEPTH for p in false)} with the hand over {DEPTH:g} mm "
+                  f"deep in it, {sum(not p['closed'] for p in false)} not force-closed, "
+                  f"{sum(p['gap'] > GAP for p in false)} with a contact over {GAP:g} mm off")
     return rows
 
 

@@ -8,6 +8,7 @@ import pytest
 import trimesh
 
 from benchmarks.one_sided import camera_view
+from synergrasp.objects.point_surface import PointSurface
 
 import synergrasp as sg
 import synergrasp.objects as so
@@ -395,24 +396,32 @@ def test_a_random_sample_of_a_surface_has_no_strays(count):
 
 
 @pytest.mark.parametrize("direction", [(1.0, 0.2, 0.3), (0.39, -0.88, 0.26)])
-def test_a_cloud_seen_from_one_side_is_closed_by_its_hull_with_a_warning(direction):
+def test_one_camera_view_is_swept_away_from_the_camera_with_a_warning(direction):
     """One camera view of a cylinder: its voxels enclose nothing and some of its k-means clusters were flat (dropped,
-    so the load failed with "give the points in the pieces' units"); it is the hull of the points, flat behind them,
-    with a warning that names the side seen. The whole cylinder's cloud gets no warning."""
+    so the load failed with "give the points in the pieces' units"); it is the hull of the points swept away from the
+    camera as far again as the view is deep (what the camera did not see is solid), with a warning that names the
+    camera's side. The whole cylinder's cloud hides about half its points along any line: not a view, no warning."""
     cylinder = trimesh.creation.cylinder(radius=30.0, height=90.0, sections=64)
-    points = camera_view(cylinder, np.asarray(direction), np.random.default_rng(0))  # the benchmark's camera
-    with pytest.warns(UserWarning, match=r"seems to be seen from one side: .* mean is 0\.[4-9][0-9] long, toward "
-                                         r"\(0\.[0-9]+, -?0\.[0-9]+, 0\.[0-9]+\).* scan the object from several sides"):
+    direction = np.asarray(direction) / np.linalg.norm(direction)
+    points = camera_view(cylinder, direction, np.random.default_rng(0))  # the benchmark's camera
+    with pytest.warns(UserWarning, match=r"is one camera view, seen from \((-?[01]\.[0-9]+, ){2}-?[01]\.[0-9]+\): along "
+                                         r"that line [0-9]+% of its points lie behind others.* swept [0-9]+ mm away "
+                                         r".* scan the object from several sides"):
         obj = so.from_points(points, cache=False)
-    assert obj.info["method"] == "hull of a cloud seen from one side" and obj.n_pieces == 1
-    assert obj.index.min_plane_bound(points).max() < 1.0  # the hull, of 256 vertices at most, covers the view
-    toward = obj.point_surface.net_normal(obj.contains)
-    assert np.dot(toward / np.linalg.norm(toward), direction) > 0.8 * np.linalg.norm(direction)  # the camera's side
+    assert obj.info["method"] == "hull of a cloud seen from one side, swept away from the camera" and obj.n_pieces == 1
+    camera = np.asarray(obj.info["camera"])
+    assert camera @ direction > 0.7 and obj.info["hidden"] <= so.loading.ONE_VIEW  # (any line it hides little along)
+    depth = np.ptp(points @ camera)
+    assert obj.info["swept"] == pytest.approx(depth)
+    assert obj.index.min_plane_bound(points).max() < 1.0  # the pieces, of 256 vertices at most, cover the view
+    behind = points - 0.9 * depth * camera  # the view moved back 90 % of the sweep: inside the solid
+    assert obj.contains(behind).mean() > 0.95 and not obj.contains(points + 0.1 * depth * camera).any()
     whole = trimesh.sample.sample_surface(cylinder, 3000, seed=0)[0]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         obj = so.from_points(whole, cache=False)
-    assert np.linalg.norm(obj.point_surface.net_normal(obj.contains)) < 0.02
+    assert np.linalg.norm(obj.point_surface.net_normal(obj.contains)) < 0.02 and "camera" not in obj.info
+    assert PointSurface(whole).view_direction()[1] > 1.5 * so.loading.ONE_VIEW  # (0.26)
 
 
 def test_open_box_cloud_is_the_whole_box():

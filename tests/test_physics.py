@@ -428,7 +428,8 @@ def test_validate_turns_repeats_the_test_in_turned_scenes(pinch, pinch_check):
 def test_protocol_settings_round_trip():
     for p in (*PRESETS.values(), protocol(mu=0.5, mass=0.2, max_penetration=float("inf"))):
         assert Protocol(**json.loads(json.dumps(p.to_dict()))) == p
-    assert protocol("dexgraspbench", mu=0.3).name == "custom"
+    assert protocol("dexgraspbench", mu=0.3).name == "dexgraspbench (mu=0.3)"
+    assert protocol(Protocol(name="mine"), mu=0.3).name == "custom"  # (changed from settings of no preset)
     numpy_count = protocol(noslip_iterations=np.int64(3))  # a numpy integer is an integer
     assert type(numpy_count.noslip_iterations) is int and json.dumps(numpy_count.to_dict())
 

@@ -528,6 +528,24 @@ def test_a_grasp_planned_on_a_cloud_holds_on_the_surface_it_samples():
     assert origin_strictly_inside(wrenches)
 
 
+def test_the_hand_stays_out_of_what_one_camera_view_did_not_see():
+    """The half of a 70 mm ball's surface samples that face +x, as one camera sees it: its power plan accepted a grasp
+    at its 3rd attempt with the fingers wrapped 28 mm deep into the unseen half (two contacts on the hull's flat back,
+    pushing along +x), its precision plan one 12 mm deep. Swept away from the camera, the view keeps the hand out: no
+    grasp in 6 power attempts, and the precision grasp keeps every phalanx out of the real ball."""
+    from benchmarks.reach_sampling import sampled_clearance
+
+    ball = trimesh.creation.icosphere(subdivisions=3, radius=35.0)
+    points = trimesh.sample.sample_surface(ball, 3000, seed=1)[0]
+    with pytest.warns(UserWarning, match="is one camera view"):
+        view = so.from_points(points[points[:, 0] > 0.0], name="half ball", cache=False)
+    hand = sg.SynergyHand.default()
+    power = sg.plan(view, "power", restarts=6, executable_reach=False)
+    assert not power.success or sampled_clearance(hand, ball, power.u).min() > -3.0
+    precision = sg.plan(view, "precision", executable_reach=False)
+    assert precision.success and sampled_clearance(hand, ball, precision.u).min() > -3.0
+
+
 def _ball_on_the_middle_fingertip(hand, depth, mesh):
     """A 40 mm ball against the open hand's middle distal phalanx, ``depth`` mm into it by the fine sphere."""
     u = np.zeros(hand.n_u)

@@ -19,12 +19,28 @@ from scipy.spatial import cKDTree
 
 from .._checks import as_points
 
-__all__ = ["NEIGHBOURS", "NET_NORMAL_POINTS", "PointSurface"]
+__all__ = ["NEIGHBOURS", "NET_NORMAL_POINTS", "VIEW_POINTS", "VIEW_DIRECTIONS", "TIE", "FACING", "PointSurface"]
 
 #: Points of the cloud a local plane is fitted to (the point itself included).
 NEIGHBOURS = 16
 #: Most cloud points `PointSurface.net_normal` reads (a random sample of them beyond that).
 NET_NORMAL_POINTS = 4000
+#: Most cloud points `PointSurface.view_direction` judges (a random sample of them beyond that).
+VIEW_POINTS = 1000
+#: Lines of sight `PointSurface.view_direction` tries over the sphere, before it refines the best.
+VIEW_DIRECTIONS = 128
+#: Lines of sight that hide at most this share of points more than the best are as good (`view_direction`).
+TIE = 0.01
+#: A line of sight fewer than this share of the cloud's points face is not judged (`hidden_share`).
+FACING = 0.3
+
+
+def _sphere(n: int) -> np.ndarray:
+    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
+    i = np.arange(n) + 0.5
+    z = 1.0 - 2.0 * i / n
+    r, turn = np.sqrt(1.0 - z * z), np.pi * (1.0 + np.sqrt(5.0)) * i
+    return np.c_[r * np.cos(turn), r * np.sin(turn), z]
 
 
 class PointSurface:
@@ -176,6 +192,123 @@ class PointSurface:
         outward, known = self._outward(nearest, normals, radius, contains)
         inside = -np.einsum("ij,ij->i", points - self.points[nearest], outward)
         return np.where(known, inside, -np.abs(inside))
+
+    def hidden_share(self, direction, rows=None, spacing=None, normals=None) -> float:
+        """The share of the cloud's points facing a line of sight that another point hides along it.
+
+        Seen along ``direction``, a point is hidden when another cloud point
+        lies on its line of sight (within the cloud's spacing of it, sideways)
+        more than three spacings nearer the eye. Only the points whose surface
+        faces the line (its fitted normal within 60 degrees of it, either
+        way) are judged: where the surface runs along the line, as at an
+        object's silhouette, points on it line up without hiding anything;
+        and a line that fewer than `FACING` of them face is not judged (its
+        share is 1): a camera faces most of what it sees, and along such a
+        line a cloud all round an object (the walls of an open box seen
+        through its opening) has few points to hide.
+        One camera view of an object hides none of its points along the
+        camera's line of sight (each of its rays stops at the first surface
+        it meets); a cloud all round an object hides about half of them along
+        any line.
+
+        Parameters
+        ----------
+        direction : (3,) array_like
+            The line of sight (either sign: a hidden point is hidden either way).
+        rows : (k,) int, optional
+            The points judged (default all).
+        spacing : float, optional
+            The cloud's spacing (mm; default the median distance of the points
+            judged to their nearest neighbours).
+        normals : (k, 3) float, optional
+            The fitted unit normals at the points judged (either sign; default
+            fitted here).
+
+        Returns
+        -------
+        float
+            From 0 to 1 (1 when fewer than `FACING` of the points judged face the line).
+        """
+        d = np.asarray(direction, dtype=float)
+        d = d / np.linalg.norm(d)
+        rows = np.arange(len(self.points)) if rows is None else np.asarray(rows)
+        if spacing is None:
+            spacing = float(np.median(self.tree.query(self.points[rows], k=2)[0][:, 1]))
+        side = np.cross(d, np.eye(3)[np.argmin(np.abs(d))])
+        side /= np.linalg.norm(side)
+        across = self.points @ np.c_[side, np.cross(d, side)]
+        depth = np.r_[self.points @ d, -np.inf]  # (a missing neighbour hides nothing)
+        if normals is None:
+            normals = self._planes(self.points[rows])[1]
+        facing = np.abs(normals @ d) > 0.5
+        if facing.mean() < FACING:
+            return 1.0
+        _, near = cKDTree(across).query(across[rows[facing]], k=self.neighbours, distance_upper_bound=spacing)
+        return float((depth[near] > depth[rows[facing], None] + 3.0 * spacing).any(axis=1).mean())
+
+    def view_direction(self, toward=None) -> tuple[np.ndarray, float]:
+        """The line of sight along which the cloud hides the fewest of its points (`hidden_share`), and that share.
+
+        `VIEW_DIRECTIONS` lines over the sphere are tried, then 32 within
+        about 14 degrees of the best; where several lines hide about as few
+        (within `TIE` of the fewest), the one nearest ``toward`` is kept, or
+        without it their mean, the middle of the lines the camera could have
+        looked along. At most `VIEW_POINTS` points are judged,
+        drawn at random (a fixed seed). A share near 0 says the cloud is one
+        camera view, taken along the line returned (either sign: the side the
+        camera was on is the side the surface's outward normals face).
+
+        Parameters
+        ----------
+        toward : (3,) array_like, optional
+            A guess of the line (e.g. `net_normal`), which picks among lines
+            that hide about as few points.
+
+        Returns
+        -------
+        direction : (3,) float
+            A unit vector.
+        share : float
+            From 0 to 1.
+
+        Examples
+        --------
+        The faces of a 60 mm cube, as in the class's example: the whole cube
+        hides a third or more of its points along any line; its three faces
+        around the corner (30, 30, 30) hide none along a line from which all
+        three are seen (its components of one sign):
+
+        >>> import numpy as np
+        >>> g = np.linspace(-30.0, 30.0, 31)
+        >>> a, b = (x.ravel() for x in np.meshgrid(g, g))
+        >>> c = np.full_like(a, 30.0)
+        >>> faces = [np.c_[a, b, s * c] for s in (1, -1)] + [np.c_[a, s * c, b] for s in (1, -1)] + [
+        ...     np.c_[s * c, a, b] for s in (1, -1)]
+        >>> share = PointSurface(np.vstack(faces)).view_direction()[1]
+        >>> bool(share > 0.3)
+        True
+        >>> direction, share = PointSurface(np.vstack(faces[::2])).view_direction()
+        >>> share, bool(np.all(direction > 0.0) or np.all(direction < 0.0))
+        (0.0, True)
+        """
+        rows = np.arange(len(self.points))
+        if len(rows) > VIEW_POINTS:
+            rows = np.sort(np.random.default_rng(0).choice(rows, VIEW_POINTS, replace=False))
+        spacing = float(np.median(self.tree.query(self.points[rows], k=2)[0][:, 1]))
+        normals = self._planes(self.points[rows])[1]
+        best = None
+        for lines in (_sphere(VIEW_DIRECTIONS), None):
+            if lines is None:  # refined about the best
+                lines = np.vstack([best, best + 0.25 * _sphere(32)])
+                lines /= np.linalg.norm(lines, axis=1, keepdims=True)
+            shares = np.array([self.hidden_share(line, rows, spacing, normals) for line in lines])
+            ties = lines[shares <= shares.min() + TIE]  # lines that all see the cloud about as well
+            if toward is not None and np.any(toward):  # the nearest to the guess
+                best = ties[np.argmax(np.abs(ties @ np.asarray(toward, dtype=float)))]
+            else:  # the middle of them
+                ties *= np.where(ties @ ties[0] < 0.0, -1.0, 1.0)[:, None]
+                best = ties.sum(axis=0) / np.linalg.norm(ties.sum(axis=0))
+        return best, self.hidden_share(best, rows, spacing, normals)
 
     def net_normal(self, contains) -> np.ndarray:
         """The area-weighted mean of the surface's outward unit normals at the cloud's points.
