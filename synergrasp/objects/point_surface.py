@@ -240,11 +240,16 @@ class PointSurface:
         depth = np.r_[self.points @ d, -np.inf]  # (a missing neighbour hides nothing)
         if normals is None:
             normals = self._planes(self.points[rows])[1]
-        facing = np.abs(normals @ d) > 0.5
+        cosine = np.abs(normals @ d)
+        facing = cosine > 0.5
         if facing.mean() < FACING:
             return 1.0
-        _, near = cKDTree(across).query(across[rows[facing]], k=self.neighbours, distance_upper_bound=spacing)
-        return float((depth[near] > depth[rows[facing], None] + 3.0 * spacing).any(axis=1).mean())
+        judged = rows[facing]
+        # a surface tilted from the line lies sparser across it: its points' lines of sight are as wide as their spacing
+        # seen along the line (up to twice the spacing)
+        apart, near = cKDTree(across).query(across[judged], k=self.neighbours, distance_upper_bound=2.0 * spacing)
+        near = np.where(apart <= spacing / cosine[facing][:, None], near, len(depth) - 1)
+        return float((depth[near] > depth[judged, None] + 3.0 * spacing).any(axis=1).mean())
 
     def view_direction(self, toward=None) -> tuple[np.ndarray, float]:
         """The line of sight along which the cloud hides the fewest of its points (`hidden_share`), and that share.
