@@ -128,9 +128,9 @@ ONE_SIDED = 0.3
 #: is one camera view: one view of each of 44 train shapes hid at most 0.055 along its best line, the clouds all
 #: round them at least 0.20 along any (the middle of the gap, on a log scale).
 ONE_VIEW = 0.1
-#: Clouds of fewer points are not judged as camera views: sparse samples leave lines of sight between their points
-#: (the clouds of 100 points around a ball hide 0.11-0.24 along their best line, of 1000 at least 0.24), and a camera
-#: gives thousands.
+#: Clouds of fewer points are not judged as camera views: sparse samples leave gaps between their lines of sight
+#: (a cloud of 100 points around a ball hid 0.11 along its best line, before lines of sight widened with a surface's
+#: tilt), and a camera gives thousands.
 ONE_VIEW_POINTS = 1000
 #: Stray points of a cloud: a point whose k-th nearest neighbour, for some k from 1 to `STRAY_NEIGHBOURS`,
 #: is farther than `STRAY_FACTOR` times the cloud's median k-th neighbour distance (an isolated point, or
