@@ -725,9 +725,7 @@ def _swept_view(points: np.ndarray, pieces: list, meta: dict, max_vertices: int,
     if len(points) < ONE_VIEW_POINTS:
         return pieces, meta
     surface = PointSurface(points)
-    shapes = [ConvexPiece(v, name=name) for v in pieces]
-    inside = lambda q: np.min([shape.signed_distance_bound(q) for shape in shapes], axis=0) <= 0.0  # noqa: E731
-    net = surface.net_normal(inside)
+    net = surface.net_normal(_inside([ConvexPiece(v, name=name) for v in pieces]))
     direction, hidden = surface.view_direction(toward=net)
     toward = float(net @ direction)
     if hidden > ONE_VIEW or toward == 0.0:  # not a view, or which side the camera was on is not known
@@ -739,10 +737,14 @@ def _swept_view(points: np.ndarray, pieces: list, meta: dict, max_vertices: int,
                    "swept": depth, "hidden": hidden}
 
 
+def _inside(shapes: list):
+    """``contains(points) -> (k,) bool`` of the union of convex pieces (`ConvexPiece`), by their distance bounds."""
+    return lambda q: np.min([shape.signed_distance_bound(q) for shape in shapes], axis=0) <= 0.0
+
+
 def _seen_from_one_side(points: np.ndarray, shapes: list) -> bool:
     """Whether a cloud's outward normals, turned outward by its pieces (`ConvexPiece`), do not balance (`ONE_SIDED`)."""
-    inside = lambda q: np.min([shape.signed_distance_bound(q) for shape in shapes], axis=0) <= 0.0  # noqa: E731
-    return bool(np.linalg.norm(PointSurface(points).net_normal(inside)) > ONE_SIDED)
+    return bool(np.linalg.norm(PointSurface(points).net_normal(_inside(shapes))) > ONE_SIDED)
 
 
 def _warn_one_sided(obj: GraspObject, what: str) -> None:

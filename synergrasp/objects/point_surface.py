@@ -106,6 +106,10 @@ class PointSurface:
         self.neighbours = int(neighbours)
         self.tree = cKDTree(self.points)
 
+    def _spacing(self, rows):
+        """The median distance of the points ``rows`` to their nearest neighbours in the cloud (mm)."""
+        return float(np.median(self.tree.query(self.points[rows], k=2)[0][:, 1]))
+
     def _planes(self, points):
         """The plane fitted around each query point's nearest cloud point: that point's row, the plane's unit normal
         (either sign) and its radius (the distance to the farthest of the neighbours)."""
@@ -232,8 +236,7 @@ class PointSurface:
         d = np.asarray(direction, dtype=float)
         d = d / np.linalg.norm(d)
         rows = np.arange(len(self.points)) if rows is None else np.asarray(rows)
-        if spacing is None:
-            spacing = float(np.median(self.tree.query(self.points[rows], k=2)[0][:, 1]))
+        spacing = self._spacing(rows) if spacing is None else spacing
         side = np.cross(d, np.eye(3)[np.argmin(np.abs(d))])
         side /= np.linalg.norm(side)
         across = self.points @ np.c_[side, np.cross(d, side)]
@@ -299,7 +302,7 @@ class PointSurface:
         rows = np.arange(len(self.points))
         if len(rows) > VIEW_POINTS:
             rows = np.sort(np.random.default_rng(0).choice(rows, VIEW_POINTS, replace=False))
-        spacing = float(np.median(self.tree.query(self.points[rows], k=2)[0][:, 1]))
+        spacing = self._spacing(rows)
         normals = self._planes(self.points[rows])[1]
         best = None
         for lines in (_sphere(VIEW_DIRECTIONS), None):
