@@ -422,7 +422,7 @@ def main(argv=None) -> int:
     0
     """
     args = build_parser().parse_args(argv)
-    given = _unit_option(args)
+    given = unit_option(args)
     with warnings.catch_warnings():
         warnings.showwarning = functools.partial(_show_warning, given=given)
         try:
@@ -489,7 +489,7 @@ def command_line_hint(message: str, given: str | None = None) -> str:
     return message + "".join(f" (on the command line: {flags})" for flags in hints)
 
 
-def _unit_option(args) -> str | None:
+def unit_option(args) -> str | None:
     """The ``--units`` or ``--scale`` the command was given, as typed (None: neither)."""
     if getattr(args, "scale", None) is not None:
         return f"--scale {args.scale:g}"

@@ -309,6 +309,13 @@ def test_batch_command_prints_why_tasks_failed_with_its_flags(tmp_path, cluster,
         assert "scale=1000" in line and line.endswith("(on the command line: --units m or cm, or --scale FACTOR)")
     with open(out / "summary.csv", newline="") as handle:
         assert all("on the command line" not in r["reason"] for r in csv.DictReader(handle))
+    millimetres = tmp_path / "box_in_mm.stl"  # read with --units m: the advice names that option, not it again
+    trimesh.creation.box((60.0, 40.0, 30.0)).export(millimetres)
+    assert main(["batch", str(millimetres), "--grasp", "precision", "--out", str(tmp_path / "mm"), "--units", "m",
+                 "--scheduler", cluster.scheduler_address, "--quiet", "--max-iter", "3"]) == 1
+    line, = [x for x in capsys.readouterr().err.splitlines() if x.startswith("synergrasp: box_in_mm.stl")]
+    assert line.endswith("(on the command line: it was read with --units m; drop it if the file is in mm, or give "
+                         "other --units or --scale)")
 
 
 def test_another_file_under_a_key_with_plans_is_refused(tmp_path, cluster):

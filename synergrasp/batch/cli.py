@@ -6,7 +6,7 @@ import signal
 import sys
 import threading
 
-from ..cli import UNITS, command_line_hint, hand_from_args, positive
+from ..cli import UNITS, command_line_hint, hand_from_args, positive, unit_option
 from ..hand import POINT_KINDS
 
 #: Failed tasks whose reasons `_batch` prints (the rest are in summary.csv).
@@ -104,7 +104,7 @@ def _batch(args) -> int:
                      connect_timeout=args.connect_timeout)
     except BatchInterrupted as exc:
         print(exc.report)
-        _print_failures(exc.report)
+        _print_failures(exc.report, unit_option(args))
         print(f"synergrasp: interrupted; the {exc.report.finished} results of this run are written: "
               "rerun the same command to plan the rest", file=sys.stderr)
         return 130
@@ -115,17 +115,18 @@ def _batch(args) -> int:
         if main_thread:
             signal.signal(signal.SIGTERM, previous)
     print(report)
-    _print_failures(report)
+    _print_failures(report, unit_option(args))
     return 1 if report.rows and all(row["status"] != "planned" for row in report.rows) else 0
 
 
-def _print_failures(report) -> None:
-    """Why tasks gave no plan (in this run or before), on stderr, with the command line's flags (a load error once)."""
+def _print_failures(report, given=None) -> None:
+    """Why tasks gave no plan (in this run or before), on stderr, with the command line's flags (a load error once;
+    ``given``: the unit option the files were read with, `unit_option`)."""
     failures = {}
     for row in report.rows:
         if row["status"] != "planned":
             key = row["object"] if row["status"] == "load error" else f"{row['object']} {row['grasp']}"
-            failures.setdefault(key, f"{row['status']}: {command_line_hint(row['reason'])}")
+            failures.setdefault(key, f"{row['status']}: {command_line_hint(row['reason'], given)}")
     for key, words in list(failures.items())[:SHOWN_FAILURES]:
         print(f"synergrasp: {key}: {words}", file=sys.stderr)
     if len(failures) > SHOWN_FAILURES:
