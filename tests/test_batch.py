@@ -559,6 +559,33 @@ def test_the_local_workers_run_without_dask_s_profiler_and_memory_trimming():
     assert len(seen) == 2 and set(seen.values()) == {(False, None)}
 
 
+def _worker_log_of(records):
+    """In a worker: which of the ``distributed.worker`` log messages ``records`` reach a handler."""
+    seen = []
+    handler = logging.Handler()
+    handler.emit = lambda record: seen.append(record.getMessage())
+    log = logging.getLogger("distributed.worker")
+    log.addHandler(handler)
+    try:
+        for message in records:
+            log.error(message)
+    finally:
+        log.removeHandler(handler)
+    return seen
+
+
+def test_the_local_workers_drop_only_the_heartbeat_that_fails_as_the_cluster_closes(cluster):
+    """CI once failed on it: the in-process scheduler closed while a worker's heartbeat was in flight, and the
+    worker printed two tracebacks after the batch had written its summary."""
+    from synergrasp.batch.cluster_logs import HEARTBEAT_FAILED
+
+    records = [HEARTBEAT_FAILED, "some other worker error", "Failed to communicate with scheduler (not a heartbeat)"]
+    with distributed.Client(cluster) as client:
+        seen = client.run(_worker_log_of, records)
+    assert len(seen) == 2 and all(got == records[1:] for got in seen.values()), seen
+    assert _worker_log_of(records) == records  # (this process's own logger is untouched)
+
+
 def test_plan_task_pins_blas_to_one_thread(tmp_path):
     env = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
     code = (

@@ -355,8 +355,9 @@ def local_cluster(workers=None):
     -------
     distributed.LocalCluster
         Listening on 127.0.0.1 only, without the dashboard (its HTTP server on
-        a free port), logging errors only. Close it when done (or use it in a
-        ``with`` block).
+        a free port), logging errors only, but for a worker's failed heartbeat
+        to its scheduler (`synergrasp.batch.cluster_logs`). Close it when
+        done (or use it in a ``with`` block).
 
     Notes
     -----
@@ -373,12 +374,15 @@ def local_cluster(workers=None):
     import dask
     from distributed import LocalCluster
 
+    from .cluster_logs import QuietHeartbeat
+
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None,
                           "distributed.worker.profile.enabled": False}):
         try:
             return LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                                 host="127.0.0.1", dashboard_address=None,
-                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR)
+                                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, silence_logs=logging.ERROR,
+                                plugins=[QuietHeartbeat()])
         except RuntimeError as exc:  # "Nanny failed to start": the workers' own errors are printed above it
             raise RuntimeError(f"the local Dask cluster's workers did not start ({exc}). A script that calls "
                                "synergrasp.batch.run needs it under `if __name__ == \"__main__\":` (the workers "
