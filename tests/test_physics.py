@@ -98,18 +98,24 @@ def test_initial_penetration_is_the_overlap_and_agrees_with_fcl(overlap):
 
 
 def test_squeeze_moves_the_contacts_into_the_object_by_the_squeeze_on_average(pinch):
-    """First order: a squeeze of s mm moves the contacts s mm along their inward normals, on average."""
+    """First order: a squeeze of s mm moves the contacts s mm along their inward normals, on average.
+
+    The contacts are every point the planner reads (the named points, the phalanges' and palm's
+    skin) within 5 mm of the object."""
     u, box = pinch
     s = 1e-3
     z, labels = squeeze_targets(HAND, box, u, s, 5.0)
     squeezed = np.r_[u[:6], z]
-    points = {**dict(zip(HAND.point_labels("precision"), HAND.points(u))),
-              **dict(zip(HAND.point_labels("power"), HAND.points(u, "power")))}
-    moved = {**dict(zip(HAND.point_labels("precision"), HAND.points(squeezed))),
-             **dict(zip(HAND.point_labels("power"), HAND.points(squeezed, "power")))}
-    start = np.array([points[k] for k in labels])
-    normals = box.contact_distance(start).normal
-    inward = np.einsum("ij,ij->i", np.array([moved[k] for k in labels]) - start, normals)
+
+    def hand_points(v):
+        skin, palm = HAND.skin_and_jacobian(v)[:2]
+        return np.vstack([HAND.points(v), HAND.points(v, "power"), skin.reshape(-1, 3), palm])
+
+    start, moved = hand_points(u), hand_points(squeezed)
+    near = box.contact_distance(start)
+    contact = near.value < 5.0
+    assert contact.sum() == len(labels) and {"T0", "I0"} <= set(labels)
+    inward = np.einsum("ij,ij->i", moved[contact] - start[contact], near.normal[contact])
     assert inward.mean() == pytest.approx(s, rel=1e-4)
 
 
@@ -178,6 +184,21 @@ def test_a_contact_on_a_phalanx_skin_is_squeezed(pinch):
     assert bead.contact_distance(points).value.min() > 5.0
     z, labels = squeeze_targets(HAND, bead, u, 10.0, 5.0)
     assert labels and set(labels) <= set(HAND.point_labels("power")) and not np.array_equal(z, u[6:])
+
+
+def test_a_power_grasp_touching_by_skin_alone_is_squeezed_and_holds():
+    """A box's power grasp touches it with the palm point and the phalanges' skin, no other named point:
+    the squeeze still closes the fingers on it (it once read the palm point alone and did not move)."""
+    box = sg.objects.from_mesh(trimesh.creation.box((60, 40, 30)), name="box", cache=False)
+    result = sg.plan(box, "power")
+    u = result.u
+    named = np.vstack([HAND.points(u), HAND.points(u, "power")])
+    touching = box.contact_distance(named).value < 5.0
+    assert result.success and [lab for lab, t in zip(HAND.point_labels("precision") + HAND.point_labels("power"),
+                                                       touching) if t] == ["P"]
+    z, labels = squeeze_targets(HAND, box, u, 10.0, 5.0)
+    assert set(labels) - {"P"} and np.abs(z - u[6:]).max() > 0.01
+    assert validate(result, box).held
 
 
 def test_a_plan_keeps_searching_past_a_grasp_the_simulation_refuses(monkeypatch):

@@ -117,12 +117,13 @@ def retreat_distance(value) -> float:
 def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """The synergies closed a step past ``u``: each contact pushed into the object.
 
-    The hand points (fingertips, phalanx and palm points) closer than
-    ``contact_distance`` to the object are the contacts; if none is, the
-    skin points of the phalanges and the palm (`SynergyHand.skin_and_jacobian`,
-    where the planner also reads contacts; the point of the palm's face that
-    the planner reads besides, `palm_face_point`, moves with no synergy and
-    would add nothing to the step), labelled by their segment. The direction of the
+    The contacts are the points the planner reads closer than
+    ``contact_distance`` to the object: the named hand points (fingertips,
+    phalanx and palm points) and the skin points of the phalanges and the
+    palm (`SynergyHand.skin_and_jacobian`), the latter labelled by their
+    segment (the point of the palm's face that the planner reads besides,
+    `palm_face_point`, moves with no synergy and would add nothing to the
+    step). The direction of the
     step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
     the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
     the object's inward normal at the point nearest to it), and its length
@@ -148,7 +149,8 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         The squeezed synergy values (``u``'s own if the synergies cannot
         move the contacts, e.g. when the palm point is the only one).
     labels : list of str
-        The contacts' hand points.
+        The contacts' hand points or segments, one per contact (a segment
+        appears once per skin point of it that touches).
 
     Raises
     ------
@@ -164,8 +166,8 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     >>> hand = sg.SynergyHand.default()
     >>> u, box = pinch_grasp(hand)
     >>> z, labels = squeeze_targets(hand, box, u, 10.0, 5.0)
-    >>> labels                            # the two fingertips and the index's distal phalanx
-    ['T0', 'I0', 'I3']
+    >>> sorted(set(labels))               # the two fingertips and the index's distal phalanx
+    ['I0', 'I3', 'T0']
     >>> bool(z[1] < u[7])                 # z2 decreases: the hand closes
     True
     """
@@ -176,17 +178,13 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         points.append(p)
         jacobians.append(jac[:, :, 6:])
         labels += hand.point_labels(kind)
-    points, jacobians = np.vstack(points), np.vstack(jacobians)
+    skin, palm, skin_jac, palm_jac = hand.skin_and_jacobian(u)
+    points = np.vstack(points + [skin.reshape(-1, 3), palm])
+    jacobians = np.vstack(jacobians + [skin_jac.reshape(-1, 3, hand.n_u)[:, :, 6:], palm_jac[:, :, 6:]])
+    labels += [segment for segment in hand.point_labels("power")[:-1] for _ in range(skin.shape[1])]
+    labels += ["P"] * len(palm)
     near = obj.contact_distance(points, backend=backend)
     contact = near.value < contact_distance
-    if not contact.any():  # the planner also reads a fingertip's contact anywhere on its distal phalanx's skin
-        skin, palm, skin_jac, palm_jac = hand.skin_and_jacobian(u)
-        points = np.vstack([skin.reshape(-1, 3), palm])
-        jacobians = np.vstack([skin_jac.reshape(-1, 3, hand.n_u), palm_jac])[:, :, 6:]
-        labels = [segment for segment in hand.point_labels("power")[:-1] for _ in range(skin.shape[1])]
-        labels += ["P"] * len(palm)
-        near = obj.contact_distance(points, backend=backend)
-        contact = near.value < contact_distance
     if not contact.any():
         raise NoContact(
             f"no hand point is within {contact_distance:g} mm of {obj.name!r} (the nearest has a contact distance cP of "
