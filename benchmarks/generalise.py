@@ -150,7 +150,7 @@ def plan_row(obj, grasp, options, truth=None, **labels):
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
                contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,
-               attempts=[dict(outcome=a["outcome"], iterations=a["iterations"])
+               attempts=[dict(kind=a["kind"], outcome=a["outcome"], iterations=a["iterations"])
                          for a in result.attempts])
     row.update(verify(result, truth))
     row["overhang"], row["overhang95"] = fidelity(obj, mesh=true_surface(truth))
