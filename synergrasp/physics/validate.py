@@ -117,15 +117,13 @@ def retreat_distance(value) -> float:
 def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     """The synergies closed a step past ``u``: each contact pushed into the object.
 
-    The contacts are the named hand points (fingertips, phalanx and palm
-    points) closer than ``contact_distance`` to the object and, for each
-    segment that touches it only by its skin (`SynergyHand.skin_and_jacobian`,
-    the phalanges' and the palm's, where the planner also reads contacts),
-    the segment's skin point nearest to it, labelled by the segment: each
-    touching segment counts once, however many of its skin points touch
-    (the point of the palm's face that the planner reads besides,
-    `palm_face_point`, moves with no synergy and would add nothing to the
-    step). The direction of the
+    The hand points (fingertips, phalanx and palm points) closer than
+    ``contact_distance`` to the object are the contacts; if none is, or none
+    moves with the synergies (the palm point alone), the skin points of the
+    phalanges and the palm (`SynergyHand.skin_and_jacobian`, where the
+    planner also reads contacts; the point of the palm's face that the
+    planner reads besides, `palm_face_point`, moves with no synergy and would
+    add nothing to the step), labelled by their segment. The direction of the
     step in synergy space is ``g = sum_i J_i^T n_i``, the steepest increase of
     the contacts' motion into the object (``J_i`` = d point_i / d z, ``n_i``
     the object's inward normal at the point nearest to it), and its length
@@ -151,7 +149,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         The squeezed synergy values (``u``'s own if the synergies cannot
         move the contacts, e.g. when the palm point is the only one).
     labels : list of str
-        The contacts' hand points, or segments for the skin points.
+        The contacts' hand points.
 
     Raises
     ------
@@ -179,20 +177,17 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
         points.append(p)
         jacobians.append(jac[:, :, 6:])
         labels += hand.point_labels(kind)
-    named = len(labels)
-    skin, palm, skin_jac, palm_jac = hand.skin_and_jacobian(u)
-    points = np.vstack(points + [skin.reshape(-1, 3), palm])
-    jacobians = np.vstack(jacobians + [skin_jac.reshape(-1, 3, hand.n_u)[:, :, 6:], palm_jac[:, :, 6:]])
-    labels = np.array(labels + [segment for segment in hand.point_labels("power")[:-1] for _ in range(skin.shape[1])]
-                      + ["P"] * len(palm))
+    points, jacobians = np.vstack(points), np.vstack(jacobians)
     near = obj.contact_distance(points, backend=backend)
     contact = near.value < contact_distance
-    on_skin = np.arange(len(points)) >= named
-    for segment in np.unique(labels[contact & on_skin]):  # a segment touching by its skin alone: its nearest point
-        touching = np.flatnonzero(contact & on_skin & (labels == segment))
-        contact[touching] = False
-        if segment not in labels[contact & ~on_skin]:
-            contact[touching[np.argmin(near.value[touching])]] = True
+    if not np.abs(jacobians[contact]).any():  # the planner also reads contacts anywhere on a phalanx's skin
+        skin, palm, skin_jac, palm_jac = hand.skin_and_jacobian(u)
+        points = np.vstack([skin.reshape(-1, 3), palm])
+        jacobians = np.vstack([skin_jac.reshape(-1, 3, hand.n_u), palm_jac])[:, :, 6:]
+        labels = [segment for segment in hand.point_labels("power")[:-1] for _ in range(skin.shape[1])]
+        labels += ["P"] * len(palm)
+        near = obj.contact_distance(points, backend=backend)
+        contact = near.value < contact_distance
     if not contact.any():
         raise NoContact(
             f"no hand point is within {contact_distance:g} mm of {obj.name!r} (the nearest has a contact distance cP of "
@@ -202,7 +197,7 @@ def squeeze_targets(hand, obj, u, squeeze, contact_distance, backend="native"):
     direction = np.einsum("ia,iak->k", normals, jac)
     rate = float(np.einsum("ia,iak,k->i", normals, jac, direction).mean())  # mm per unit step, = |direction|^2 / n
     step = direction * (squeeze / rate) if rate > 1e-9 else np.zeros(hand.n_syn)  # e.g. the palm point alone
-    return u[6:] + step, labels[contact].tolist()
+    return u[6:] + step, [lab for lab, c in zip(labels, contact) if c]
 
 
 def validate(result_or_u, obj, *, hand=None, preset="synergrasp", retreat=0.0, backend="native", **protocol) -> Validation:
