@@ -573,8 +573,10 @@ def test_a_verdict_names_the_push_that_moved_or_turned_the_object_most():
 
     p = protocol()
     moved = np.array([p.max_displacement + 1.0, 0.0, 2.0 * p.max_displacement, 0.0, 0.0, 0.0])
-    outcome, reason = verdict(p, moved, np.zeros(6), contacts=[0])
+    outcome, reason = verdict(p, moved, np.zeros(6), contacts=[0], shift=0.5)
     assert outcome == "slip" and f"moved {moved[2]:.1f} mm along -y" in reason and "along -x, -y:" in reason
     turned = np.array([0.0, 0.0, 0.0, p.max_rotation + 1.0, 0.0, 3.0 * p.max_rotation])
-    outcome, reason = verdict(p, np.zeros(6), turned, contacts=[0])
+    outcome, reason = verdict(p, np.zeros(6), turned, contacts=[0], shift=0.5)
     assert outcome == "rotation" and f"{turned[5]:.1f} deg along +z" in reason
+    outcome, reason = verdict(p, moved, np.zeros(6), contacts=[], shift=8.84)
+    assert outcome == "no contact" and "moved 8.8 mm from its planned pose while the hand closed" in reason

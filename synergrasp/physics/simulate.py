@@ -227,7 +227,7 @@ def _simulated(hand, obj, u, protocol, mocap, phases):
         return phases(_Simulation(mujoco, model, mujoco.MjData(model), scene, protocol, messages))
 
 
-def verdict(p, displacement, rotation, contacts):
+def verdict(p, displacement, rotation, contacts, shift):
     """The outcome of a hold test and its reason, from the six pushes' results.
 
     Parameters
@@ -238,6 +238,9 @@ def verdict(p, displacement, rotation, contacts):
         each push, in the order of `DIRECTIONS`.
     contacts : sequence
         The hand's contacts with the object after the squeeze (empty: none).
+    shift : float
+        How far the object moved from its planned pose while the hand
+        squeezed and the grasp settled (mm); quoted when no contact is left.
 
     Returns
     -------
@@ -253,7 +256,8 @@ def verdict(p, displacement, rotation, contacts):
     where = ", ".join(DIRECTIONS[k] for k in np.flatnonzero(failed))
     if not contacts:  # whatever the pushes did: a push too short or too weak can leave a free object in place
         lost = f" (lost along {where})" if where else " (the pushes did not move it far enough to say)"
-        return "no contact", f"no contact after the squeeze: the hand does not touch the object{lost}"
+        return "no contact", (f"no contact after the squeeze: the hand does not touch the object, which moved "
+                              f"{shift:.1f} mm from its planned pose while the hand closed{lost}")
     if not failed.any():
         k = int(np.argmax(displacement))
         return "held", (f"held along all six directions (largest displacement {displacement[k]:.2f} mm along "
@@ -340,10 +344,11 @@ class _Simulation:
         mj.mj_forward(m, d)
         contacts = self.contacts()
         pose = self.pose()
+        shift = float(np.linalg.norm(pose[:3] - planned[:3]) * 1e3)
         displacement, rotation = np.array(results).T
-        outcome, reason = verdict(self.p, displacement, rotation, contacts)
+        outcome, reason = verdict(self.p, displacement, rotation, contacts, shift)
         return dict(outcome=outcome, reason=reason, displacement=displacement, rotation=rotation,
-                   settle_displacement=float(np.linalg.norm(pose[:3] - planned[:3]) * 1e3),
+                   settle_displacement=shift,
                    settle_rotation=_angle(planned[3:], pose[3:]),
                    contact_bodies=[c[0] for c in contacts], contact_pieces=[c[1] for c in contacts],
                    contact_points=np.array([c[2] for c in contacts]).reshape(-1, 3) * 1e3,
