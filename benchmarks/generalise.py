@@ -150,6 +150,7 @@ def plan_row(obj, grasp, options, truth=None, **labels):
                time=time.perf_counter() - start, reason=result.reason, refused=False, q=result.final_q,
                iterations=result.total_iterations, n_attempts=len(result.attempts),
                contacts=list(result.contact_labels), penetration=result.penetration, surface_q=result.surface_q, collision_free=result.collision_free,
+               reach_source=result.reach.get("source"),
                attempts=[dict(kind=a["kind"], outcome=a["outcome"], iterations=a["iterations"])
                          for a in result.attempts])
     row.update(verify(result, truth))
@@ -198,7 +199,9 @@ def summarise(rows, grasp):
         f"contact gap to the true surface median {np.nanmedian(gaps):.1f} mm, max {np.nanmax(gaps):.1f} mm",
         f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
         f"palm max {_largest(accepted, 'palm_depth'):.1f} mm; collision-free executable reach: "
-        f"{sum(r['collision_free'] for r in accepted)}/{len(accepted)}",
+        f"{sum(r['collision_free'] for r in accepted)}/{len(accepted)}"
+        + (f" ({closing} closing the hand on the way)" if (closing := sum(
+            r["collision_free"] and r.get("reach_source") == "closing approach" for r in accepted)) else ""),
     ]
     failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])

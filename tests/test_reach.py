@@ -238,10 +238,34 @@ def boxed_in(plate):
     return so.GraspObject(walls, name="closed box"), u
 
 
+def test_a_wrap_the_open_hand_cannot_approach_is_reached_closing_on_the_way():
+    """A power grasp of a turned box (its planned u kept here) whose fingers wrap round the box: from every pre-grasp the
+    open hand's approach sweeps them through it, and the approach that closes them on the way stays clear."""
+    turn = Rotation.from_quat([0.770622423659, -0.290229664652, -0.250575404063, -0.50903810151])
+    mesh = trimesh.creation.box((80.0, 70.0, 50.0))
+    mesh.apply_transform(np.r_[np.c_[turn.as_matrix(), np.zeros(3)], [[0.0, 0.0, 0.0, 1.0]]])
+    obj = so.from_mesh(mesh, name="turned box")
+    u = np.array([46.241455, -27.591633, 26.487351, -1.830535, -0.226936, 1.507337, 0.49575, 1.0])
+    reach = executable_reach(HAND, obj, u)
+    assert reach.collision_free and reach.source == "closing approach" and "closing the hand" in reach.reason
+    assert np.array_equal(reach.path[0], reach.pregrasp) and np.array_equal(reach.path[-1], u)
+    # one straight line in u: every row is on the segment from the pre-grasp to the grasp, in order
+    along = (reach.path - reach.pregrasp) @ (u - reach.pregrasp) / np.sum((u - reach.pregrasp) ** 2)
+    assert np.allclose(reach.path, reach.pregrasp + along[:, None] * (u - reach.pregrasp), atol=1e-9)
+    assert (np.diff(along) > 0).all()
+    # independently of fcl and the pieces: the closing approach stays within the tolerance of the true mesh ...
+    assert independent_along(obj, reach.path).min() >= -TOLERANCE - 0.5
+    # ... where the open hand's approach from the same pre-grasp, then its close, goes deeper than it
+    classic = np.array([reach.pregrasp, np.r_[u[:6], reach.pregrasp[6:]], u])
+    assert path_clearance(HAND, obj, classic).clearance.min() < -TOLERANCE
+    assert independent_along(obj, classic).min() < -TOLERANCE
+
+
 def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_and_shape(boxed_in):
     obj, u = boxed_in
     reach = executable_reach(HAND, obj, u, margin=20.0, budget=12)  # nowhere inside is 20 mm from every wall
-    assert not reach.collision_free and reach.grasp_depth == 0.0 and reach.candidates == 12  # the whole budget
+    # the whole budget: 12 pre-grasps, each with its approach and its closing approach
+    assert not reach.collision_free and reach.grasp_depth == 0.0 and reach.candidates == 24
     assert reach.depth > TOLERANCE and reach.depth == pytest.approx(-reach.clearance.min())
     assert reach.deepest in clearance_labels(HAND) and reach.closest[reach.deepest_row] == reach.deepest
     assert f"{reach.deepest} {reach.depth:.1f} mm deep" in reach.reason and "not collision-free" in reach.reason

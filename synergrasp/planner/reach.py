@@ -16,8 +16,12 @@ few points per phalanx, and whole capsules cross the object between them.
    densely (`synergrasp.planner.clearance.path_clearance`).
 
 Candidates (opening, retreat direction) are tried in turn until one's path
-stays within ``tolerance`` of the object everywhere. When none does within
-the budget, the one that goes least beyond it is returned with
+stays within ``tolerance`` of the object everywhere. When none does, their
+pre-grasps are tried once more with a **closing approach**: the hand moves
+and closes at once, along the straight line in ``u`` from the pre-grasp to
+the grasp, so that fingers wrapped around the object reach its sides as
+they close rather than sweeping through it open. When none of those does
+either, the candidate that goes least beyond it is returned with
 ``collision_free=False``, its depth and the shape (capsule or palm) that
 goes deepest.
 """
@@ -73,8 +77,11 @@ class Reach:
     grasp_shape : str
         The shape deepest in the object at the grasp (``""`` if none).
     source : str
-        ``"approach"`` (the repaired approach and close) or ``"trajectory"``
-        (the planner's iteration, collision-free as it is).
+        ``"approach"`` (the open hand's approach, then the close),
+        ``"closing approach"`` (the hand closing while it approaches: one
+        straight line in ``u`` from the pre-grasp to the grasp) or
+        ``"trajectory"`` (the planner's iteration, collision-free as it
+        is).
     direction : (3,) float
         Retreat direction of the pre-grasp (world, unit; zeros for a
         trajectory).
@@ -279,8 +286,11 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     path is the straight approach back to the grasp's pose, then the close
     of the synergies to the grasp's. The first two directions of every
     opening come first, then the others. The first candidate whose path
-    stays within ``tolerance`` everywhere is returned; if none does, the
-    one that goes least beyond it.
+    stays within ``tolerance`` everywhere is returned. If none does, the
+    same pre-grasps are tried with the hand closing while it approaches
+    (one straight line in ``u`` to the grasp: fingers that wrap around the
+    object pass its sides as they close); if none of those does either,
+    the candidate that goes least beyond ``tolerance`` is returned.
 
     The path can be no shallower than the grasp itself: when the grasp
     penetrates deeper than ``tolerance``, the reach is not collision-free.
@@ -303,7 +313,9 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         Deepest penetration allowed along the path (mm): the planner's
         ``max_penetration`` for the grasp itself.
     budget : int
-        Most candidate approaches checked (the trajectory not counted).
+        Most pre-grasps tried (the trajectory not counted); each gives an
+        approach and close, then, if none of those is collision-free, a
+        closing approach.
     openings : sequence of float
         Fractions in [0, 1] of the way from the grasp's synergies to the
         widest opening, tried after `open_synergies`.
@@ -384,8 +396,10 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         where = f"{shape} {depth:.1f} mm deep {part} (row {deepest} of {len(check.path)})"
         free = bool(check.clearance.min() >= -tolerance)
         if free:
-            reason = (f"collision-free: {'the iteration' if source == 'trajectory' else 'approach and close'} stay "
-                      f"within {tolerance:g} mm of the object" + (f"; deepest: {where}" if depth > 0 else ""))
+            what = {"trajectory": "the iteration stays", "approach": "approach and close stay",
+                    "closing approach": "the approach, closing the hand on the way, stays"}[source]
+            reason = (f"collision-free: {what} within {tolerance:g} mm of the object"
+                      + (f"; deepest: {where}" if depth > 0 else ""))
         elif grasp_value < -tolerance:
             reason = (f"not collision-free: the grasp itself penetrates the object, {grasp['grasp_shape']} "
                       f"{grasp['grasp_depth']:.1f} mm deep (more than {tolerance:g} mm); deepest: {where}")
@@ -434,25 +448,35 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         tried += 1
         pre, retreat = _pregrasp(checker, u_open, direction, margin, max_retreat)
         waypoints = np.array([p for p in (pre, u_open) if not np.array_equal(p, u)] + [u])
-        candidates.append((waypoints, direction, retreat))
+        candidates.append((waypoints, direction, retreat, "approach"))
         if retreat is None:  # not clear within max_retreat: no pre-grasp along this direction
             continue
         check = checker.along(waypoints, resolution=resolution, stop_below=floors)
         if check.complete:
             return reach(check, "approach", direction, retreat, _closing_row(check, waypoints))
+    # the same pre-grasps, the hand closing while it approaches (one straight line in u to the grasp)
+    for waypoints, direction, retreat, _ in list(candidates):
+        if retreat is None or retreat == 0.0 or len(waypoints) < 3:  # (the open pose is the pre-grasp or the grasp:
+            continue  # the path would be the one above)
+        tried += 1
+        closing = waypoints[[0, -1]]
+        candidates.append((closing, direction, retreat, "closing approach"))
+        check = checker.along(closing, resolution=resolution, stop_below=floors)
+        if check.complete:
+            return reach(check, "closing approach", direction, retreat)
     # none keeps every shape above its floor: the one that comes least below them, checked whole (those with a
     # pre-grasp first); a check stops once it is worse than the best so far
     best = None
-    for waypoints, direction, retreat in sorted(candidates, key=lambda c: c[2] is None):
+    for waypoints, direction, retreat, source in sorted(candidates, key=lambda c: c[2] is None):
         if best is not None and retreat is None and best[2] is not None:
             break
         check = checker.along(waypoints, resolution=resolution,  # the first whole, as the one to beat
                               stop_below=None if best is None else floors + float(best[0].slack.min()))
         if best is None or (check.complete and check.slack.min() > best[0].slack.min()):
-            best = (check, waypoints, retreat, direction)
-    check, waypoints, retreat, direction = best
-    return reach(check, "approach", direction, np.nan if retreat is None else retreat,
-                 _closing_row(check, waypoints), failed=True)
+            best = (check, waypoints, retreat, direction, source)
+    check, waypoints, retreat, direction, source = best
+    return reach(check, source, direction, np.nan if retreat is None else retreat,
+                 _closing_row(check, waypoints) if source == "approach" else None, failed=True)
 
 
 def _closing_row(check, waypoints):
