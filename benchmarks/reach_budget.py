@@ -1,4 +1,4 @@
-"""How many candidate approaches the executable reach needs: collision-free reaches against its budget.
+"""How many pre-grasps the executable reach needs: collision-free reaches against its budget.
 
 Usage::
 
@@ -6,8 +6,8 @@ Usage::
                                       [--only NAME ...] [--out DIR]
 
 Plans every object of a split of the generalisation benchmark (``benchmarks/objectset.py``), then
-makes the executable reach of every accepted grasp again with each ``budget`` of candidate
-approaches (`synergrasp.planner.executable_reach`), and prints, per budget, how many reaches are
+makes the executable reach of every accepted grasp again with each ``budget`` of pre-grasps
+(`synergrasp.planner.executable_reach`; each with its approach and close, then its closing approach), and prints, per budget, how many reaches are
 collision-free and the median and largest CPU time of one reach. Rows go to
 ``DIR/reach_budget_<split>_<grasp>.jsonl`` (default ``bench-out/reach_budget``).
 """
@@ -39,7 +39,7 @@ def main(argv=None):
     parser.add_argument("--grasp", default="power", choices=["precision", "power"],
                         help="grasp type to plan")
     parser.add_argument("--budgets", nargs="+", type=positive(int), default=[12, 24, 40],
-                        help="budgets (candidate approaches); each accepted grasp's reach is made with each")
+                        help="budgets (pre-grasps); each accepted grasp's reach is made with each")
     parser.add_argument("--only", nargs="+", metavar="NAME", help="object names or prefixes")
     parser.add_argument("--out", type=output_folder, default="bench-out/reach_budget",
                         help="folder of the rows")

@@ -239,12 +239,13 @@ def boxed_in(plate):
 
 
 def test_a_wrap_the_open_hand_cannot_approach_is_reached_closing_on_the_way():
-    """A power grasp of a turned box (its planned u kept here) whose fingers wrap round the box: from every pre-grasp the
-    open hand's approach sweeps them through it, and the approach that closes them on the way stays clear."""
+    """A power grasp of a turned box (its planned u kept here) whose fingers wrap round the box: no pre-grasp's approach
+    with the open hand (the grasp's synergies cannot open much: one is at its limit) stays within the tolerance, and
+    the approach that closes the hand on the way does."""
     turn = Rotation.from_quat([0.770622423659, -0.290229664652, -0.250575404063, -0.50903810151])
     mesh = trimesh.creation.box((80.0, 70.0, 50.0))
     mesh.apply_transform(np.r_[np.c_[turn.as_matrix(), np.zeros(3)], [[0.0, 0.0, 0.0, 1.0]]])
-    obj = so.from_mesh(mesh, name="turned box")
+    obj = so.from_mesh(mesh, name="turned box", cache=False)
     u = np.array([46.241455, -27.591633, 26.487351, -1.830535, -0.226936, 1.507337, 0.49575, 1.0])
     reach = executable_reach(HAND, obj, u)
     assert reach.collision_free and reach.source == "closing approach" and "closing the hand" in reach.reason
@@ -273,6 +274,14 @@ def test_a_reach_that_cannot_be_made_collision_free_is_reported_with_its_depth_a
     # the path reported is checked whole: it ends at the grasp (a check stopped at its first floor ended short of it)
     np.testing.assert_array_equal(reach.path[-1], u)
     assert len(reach.clearance) == len(reach.path)
+
+
+def test_a_reach_that_cannot_be_made_collision_free_is_the_least_deep_of_its_candidates(boxed_in):
+    """More candidates can only find a shallower best path: the one returned is the least deep of those checked."""
+    obj, u = boxed_in
+    depths = [executable_reach(HAND, obj, u, margin=20.0, budget=b).depth for b in (1, 3, 4, 12)]
+    assert all(later <= earlier + 1e-6 for earlier, later in zip(depths, depths[1:])), depths
+    assert depths[-1] < depths[0] - 1.0  # (the fourth pre-grasp's approach is 2 mm shallower than the first's)
 
 
 def test_a_margin_no_pre_grasp_clears_is_said(plate):

@@ -1,7 +1,7 @@
 """`replay_reach`: an executable reach run in MuJoCo with the object free: does the hand push it away before closing?
 
 The palm follows the reach (`synergrasp.PlanResult.path`: the approach from
-the pre-grasp, then the close), the fingers' servos its synergies, and then
+the pre-grasp, then the close, or both at once), the fingers' servos its synergies, and then
 the synergies squeeze as in the hold test (`synergrasp.physics.validate`).
 The object is a free body that nothing holds or damps: every contact on the
 way moves it. The `Replay` says how far it moved by the time the hand had

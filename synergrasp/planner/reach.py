@@ -21,7 +21,7 @@ pre-grasps are tried once more with a **closing approach**: the hand moves
 and closes at once, along the straight line in ``u`` from the pre-grasp to
 the grasp, so that fingers wrapped around the object reach its sides as
 they close rather than sweeping through it open. When none of those does
-either, the candidate that goes least beyond it is returned with
+either, the candidate that goes least beyond ``tolerance`` is returned with
 ``collision_free=False``, its depth and the shape (capsule or palm) that
 goes deepest.
 """
@@ -41,6 +41,8 @@ __all__ = ["OPENINGS", "Reach", "executable_reach", "open_synergies", "retreat_d
 
 #: Fractions of the way from the grasp's synergies to the widest opening, tried in turn after `open_synergies`.
 OPENINGS = (0.5, 1.0)
+#: How far (mm) below its floors the first failing candidate is checked: no path goes that deep, so it is checked whole.
+_WHOLE = 1e9
 
 
 @dataclass(frozen=True)
@@ -290,7 +292,8 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     same pre-grasps are tried with the hand closing while it approaches
     (one straight line in ``u`` to the grasp: fingers that wrap around the
     object pass its sides as they close); if none of those does either,
-    the candidate that goes least beyond ``tolerance`` is returned.
+    the candidate path that goes least below the floors (``tolerance``,
+    below) is returned.
 
     The path can be no shallower than the grasp itself: when the grasp
     penetrates deeper than ``tolerance``, the reach is not collision-free.
@@ -315,7 +318,9 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     budget : int
         Most pre-grasps tried (the trajectory not counted); each gives an
         approach and close, then, if none of those is collision-free, a
-        closing approach.
+        closing approach (not where the pre-grasp is the open hand at the
+        grasp's pose, or the opening is the grasp's synergies: that path
+        is the one already checked).
     openings : sequence of float
         Fractions in [0, 1] of the way from the grasp's synergies to the
         widest opening, tried after `open_synergies`.
@@ -367,7 +372,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
                          "grows at most as fast as it moves back from the grasp, so no pre-grasp could clear the object "
                          "by the margin; raise max_retreat or lower the margin")
     positive_scalar(resolution, "resolution")
-    budget = integer(budget, "budget", what="candidate approaches")
+    budget = integer(budget, "budget", what="pre-grasps")
     try:
         openings = np.atleast_1d(np.asarray(openings, dtype=float))
     except (TypeError, ValueError):
@@ -391,7 +396,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
             part = "along the iteration"
         else:
             at_grasp = check.clearance[-1] <= check.clearance[deepest] + 1e-6
-            part = "at the grasp" if at_grasp else \
+            part = "at the grasp" if at_grasp else "in the closing approach" if source == "closing approach" else \
                 "in the approach" if closing_from is None or deepest < closing_from else "in the close"
         where = f"{shape} {depth:.1f} mm deep {part} (row {deepest} of {len(check.path)})"
         free = bool(check.clearance.min() >= -tolerance)
@@ -404,10 +409,10 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
             reason = (f"not collision-free: the grasp itself penetrates the object, {grasp['grasp_shape']} "
                       f"{grasp['grasp_depth']:.1f} mm deep (more than {tolerance:g} mm); deepest: {where}")
             if failed:
-                reason += (f"; none of {tried} candidate approaches keeps every shape within {tolerance:g} mm of its "
+                reason += (f"; none of {tried} candidate paths keeps every shape within {tolerance:g} mm of its "
                            "depth at the grasp")
         else:
-            reason = (f"not collision-free: none of {tried} candidate approaches stays within {tolerance:g} mm of "
+            reason = (f"not collision-free: none of {tried} candidate paths stays within {tolerance:g} mm of "
                       f"the object; the best goes {where}")
         if failed and np.isnan(retreat):
             reason += (f"; no pre-grasp clears the object by the margin of {margin:g} mm within max_retreat "
@@ -464,16 +469,16 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         check = checker.along(closing, resolution=resolution, stop_below=floors)
         if check.complete:
             return reach(check, "closing approach", direction, retreat)
-    # none keeps every shape above its floor: the one that comes least below them, checked whole (those with a
-    # pre-grasp first); a check stops once it is worse than the best so far
-    best = None
+    # none keeps every shape above its floor: the one that comes least below them (those with a pre-grasp first).
+    # ``low`` is the best path's least distance above the floors; the first path is checked whole (its floors
+    # lowered past any depth), the others stop once they come below the floors raised by ``low``
+    best, low = None, -_WHOLE
     for waypoints, direction, retreat, source in sorted(candidates, key=lambda c: c[2] is None):
         if best is not None and retreat is None and best[2] is not None:
             break
-        check = checker.along(waypoints, resolution=resolution,  # the first whole, as the one to beat
-                              stop_below=None if best is None else floors + float(best[0].slack.min()))
-        if best is None or (check.complete and check.slack.min() > best[0].slack.min()):
-            best = (check, waypoints, retreat, direction, source)
+        check = checker.along(waypoints, resolution=resolution, stop_below=floors + low)
+        if check.complete and (best is None or float(check.slack.min()) > 0.0):
+            best, low = (check, waypoints, retreat, direction, source), low + float(check.slack.min())
     check, waypoints, retreat, direction, source = best
     return reach(check, source, direction, np.nan if retreat is None else retreat,
                  _closing_row(check, waypoints) if source == "approach" else None, failed=True)

@@ -106,7 +106,9 @@ class PlanResult:
         object (NaN when no grasp was found).
     path : (p, 6 + n_syn) float
         The executable reach to the final grasp (`executable_reach`):
-        approach from ``pregrasp`` with the hand open, then close; dense
+        approach from ``pregrasp`` with the hand open, then close (or,
+        ``reach["source"] == "closing approach"``, close while
+        approaching); dense
         enough that between two rows (a straight line in ``u``) no part of
         the hand crosses the object unseen. Empty when no grasp was found.
     clearance : (p,) float
@@ -117,10 +119,10 @@ class PlanResult:
         ``max_penetration`` (False when no grasp was found).
     reach : dict
         How ``path`` was made and checked (`Reach.summary`): ``reason``,
-        ``depth`` and ``deepest`` (the deepest penetration along the path
-        and its capsule or ``"palm"``), ``grasp_depth`` and
-        ``grasp_shape`` (the grasp's own), ``source``, ``direction``,
-        ``retreat``, ``opening``, ``candidates``, ``margin``,
+        ``collision_free``, ``depth``, ``deepest`` and ``deepest_row`` (the
+        deepest penetration along the path, its capsule or ``"palm"`` and
+        its row), ``grasp_depth`` and ``grasp_shape`` (the grasp's own),
+        ``source``, ``direction``, ``retreat``, ``candidates``, ``margin``,
         ``tolerance``, ``cpu_time``. Empty when no grasp was found.
 
     Examples
