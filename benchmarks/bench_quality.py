@@ -18,7 +18,6 @@ import time
 import numpy as np
 
 import synergrasp as sg
-from synergrasp.cli import positive
 
 
 def grasp_sequence(n_contacts, length, seed=0):
@@ -46,6 +45,8 @@ def time_backend(backend, grasps):
 
 
 def main(argv=None):
+    from synergrasp.cli import positive  # (here: solvers.profile_plan imports this module beside an older package)
+
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--repeats", type=positive(int), default=400, help="grasps per backend and size (cvxpy gets a tenth)")
     args = parser.parse_args(argv)

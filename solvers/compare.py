@@ -72,7 +72,6 @@ import numpy as np
 
 import synergrasp as sg
 from benchmarks.bench_quality import grasp_sequence  # the same grasps as the benchmark
-from synergrasp.cli import output_folder, positive
 from synergrasp.lp import Backend
 
 from .references import LinprogBackend, PlainCvxpyBackend, TimedBackend
@@ -753,6 +752,8 @@ def write_docs(text, figure_path):
 
 def main(argv=None) -> dict:
     """Run the comparison; returns the tables (``lp``, ``plan``, ``summary``, ``ratios``) and paths."""
+    from synergrasp.cli import output_folder, positive  # (here: profile_plan imports this module beside an older package)
+
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="reduced run: few calls, one short plan per backend")
     parser.add_argument("--out", type=output_folder, default=None,

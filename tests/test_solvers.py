@@ -120,3 +120,15 @@ def test_profile_plan_quick_writes_its_tables(tmp_path):
     text = (tmp_path / "profile.md").read_text()
     assert "inside Backend.solve" in text and (tmp_path / "profile.csv").stat().st_size > 0
     assert "planned with the `native` LP backend" in text
+
+
+def test_the_profile_can_import_its_sequences_beside_an_older_package():
+    """profile_plan's measuring process imports solvers.compare with the baseline package (427770f) as synergrasp,
+    whose command-line module has none of today's helpers: the sequences' modules import them only in their main."""
+    import subprocess
+    import sys
+
+    code = ("import sys; sys.modules['synergrasp.cli'] = None\n"  # any import of it fails
+            "from solvers.compare import grasp_sequence, point_sequence\n")
+    run = subprocess.run([sys.executable, "-c", code], cwd=compare.ROOT, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
