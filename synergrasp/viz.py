@@ -434,7 +434,10 @@ def plot_grasps(plans, hand, path, columns=6):
 
 
 def animate(result, obj, hand, path, fps=15, max_frames=120):
-    """GIF animation of the whole reach.
+    """GIF animation of the planner's iteration (`PlanResult.trajectory`: the search that found the grasp).
+
+    The reach to execute is `PlanResult.path` (`synergrasp.planner.executable_reach`); the status figure shows its
+    clearance.
 
     Parameters
     ----------

@@ -155,6 +155,18 @@ def _plan_file(folder, **changes):
     return path
 
 
+def _grasp_file(folder, source=None, deep=None):
+    """A saved PlanResult with a grasp and its executable reach, its reach's source or one row's clearance changed."""
+    path = sg.plan("ellipsoid", "precision").save(Path(folder) / "grasp.json")
+    data = json.loads(path.read_text())
+    if source is not None:
+        data["reach"]["source"] = source
+    if deep is not None:
+        data["clearance"][len(data["clearance"]) // 2] = -deep
+    path.write_text(json.dumps(data))
+    return path
+
+
 P2, N2 = [[0.0, 0.0, 10.0], [0.0, 0.0, -10.0]], [[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]]
 A3, B3 = 10.0 * np.eye(3), 10.0 * np.eye(3) + 50.0
 HAND = sg.SynergyHand.default()
@@ -319,6 +331,11 @@ API = [
     Case("sg.PlanResult.load", "a folder", lambda tmp: sg.PlanResult.load(tmp), FileNotFoundError, "is a folder, not a PlanResult file"),
     Case("sg.PlanResult.load", "a file that is not JSON", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "{oops")), ValueError, "cannot read a PlanResult from"),
     Case("sg.PlanResult.load", "JSON of something else", lambda tmp: sg.PlanResult.load(_write(tmp, "p.json", "[1, 2]")), ValueError, "is not a saved synergrasp PlanResult"),
+    Case("sg.PlanResult.load", "a reach of an unknown source", lambda tmp: sg.PlanResult.load(_grasp_file(tmp, source="teleport")),
+         ValueError, "a summary whose source is one of ['approach', 'closing approach', 'trajectory']"),
+    Case("sg.PlanResult.load", "a reach called collision-free whose clearance goes deeper than its tolerance",
+         lambda tmp: sg.PlanResult.load(_grasp_file(tmp, deep=20.0)), ValueError,
+         "field 'collision_free' must be false: the clearance along path goes to -20 mm, deeper than its tolerance of 3 mm"),
     Case("sg.PlanResult.load", "u = \"garbage\"", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u="garbage")), ValueError, "field 'u' must be an array of numbers of shape (n,)"),
     Case("sg.PlanResult.load", "numbers written as strings in u", lambda tmp: sg.PlanResult.load(_plan_file(tmp, u=["1"] * 8)),
          ValueError, "field 'u' must be an array of numbers of shape (n,), got ['1', '1'"),

@@ -238,15 +238,20 @@ def boxed_in(plate):
     return so.GraspObject(walls, name="closed box"), u
 
 
-def test_a_wrap_the_open_hand_cannot_approach_is_reached_closing_on_the_way():
-    """A power grasp of a turned box (its planned u kept here) whose fingers wrap round the box: no pre-grasp's approach
-    with the open hand (the grasp's synergies cannot open much: one is at its limit) stays within the tolerance, and
-    the approach that closes the hand on the way does."""
+@pytest.fixture(scope="module")
+def turned_box_wrap():
+    """A power grasp of a turned box (its planned u kept here) whose fingers wrap round the box."""
     turn = Rotation.from_quat([0.770622423659, -0.290229664652, -0.250575404063, -0.50903810151])
     mesh = trimesh.creation.box((80.0, 70.0, 50.0))
     mesh.apply_transform(np.r_[np.c_[turn.as_matrix(), np.zeros(3)], [[0.0, 0.0, 0.0, 1.0]]])
     obj = so.from_mesh(mesh, name="turned box", cache=False)
-    u = np.array([46.241455, -27.591633, 26.487351, -1.830535, -0.226936, 1.507337, 0.49575, 1.0])
+    return obj, np.array([46.241455, -27.591633, 26.487351, -1.830535, -0.226936, 1.507337, 0.49575, 1.0])
+
+
+def test_a_wrap_the_open_hand_cannot_approach_is_reached_closing_on_the_way(turned_box_wrap):
+    """No pre-grasp's approach with the open hand (the grasp's synergies cannot open much: one is at its limit) stays
+    within the tolerance, and the approach that closes the hand on the way does."""
+    obj, u = turned_box_wrap
     reach = executable_reach(HAND, obj, u)
     assert reach.collision_free and reach.source == "closing approach" and "closing the hand" in reach.reason
     assert np.array_equal(reach.path[0], reach.pregrasp) and np.array_equal(reach.path[-1], u)
@@ -282,6 +287,16 @@ def test_a_reach_that_cannot_be_made_collision_free_is_the_least_deep_of_its_can
     depths = [executable_reach(HAND, obj, u, margin=20.0, budget=b).depth for b in (1, 3, 4, 12)]
     assert all(later <= earlier + 1e-6 for earlier, later in zip(depths, depths[1:])), depths
     assert depths[-1] < depths[0] - 1.0  # (the fourth pre-grasp's approach is 2 mm shallower than the first's)
+
+
+def test_a_path_from_no_pre_grasp_is_never_collision_free(turned_box_wrap):
+    """With max_retreat too short for the margin, the best path starts at the grasp, within the tolerance of the box
+    (2.2 mm in it): not a reach from free space, so not collision-free, and the reason says why."""
+    obj, u = turned_box_wrap
+    reach = executable_reach(HAND, obj, u, margin=10.0, max_retreat=12.0)
+    assert np.isnan(reach.retreat) and reach.clearance.min() >= -TOLERANCE and reach.clearance[0] < 10.0
+    assert not reach.collision_free and reach.reason.startswith("not collision-free: no path starts clear")
+    assert "no pre-grasp clears the object by the margin of 10 mm within max_retreat 12 mm" in reach.reason
 
 
 def test_a_margin_no_pre_grasp_clears_is_said(plate):

@@ -455,7 +455,7 @@ class _Simulation:
                     moved_after_squeeze=float(np.linalg.norm(pose[:3] - planned[:3])) * 1e3,
                     turned_after_squeeze=_angle(planned[3:], pose[3:]),
                     contact_bodies=sorted({c[0] for c in self.contacts()}), duration=float(d.time), outcome="done",
-                    reason="simulated the approach, the close and the squeeze")
+                    reason="simulated the reach and the squeeze")
 
     def unsimulated(self, outcome, reason, measured):
         nan = np.full(len(DIRECTIONS), np.nan)

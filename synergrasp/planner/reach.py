@@ -37,12 +37,15 @@ from .._checks import as_points, as_vector, integer, positive_scalar
 from ..hand import LIMIT_TOLERANCE, rotation_xyz
 from .clearance import HandClearance
 
-__all__ = ["OPENINGS", "Reach", "executable_reach", "open_synergies", "retreat_directions", "widest_opening"]
+__all__ = ["OPENINGS", "SOURCES", "Reach", "executable_reach", "open_synergies", "retreat_directions", "widest_opening"]
 
 #: Fractions of the way from the grasp's synergies to the widest opening, tried in turn after `open_synergies`.
 OPENINGS = (0.5, 1.0)
 #: How far (mm) below its floors the first failing candidate is checked: no path goes that deep, so it is checked whole.
 _WHOLE = 1e9
+#: How a reach is made (`Reach.source`): the open hand's approach then the close, the hand closing while it
+#: approaches, or the planner's iteration as it is.
+SOURCES = ("approach", "closing approach", "trajectory")
 
 
 @dataclass(frozen=True)
@@ -392,14 +395,11 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     def reach(check, source, direction=np.zeros(3), retreat=0.0, closing_from=None, failed=False):
         deepest, depth = check.deepest, check.depth
         shape = check.deepest_shape if depth > 0 else ""
-        if source == "trajectory":
-            part = "along the iteration"
-        else:
-            at_grasp = check.clearance[-1] <= check.clearance[deepest] + 1e-6
-            part = "at the grasp" if at_grasp else "in the closing approach" if source == "closing approach" else \
-                "in the approach" if closing_from is None or deepest < closing_from else "in the close"
+        part = _part(source, deepest, check.clearance[-1] <= check.clearance[deepest] + 1e-6, closing_from)
         where = f"{shape} {depth:.1f} mm deep {part} (row {deepest} of {len(check.path)})"
-        free = bool(check.clearance.min() >= -tolerance)
+        unplaced = failed and np.isnan(retreat)  # no pre-grasp clear of the object: no reach from free space
+        free = bool(check.clearance.min() >= -tolerance) and not unplaced
+        paths = f"{tried} candidate path{'s' if tried != 1 else ''}"
         if free:
             what = {"trajectory": "the iteration stays", "approach": "approach and close stay",
                     "closing approach": "the approach, closing the hand on the way, stays"}[source]
@@ -409,12 +409,14 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
             reason = (f"not collision-free: the grasp itself penetrates the object, {grasp['grasp_shape']} "
                       f"{grasp['grasp_depth']:.1f} mm deep (more than {tolerance:g} mm); deepest: {where}")
             if failed:
-                reason += (f"; none of {tried} candidate paths keeps every shape within {tolerance:g} mm of its "
-                           "depth at the grasp")
+                reason += (f"; none of {paths} keeps every shape within {tolerance:g} mm of its depth at the "
+                           "grasp")
+        elif check.clearance.min() >= -tolerance:  # within the tolerance, but from no pre-grasp
+            reason = f"not collision-free: no path starts clear of the object; the best goes {where}"
         else:
-            reason = (f"not collision-free: none of {tried} candidate paths stays within {tolerance:g} mm of "
-                      f"the object; the best goes {where}")
-        if failed and np.isnan(retreat):
+            reason = (f"not collision-free: none of {paths} stays within {tolerance:g} mm of the object; the best "
+                      f"goes {where}")
+        if unplaced:
             reason += (f"; no pre-grasp clears the object by the margin of {margin:g} mm within max_retreat "
                        f"{max_retreat:g} mm: the path starts {check.clearance[0]:.1f} mm from it")
         return Reach(path=check.path, clearance=check.clearance, closest=[check.labels[i] for i in check.closest],
@@ -482,6 +484,24 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
     check, waypoints, retreat, direction, source = best
     return reach(check, source, direction, np.nan if retreat is None else retreat,
                  _closing_row(check, waypoints) if source == "approach" else None, failed=True)
+
+
+def _part(source, row, at_grasp, closing_from):
+    """Where on a reach of ``source`` its row ``row`` lies, in words.
+
+    ``at_grasp``: the row is as deep as the grasp itself; ``closing_from``: the row of the open hand at the grasp's
+    pose, where the close starts (None without a close). That row is the approach's end: the close begins after it.
+
+    >>> _part("approach", 5, False, 5), _part("approach", 6, False, 5), _part("closing approach", 3, False, None)
+    ('in the approach', 'in the close', 'in the closing approach')
+    """
+    if source == "trajectory":
+        return "along the iteration"
+    if at_grasp:
+        return "at the grasp"
+    if source == "closing approach":
+        return "in the closing approach"
+    return "in the approach" if closing_from is None or row <= closing_from else "in the close"
 
 
 def _closing_row(check, waypoints):

@@ -10,6 +10,7 @@ import numpy as np
 
 from .._records import FieldChecks, holds_bool, load_record, save_record
 from ..hand import POINT_KINDS
+from .reach import SOURCES as REACH_SOURCES
 
 _FORMAT = "synergrasp.PlanResult/1"
 _ARRAYS = {"u": (-1,), "trajectory": None, "status": None, "target": (-1,), "q_history": (-1,),
@@ -368,5 +369,12 @@ def _validated(data: dict, path) -> dict:
         fail("path", "the reach from pregrasp (its first row) to u (its last row; edited by hand?)")
     if not isinstance(data["reach"], dict):
         fail("reach", "an object (the summary of the executable reach)")
-    out["reach"] = data["reach"]
+    summary = out["reach"] = data["reach"]
+    if len(reach) and summary.get("source", "approach") not in REACH_SOURCES:
+        fail("reach", f"a summary whose source is one of {list(REACH_SOURCES)}, not {summary.get('source')!r}")
+    tolerance = summary.get("tolerance")
+    if len(reach) and out["collision_free"] and isinstance(tolerance, (int, float)) \
+            and out["clearance"].min() < -tolerance:
+        fail("collision_free", f"false: the clearance along path goes to {out['clearance'].min():.3g} mm, deeper than "
+             f"its tolerance of {tolerance:g} mm (edited by hand?)")
     return {name: out[name] for name in data}
