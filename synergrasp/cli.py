@@ -303,7 +303,9 @@ def _plan(args) -> int:
              viz.plot_status(result, out / f"{stem}_status.png", labels=hand.point_labels(result.grasp)),
              viz.plot_poses(result, obj, hand, out / f"{stem}_poses.png")]
     if not args.no_animation:
-        files += [viz.animate(result, obj, hand, animation[0]), viz.write_html(obj, hand, result.u, animation[1])]
+        rows = "path" if len(result.path) else "trajectory"  # the reach to execute, else the search
+        files += [viz.animate(result, obj, hand, animation[0], rows=rows),
+                  viz.write_html(obj, hand, result.u, animation[1])]
     elif stale:
         print(f"removed an earlier run's {', '.join(f.name for f in stale)} (--no-animation)", file=sys.stderr)
     print(f"{'success' if result.success else 'FAILED'}: {result.reason}")

@@ -433,11 +433,8 @@ def plot_grasps(plans, hand, path, columns=6):
     return _save(fig, path, dpi=110)
 
 
-def animate(result, obj, hand, path, fps=15, max_frames=120):
-    """GIF animation of the planner's iteration (`PlanResult.trajectory`: the search that found the grasp).
-
-    The reach to execute is `PlanResult.path` (`synergrasp.planner.executable_reach`); the status figure shows its
-    clearance.
+def animate(result, obj, hand, path, fps=15, max_frames=120, rows="trajectory"):
+    """GIF animation of a plan: the planner's iteration, or the executable reach to execute.
 
     Parameters
     ----------
@@ -452,7 +449,13 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     fps : int
         Frames per second.
     max_frames : int
-        Longer trajectories are subsampled.
+        Longer sequences are subsampled.
+    rows : {"trajectory", "path"}
+        ``"trajectory"``: the planner's iteration (`PlanResult.trajectory`,
+        the search that found the grasp; each frame titled with its
+        iteration k and g_sQ). ``"path"``: the executable reach
+        (`PlanResult.path`, from the pre-grasp to the grasp; each frame
+        titled with its row and the hand's clearance there).
 
     Returns
     -------
@@ -464,7 +467,9 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     TypeError
         If ``result``, ``obj`` or ``hand`` is of the wrong type.
     ValueError
-        If ``path`` does not end in .gif, or ``fps`` or ``max_frames`` < 1.
+        If ``path`` does not end in .gif, ``fps`` or ``max_frames`` < 1,
+        ``rows`` is neither name, or ``rows="path"`` for a plan without an
+        executable reach.
     FileNotFoundError
         If the folder of ``path`` does not exist.
 
@@ -480,7 +485,13 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
     _check(result=result, obj=obj, hand=hand)
     path = image_path(path, [".gif"])
     fps, max_frames = integer(fps, "fps"), integer(max_frames, "max_frames")
-    traj = np.asarray(result.trajectory)
+    if rows not in ("trajectory", "path"):
+        raise ValueError(f"rows must be 'trajectory' (the planner's iteration) or 'path' (the executable reach), "
+                         f"got {rows!r}")
+    if rows == "path" and not len(result.path):
+        raise ValueError("the plan has no executable reach (no grasp was found, or it was planned with "
+                         "executable_reach=False): animate its trajectory (rows='trajectory')")
+    traj = np.asarray(result.trajectory if rows == "trajectory" else result.path)
     frames = np.unique(np.linspace(0, len(traj) - 1, min(len(traj), max_frames)).round().astype(int))
     fig = plt.figure(figsize=(5.5, 5.5))
     ax = fig.add_subplot(projection="3d")
@@ -492,7 +503,8 @@ def animate(result, obj, hand, path, fps=15, max_frames=120):
         for artist in artists:
             artist.remove()
         artists[:] = _draw_hand(ax, hand, traj[k])
-        ax.set_title(f"k = {k}   g_sQ = {result.status[k, -1]:+.3f}")
+        ax.set_title(f"k = {k}   g_sQ = {result.status[k, -1]:+.3f}" if rows == "trajectory" else
+                     f"reach row {k} of {len(traj)}   clearance {result.clearance[k]:+.1f} mm")
         return artists
 
     anim = animation.FuncAnimation(fig, draw, frames=frames, blit=False)

@@ -626,6 +626,8 @@ API = [
     Case("viz.plot_status", "not a PlanResult", lambda tmp: viz.plot_status("plan.json", Path(tmp) / "s.png"), TypeError, "result must be a PlanResult"),
     Case("viz.plot_status", "an unknown image format", lambda tmp: viz.plot_status(sg.plan("ellipsoid", max_iter=1), Path(tmp) / "s.xyz"), ValueError, ".xyz is not a supported format"),
     Case("viz.plot_status", "a missing folder", lambda tmp: viz.plot_status(sg.plan("ellipsoid", max_iter=1), Path(tmp) / "no" / "s.png"), FileNotFoundError, "does not exist"),
+    Case("viz.animate", "rows of another name", lambda tmp: viz.animate(sg.plan("ellipsoid", max_iter=1), so.ellipsoid(), HAND, Path(tmp) / "a.gif", rows="reach"), ValueError, "rows must be 'trajectory'"),
+    Case("viz.animate", "the path of a plan without a grasp", lambda tmp: viz.animate(sg.plan("ellipsoid", max_iter=1), so.ellipsoid(), HAND, Path(tmp) / "a.gif", rows="path"), ValueError, "the plan has no executable reach"),
     Case("viz.animate", "an .mp4 file", lambda tmp: viz.animate(sg.plan("ellipsoid", max_iter=1), so.ellipsoid(), HAND, Path(tmp) / "a.mp4"), ValueError, "use one of .gif"),
 ]
 

@@ -67,8 +67,8 @@ def cli_reference() -> str:
         "| `NAME_GRASP_status.png` | the status vector against iterations; for a failed plan every attempt, one after another; "
         "for a successful one the clearance along the executable reach |",
         "| `NAME_GRASP_poses.png` | the hand at several iterations around the object, with a legend of the fingers |",
-        "| `NAME_GRASP_reach.gif` | the planner's iteration (`trajectory`, the search), animated; the reach to "
-        "execute is the JSON's `path` (not with `--no-animation`) |",
+        "| `NAME_GRASP_reach.gif` | the executable reach (the JSON's `path`, pre-grasp to grasp), animated; for a "
+        "failed plan the planner's iteration (`trajectory`) (not with `--no-animation`) |",
         "| `NAME_GRASP_grasp.html` | an interactive 3-D view of the final grasp (not with `--no-animation`) |", "",
         "With `--no-animation` an earlier run's GIF and HTML page of the same name are removed: they would show "
         "another plan.", "",

@@ -349,3 +349,17 @@ def test_plan_takes_a_hand_file(tmp_path, capsys):
     assert saved.success and saved.hand == SynergyHand(data).identity
     assert main(["plan", "--hand", str(tmp_path / "none.json"), "--out", str(tmp_path / "out")]) == 2
     assert "hand file not found" in capsys.readouterr().err
+
+
+def test_the_plan_gif_animates_the_reach_to_execute(tmp_path):
+    """A successful plan's GIF shows the executable reach, one frame per row of its path (pre-grasp to grasp), not
+    the planner's iteration."""
+    from PIL import Image
+
+    from synergrasp import PlanResult
+
+    main(["plan", "--object", "ellipsoid", "--out", str(tmp_path), "--quiet"])
+    result = PlanResult.load(tmp_path / "ellipsoid_precision.json")
+    assert len(result.path) != len(result.trajectory)  # (the frames tell the two apart)
+    with Image.open(tmp_path / "ellipsoid_precision_reach.gif") as gif:
+        assert gif.n_frames == min(len(result.path), 120)
