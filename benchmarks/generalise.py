@@ -188,6 +188,7 @@ def summarise(rows, grasp):
     accepted = [r for r in mine if r["success"]]
     q = np.array([r["q_true"] for r in accepted]) if accepted else np.array([np.nan])
     gaps = np.array([r["gap"] for r in accepted]) if accepted else np.array([np.nan])
+    closing = sum(r["collision_free"] and r.get("reach_source") == "closing approach" for r in accepted)
     lines = [
         f"{grasp}: {_count(ok)}/{n} verified ({100.0 * ok / n:.1f}%{spread}), by source: "
         + ", ".join(f"{s} {_count(_verified(mine, s)[0])}/{sum(r['source'] == s for r in mine) // len(runs)}"
@@ -200,8 +201,7 @@ def summarise(rows, grasp):
         f"  depth in the true mesh of the accepted grasps: phalanges max {_largest(accepted, 'depth'):.1f} mm, "
         f"palm max {_largest(accepted, 'palm_depth'):.1f} mm; collision-free executable reach: "
         f"{sum(r['collision_free'] for r in accepted)}/{len(accepted)}"
-        + (f" ({closing} closing the hand on the way)" if (closing := sum(
-            r["collision_free"] and r.get("reach_source") == "closing approach" for r in accepted)) else ""),
+        + (f" ({closing} closing the hand on the way)" if closing else ""),
     ]
     failed = Counter(a["outcome"] for r in mine for a in r["attempts"] if a["outcome"] != "grasp")
     refused = Counter(r["reason"].split(":")[0] for r in mine if r["refused"])

@@ -7,8 +7,9 @@ Usage::
 
 Plans every object of a split of the generalisation benchmark (``benchmarks/objectset.py``), then
 makes the executable reach of every accepted grasp again with each ``budget`` of pre-grasps
-(`synergrasp.planner.executable_reach`; each with its approach and close, then its closing approach), and prints, per budget, how many reaches are
-collision-free and the median and largest CPU time of one reach. Rows go to
+(`synergrasp.planner.executable_reach`; each with its approach and close, then its closing
+approach), and prints, per budget, how many reaches are collision-free and the median and largest
+CPU time of one reach. Rows go to
 ``DIR/reach_budget_<split>_<grasp>.jsonl`` (default ``bench-out/reach_budget``).
 """
 
