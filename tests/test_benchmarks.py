@@ -33,6 +33,17 @@ def test_time_limit_quick(capsys):
     assert "largest overrun" in capsys.readouterr().out
 
 
+def test_slender_quick(tmp_path, capsys):
+    """The slender benchmark's quick mode plans and verifies one rod-like shape, its row written."""
+    from benchmarks import slender
+
+    rows = slender.main(["--quick", "--out", str(tmp_path)])
+    written = [json.loads(line) for line in (tmp_path / "slender_train.jsonl").read_text().splitlines()]
+    assert written == json.loads(json.dumps(rows)) and len(rows) == 1
+    assert rows[0]["grasp"] == "precision" and rows[0]["torque"] < 0.05  # slender by the planner's measure
+    assert rows[0]["verified"] and "precision: 1/1 verified" in capsys.readouterr().out
+
+
 def test_small_objects_quick(tmp_path, capsys):
     """The 50 mm sphere (about the benchmark's smallest object) is grasped, and its row is written under --out."""
     from benchmarks import small_objects

@@ -53,7 +53,8 @@ import numpy as np
 
 from .._jit import clock
 from .starts import pinch_fingertips
-from .status import Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows
+from .status import (Status, capsule_rows, contact_quality, grasp_status, hand_penetration, read_only, status_rows,
+                     steering_scale)
 from .step import limited_step
 from .stop import CRITERION, GraspCheck, SurfaceCheck, check_grasp, mesh_depth, surface_check
 
@@ -260,6 +261,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
     scale_u = np.r_[np.full(3, size), np.ones(n_u - 3)]  # normalised u = u / scale_u
     smoothing = opts.smoothing * size
     power = grasp == "power"
+    steer = steering_scale(obj, opts.mu) if power else obj.torque_scale  # of the rows that steer (g_sQ, own g_Q)
     window = opts.stall_window[1 if power else 0]
     watching = power  # capsules and palm box watched: power from the start, precision once the criterion held with one too deep
 
@@ -269,7 +271,7 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
             far = far.copy()  # nearest point: exact
             far[shape_rows[pen.distances < 0.0]] = np.inf
         st = grasp_status(hand, obj, u, grasp, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing,
-                          far=far)
+                          far=far, torque_scale=steer)
         if watching:
             st = capsule_rows(hand, obj, u, st, pen)
         chk = check_grasp(obj, st, grasp, eps_c=opts.eps_c, mu=opts.mu, edges=opts.edges, backend=backend,
@@ -280,7 +282,8 @@ def run_attempt(hand, obj, grasp, u0, options, *, backend="native", budget=None,
         """The last row: g_sQ, or the contacts' own g_Q while refining or closing them (its value and gradient)."""
         if (refining is None and not closing) or chk.n_contacts < 2:
             return st.g[-1], st.J[-1]
-        return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing)
+        return contact_quality(obj, st, chk.contact, mu=opts.mu, edges=opts.edges, backend=backend, smoothing=smoothing,
+                               torque_scale=steer)
 
     _, contact_rows, segment_rows = status_rows(hand, grasp)
     contact_rows, shape_rows = contact_rows.copy(), np.r_[segment_rows, len(contact_rows) - 1]  # capsules, palm box

@@ -41,13 +41,11 @@ from .attempt import Outcome, run_attempt
 from .options import GRASPS, MAX_START_DISTANCE, AnnealingOptions, PlannerOptions
 from .reach import executable_reach, widest_opening
 from .result import PlanResult
-from .starts import (Start, opposed_widths, preshape, principal_directions, smallest_pinch, start_configuration, starts,
+from .starts import (Start, opposed_widths, preshape, smallest_pinch, start_configuration, starts,
                      widest_pinch)
+from .status import SLENDER, axial_radius, steering_scale
 from .stop import CRITERION
 
-#: A failed plan's reason calls an object slender when friction at its surface can resist a torque about its long
-#: axis of less than this fraction of its torque scale per unit force (``mu * arm / torque_scale``, `axial_torque`).
-SLENDER = 0.05
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
 #: The planners by name, with their options' class.
@@ -434,8 +432,9 @@ def _failure(attempts, grasp, hand, obj, opts):
     says so: the
     hand may not be able to wrap the object. When the object is slender
     (`axial_torque` below `SLENDER`), it says that every grasp's Q distance
-    stays near 0 and that a torque scale near its diameter weighs the
-    torques about its axis as forces at its surface. No clock time in it
+    stays near 0, that a power plan's attempts steered by its diameter
+    (`steering_scale`) and that a torque scale near its diameter would put
+    the criterion's margins in those units too. No clock time in it
     (that is `PlanResult.time_s`): the same plan gives the same words.
     """
     counts = {}
@@ -492,18 +491,23 @@ def _failure(attempts, grasp, hand, obj, opts):
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
                    f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays within "
-                   f"about {torque:.3f} of 0, too little to steer the attempts by. A torque scale near its diameter "
-                   f"(torque_scale={2.0 * arm:.0f} when loading or building it, e.g. sg.objects.load(..., torque_scale="
-                   f"{2.0 * arm:.0f})) weighs those torques as forces at its surface")
+                   f"about {torque:.3f} of 0"
+                   + (f". Its attempts steered by a torque scale of its diameter ({steering_scale(obj, opts.mu):.0f} "
+                      "mm), but the criterion's margins and Q are in L; a torque scale" if grasp == "power" else
+                      "; a torque scale")
+                   + f" near its diameter (torque_scale={2.0 * arm:.0f} when loading or building it, e.g. "
+                   f"sg.objects.load(..., torque_scale={2.0 * arm:.0f})) "
+                   + ("puts them in those units too" if grasp == "power" else
+                      "weighs those torques as forces at its surface"))
     return reason
 
 
 def axial_torque(obj, mu):
     """How much torque about its long axis friction can apply to an object, against its torque scale.
 
-    The long axis is the object's longest principal axis through its
-    centre (`principal_directions`); a contact at most ``arm`` mm from it
-    with a normal force f applies at most ``mu * arm * f`` about it.
+    A contact at most ``arm`` mm from the object's long axis
+    (`axial_radius`) with a normal force f applies at most
+    ``mu * arm * f`` about it.
 
     Parameters
     ----------
@@ -528,7 +532,5 @@ def axial_torque(obj, mu):
     >>> [round(v, 3) for v in axial_torque(rod, 0.3)]
     [10.0, 0.02]
     """
-    axis = principal_directions(obj)[4]  # (shortest axis first: +/- each of the three)
-    points = np.vstack(obj.pieces) - obj.center
-    arm = float(np.linalg.norm(points - np.outer(points @ axis, axis), axis=1).max())
+    arm = axial_radius(obj)
     return arm, mu * arm / obj.torque_scale

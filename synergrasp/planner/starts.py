@@ -34,7 +34,7 @@ from .._jit import clock, kernel
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
 from .clearance import hand_and_object
-from .status import grasp_status, hand_penetration
+from .status import grasp_status, hand_penetration, principal_axes
 from .stop import check_grasp
 
 #: Largest angle (deg) between one point's inward normal and the other's outward normal in a pair.
@@ -192,10 +192,7 @@ def principal_directions(obj):
     >>> principal_directions(objects.ellipsoid())[0].round(3).tolist()   # the 30 mm semi-axis
     [1.0, 0.0, 0.0]
     """
-    points = np.vstack(obj.pieces) - obj.center
-    _, _, axes = np.linalg.svd(points - points.mean(axis=0), full_matrices=False)
-    axes = axes[::-1]  # shortest first
-    axes *= np.where(axes.sum(axis=1) < 0, -1.0, 1.0)[:, None]  # a deterministic sign
+    axes = principal_axes(obj)
     directions = [s * a for a in axes for s in (1.0, -1.0)]
     directions += [axes.T @ np.array(signs) / np.sqrt(3.0) for signs in itertools.product((1.0, -1.0), repeat=3)]
     return np.array(directions)

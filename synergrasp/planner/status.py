@@ -355,6 +355,9 @@ def status_rows(hand, kind):
     return list(labels), contact.copy(), segment_rows.copy()
 
 
+#: An object is slender when friction at its surface resists a torque about its long axis of less than this
+#: fraction of its bounding radius per unit of grip force (``mu * axial_radius / radius``, `steering_scale`).
+SLENDER = 0.05
 #: `status_rows` of each hand that asked, by grasp type.
 _ROWS = weakref.WeakKeyDictionary()
 
@@ -369,6 +372,104 @@ def _status_rows(hand, kind):
     labels = tips + [lab for i, lab in enumerate(segments) if distal[chains[i]] != i] + ["P"]
     rows = [chains[i] if distal[chains[i]] == i else labels.index(lab) for i, lab in enumerate(segments)]
     return labels, np.arange(len(labels)) < len(tips), np.array(rows)
+
+
+def principal_axes(obj):
+    """The object's principal axes: the singular vectors of its pieces' vertices about their mean.
+
+    Parameters
+    ----------
+    obj : GraspObject
+
+    Returns
+    -------
+    (3, 3) float
+        Unit axes as rows, the shortest first, each signed so that its
+        components sum to zero or more.
+
+    Examples
+    --------
+    >>> from synergrasp import objects
+    >>> principal_axes(objects.ellipsoid()).round(3).tolist()   # semi-axes 30, 40, 50 mm along x, y, z
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    points = np.vstack(obj.pieces) - obj.center
+    _, _, axes = np.linalg.svd(points - points.mean(axis=0), full_matrices=False)
+    axes = axes[::-1]  # shortest first
+    return axes * np.where(axes.sum(axis=1) < 0, -1.0, 1.0)[:, None]
+
+
+def axial_radius(obj):
+    """How far the object reaches from its long axis: the farthest of its pieces' vertices from the line.
+
+    The long axis is the longest of `principal_axes`, through the object's
+    centre.
+
+    Parameters
+    ----------
+    obj : GraspObject
+
+    Returns
+    -------
+    float
+        mm.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> rod = objects.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False)
+    >>> round(axial_radius(rod), 3)
+    10.0
+    """
+    axis = principal_axes(obj)[2]
+    points = np.vstack(obj.pieces) - obj.center
+    return float(np.linalg.norm(points - np.outer(points @ axis, axis), axis=1).max())
+
+
+def steering_scale(obj, mu):
+    """The torque scale of the rows that steer a power attempt: the object's, or its diameter if it is slender.
+
+    A power attempt's sQ row and contacts' own g_Q row (`grasp_status`,
+    `contact_quality`) weigh torques by it (a precision attempt's by the
+    object's: on slender shapes chosen to measure it, the diameter gave as
+    many precision grasps in more iterations); the paper's criterion and the
+    acceptance on the true surface use the object's ``torque_scale``, as
+    every Q the library reports does. Friction at a surface at most ``r``
+    mm from an object's long axis (`axial_radius`) resists a torque about
+    that axis of at most ``mu * r`` per unit of grip force. When that is
+    less than `SLENDER` of the object's bounding radius (a rod, a pen, a
+    handle), every grasp's Q distance stays near 0 along that torque at the
+    default torque scale, and a row in those units is too flat to steer by:
+    the rows then weigh torques at ``2 r`` (if less than the object's torque
+    scale), the torques about the axis as forces at its surface.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    mu : float
+        Friction coefficient.
+
+    Returns
+    -------
+    float
+        ``min(obj.torque_scale, 2 * axial_radius(obj))`` if ``mu *
+        axial_radius(obj) < SLENDER * obj.radius``, else
+        ``obj.torque_scale`` (mm).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> rod = objects.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False)
+    >>> round(rod.torque_scale, 1), round(steering_scale(rod, 0.3), 1)
+    (150.3, 20.0)
+    >>> steering_scale(objects.ellipsoid(), 0.3) == objects.ellipsoid().torque_scale
+    True
+    """
+    arm = axial_radius(obj)
+    scale = float(obj.torque_scale)
+    return min(scale, 2.0 * arm) if mu * arm < SLENDER * obj.radius else scale
 
 
 def _require(hand, obj):
@@ -478,7 +579,8 @@ def _deepest_over_face(vertices, edges, center, axes, half, out):
     return best < np.inf
 
 
-def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None, far=None) -> Status:
+def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoothing=None, far=None,
+                 torque_scale=None) -> Status:
     """Status vector and Jacobian at configuration u.
 
     All rows come from one cP call: each row is the smallest cP over its skin
@@ -510,6 +612,9 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         (`group_contact_distance`). For a caller that reads a row only when
         it is nearer than that (the planner's clearance rows). Default: every
         row exact.
+    torque_scale : float, optional
+        The sQ row's torque scale (mm; default the object's ``torque_scale``;
+        the planner's attempts pass `steering_scale`).
 
     Returns
     -------
@@ -557,8 +662,9 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         jac_normal = jac_n @ sc.jac_contact
     else:
         normals, jac_normal = sc.normal, sc.jac_normal
-    sq = q_distance(sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale,
-                    backend=backend, checked=True)
+    scale = obj.torque_scale if torque_scale is None else positive_scalar(torque_scale, "torque_scale (mm)")
+    sq = q_distance(sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=scale, backend=backend,
+                    checked=True)
     # d g_sQ / d p_i through the contact carried back to the object and its normal
     grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
     return Status(
@@ -577,7 +683,7 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
     )
 
 
-def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", smoothing=None):
+def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", smoothing=None, torque_scale=None):
     """g_Q of the contacts and its gradient with respect to u: the row that improves a grasp's margin.
 
     Each row in ``contact`` touches at the foot of its hand point on the
@@ -597,6 +703,9 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", 
     backend : str
     smoothing : float, optional
         Normal smoothing length (mm).
+    torque_scale : float, optional
+        mm; default the object's ``torque_scale`` (the planner's attempts
+        pass `steering_scale`).
 
     Returns
     -------
@@ -612,8 +721,8 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", 
         normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
     else:
         normals, jac_n = n, np.zeros((len(x), 3, 3))
-    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=obj.torque_scale, backend=backend,
-                   checked=True)
+    scale = obj.torque_scale if torque_scale is None else positive_scalar(torque_scale, "torque_scale (mm)")
+    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=scale, backend=backend, checked=True)
     slide = (np.eye(3) - n[:, :, None] * n[:, None, :]) @ status.point_jac[contact]  # (c, 3, nu)
     grad_x = q.grad_points + np.einsum("ia,iab->ib", q.grad_normals, jac_n)
     return q.value, np.einsum("ia,iab->b", grad_x, slide)
