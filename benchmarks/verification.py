@@ -10,7 +10,9 @@ A plan is verified when
   the dense sampled check of ``reach_sampling.py`` (trimesh's signed distance, no fcl, no convex
   pieces).
 
-Nothing here is the planner's own code: neither its contacts' normals nor its penetration depths.
+Nothing here is the planner's own code but the contact wrenches (``sg.contact_wrenches``, checked
+against closed forms in ``tests/test_quality.py``): neither its contacts' normals nor its
+penetration depths.
 """
 
 from __future__ import annotations

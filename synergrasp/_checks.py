@@ -101,12 +101,12 @@ def as_vector(value, name: str, size: int | None = None) -> np.ndarray:
 
 
 def as_path(value, what: str) -> Path:
-    """A file path given as a str or os.PathLike (not a dict, None, an empty name); ``what`` names it in the error."""
+    """A file path given as a str or os.PathLike (not a dict, None, an empty name), ``~`` expanded; ``what`` names it."""
     if not isinstance(value, (str, os.PathLike)):
         raise TypeError(f"{what} must be a str or os.PathLike, got {type(value).__name__}")
     if isinstance(value, str) and not value.strip():  # Path("") is the current folder
         raise ValueError(f"{what} is an empty name (an unset variable?): give a path")
-    return Path(value)
+    return Path(value).expanduser()
 
 
 def _real(value, name: str) -> float:

@@ -49,7 +49,7 @@ def save_record(record, path, tag, arrays) -> Path:
     text = json.dumps(data, indent=1)
     with atomic_path(path) as tmp:
         tmp.write_text(text)
-    return Path(path)
+    return as_path(path, "the record's path")
 
 
 def load_record(cls, path, tag, arrays, optional=(), missing="") -> dict:

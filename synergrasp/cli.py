@@ -42,6 +42,19 @@ def _vector(text):
     return values
 
 
+def _attach_vectors(argv):
+    """``argv`` with a vector value that starts with a minus sign joined to its option (``--approach=-1,0,0``).
+
+    argparse takes a separate value that starts with ``-`` and is not a
+    single number for an option of its own ("expected one argument").
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    for i in range(len(argv) - 2, -1, -1):
+        if argv[i] == "--approach" and argv[i + 1].startswith("-") and "," in argv[i + 1]:
+            argv[i:i + 2] = [f"--approach={argv[i + 1]}"]
+    return argv
+
+
 def positive(kind):
     """An argparse type: a finite number (``float``) or a whole number (``int``) greater than 0."""
 
@@ -102,7 +115,9 @@ UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
               1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written); "
                  "batch: no task gave a plan (every one a load error, timeout or failure; the records are written)",
-              2: "bad input: an argument, the object file or the output folder (the error is printed to stderr)",
+              2: "bad input: an argument, the object file or the output folder, or an object the hand cannot hold "
+                 "(plan refuses one too large, too thin or too small before any attempt: ObjectRefused); the error is "
+                 "printed to stderr",
               130: "interrupted (Ctrl-C; for batch also SIGTERM): batch after writing the results that had arrived "
                    "(rerun the same command to plan the rest); plan, validate and report write nothing more",
               141: "the standard output was closed before the command had printed everything (a pipe into head): "
@@ -378,7 +393,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--hand", default=None, metavar="FILE", help="hand file to plan with (default the paper's hand)")
     add_unit_options(p)
     p.add_argument("--approach", type=_vector, default=None, metavar="X,Y,Z",
-                   help="direction from the object's centre to the start pose of the hand (default: the planner's list)")
+                   help="direction from the object's centre to the start pose of the hand, e.g. 0,1,0 or -1,0,0 "
+                        "(default: the planner's list)")
     p.add_argument("--max-iter", type=positive(int), default=1500,
                    help="cap on the iterations over all attempts (default 1500)")
     p.add_argument("--time-limit", type=positive(float), default=None, metavar="SECONDS",
@@ -423,7 +439,7 @@ def main(argv=None) -> int:
     ...
     0
     """
-    args = build_parser().parse_args(argv)
+    args = build_parser().parse_args(_attach_vectors(argv))
     given = unit_option(args)
     with warnings.catch_warnings():
         warnings.showwarning = functools.partial(_show_warning, given=given)

@@ -122,6 +122,20 @@ def test_bad_approach_is_rejected_by_the_parser(capsys):
     assert "expected three numbers" in capsys.readouterr().err
 
 
+def test_an_approach_that_starts_with_a_minus_sign_is_taken_as_given(tmp_path, capsys):
+    """``--approach -1,0,0`` (a value argparse took for an option: "expected one argument") and ``--approach=-1,0,0``
+    start the plan from that direction; a plain negative number stays an argument error."""
+    for given in (["--approach", "-1,0,0"], ["--approach=-1,0,0"]):
+        out = tmp_path / given[0][-4:]
+        assert main(["plan", "--object", "cup", *given, "--max-iter", "2", "--out", str(out), "--no-animation",
+                     "--quiet"]) == 1
+        first = json.loads((out / "cup_precision.json").read_text())["attempts"][0]
+        assert first["kind"] == "direction" and first["direction"] == [-1.0, 0.0, 0.0]
+    with pytest.raises(SystemExit):
+        main(["plan", "--approach", "-1"])
+    assert "expected three numbers x,y,z, got '-1'" in capsys.readouterr().err
+
+
 def test_version(capsys):
     import synergrasp as sg
 

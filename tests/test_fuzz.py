@@ -59,7 +59,7 @@ def test_pseudo_distance_takes_any_arrays(A, B):
     assert np.isfinite(A).all() and np.isfinite(B).all() and len(A) and len(B) and A.shape[1] == B.shape[1] >= 2
     assert np.isfinite(r.value) and r.grad_a.shape == A.shape and r.grad_b.shape == B.shape
     assert np.isfinite(r.grad_a).all() and np.isfinite(r.grad_b).all()
-    assert (r.value > 0) == (r.kind == "separation" and r.value > 0)
+    assert r.kind == ("separation" if r.value > 0 else "penetration" if r.value < 0 else r.kind)
 
 
 @FUZZ

@@ -5,6 +5,7 @@ import os
 import re
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -258,6 +259,22 @@ def test_result_of_another_object_or_hand_is_refused(pinch):
         validate(pinch_result(np.r_[u, 0.0], box), box)
     with pytest.raises(ValueError, match=r"another hand.*hand="):
         validate(pinch_result(u, box, labels=("X0", "I0")), box)
+
+
+def test_a_result_of_an_object_of_another_name_on_this_objects_surface_is_validated_with_a_warning(pinch):
+    """A pen's grasp validated on a slightly thicker marker passed the contacts' check and held, with no word that the
+    result named another object: it warns now (the contacts still decide whether it is refused)."""
+    from synergrasp.physics.validate import check_match
+
+    u, box = pinch
+    result = pinch_result(u, box)
+    result.object_name = "pen.stl"
+    with pytest.warns(UserWarning, match=r"planned for an object named 'pen.stl', not '.+': its contacts lie within "
+                                         r"2 mm of this object's surface"):
+        check_match(result, box, HAND, 2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_match(pinch_result(u, box), box, HAND, 2.0)  # its own object: silent
 
 
 

@@ -73,6 +73,14 @@ def test_a_plan_from_a_numpy_approach_saves_and_loads(tmp_path):
         assert loaded.attempts[0]["direction"] == approach.astype(float).tolist()
 
 
+def test_a_path_under_the_home_folder_is_expanded(failed_plan, tmp_path, monkeypatch):
+    """``result.save("~/plan.json")`` said "the folder '~' does not exist": '~' is the home folder, on save and load."""
+    monkeypatch.setenv("HOME", str(tmp_path))
+    path = failed_plan.save("~/plan.json")
+    assert path == tmp_path / "plan.json" and path.is_file()
+    assert sg.PlanResult.load("~/plan.json").reason == failed_plan.reason
+
+
 def test_every_attempt_keeps_its_status_trace(failed_plan, saved):
     assert not failed_plan.success and len(failed_plan.attempts) == 3
     for attempt in failed_plan.attempts:

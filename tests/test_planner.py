@@ -1471,13 +1471,20 @@ def test_a_failed_power_plan_says_when_no_wrap_pose_had_three_phalanges_near_the
 
 def test_a_plan_ended_before_its_first_step_says_that_and_nothing_of_the_object():
     """With time_limit=0.01 the power plan's reason said that no wrap pose was free of the cup and that the fingers did
-    not close around it: its time had ended the wrap poses' screen and the attempt before its first step."""
-    for grasp in ("precision", "power"):
-        r = plan(so.cup(), grasp, time_limit=1e-6)
+    not close around it: its time had ended the wrap poses' screen and the attempt before its first step. A plan that
+    its time limit ends says so first, with the backend when it is not the default (a cvxpy plan of a user's object
+    ran out of the default 10 s in one attempt, and its reason spoke of the object alone)."""
+    for grasp, backend in (("precision", "native"), ("power", "highs")):
+        r = plan(so.cup(), grasp, time_limit=1e-6, backend=backend)
         assert not r.success and r.total_iterations == 0
-        assert r.reason.endswith("ran out before the first step (max_iter, time_limit): no attempt tells anything of "
-                                 "the object")
+        assert "; the plan's time limit (time_limit = 1e-06 s) ended it after 1 attempt(s) and 0 iterations, before " \
+               "its iterations ran out (max_iter = 1500): a longer time_limit (None for none) or a faster LP " \
+               "backend" in r.reason
+        assert ("than highs lets it try more" in r.reason) == (backend == "highs")
+        assert r.reason.endswith("; no attempt made a step, so none tells anything of the object")
         assert "wrap pose" not in r.reason and "did not close" not in r.reason
+    r = plan(so.cup(), "precision", max_iter=2)  # its iterations ran out, not its time
+    assert not r.success and "time limit" not in r.reason and "ran out before the first step" not in r.reason
 
 
 def test_a_failed_power_plan_points_to_a_precision_grasp_only_where_a_pinch_spans_the_object():

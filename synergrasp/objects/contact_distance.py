@@ -16,7 +16,7 @@ cannot be a point's minimiser, the narrow phase
 (`synergrasp.objects.facets`) the vertices that cannot carry an LP's
 optimum; penetration rays that leave a piece through the inside of a facet
 are settled in closed form, and all the remaining LPs of a call are solved
-as one block-diagonal LP (`synergrasp.lp.blocks.BlockLP`).
+as one block-diagonal LP (`synergrasp.lp.blocks.solve_blocks`).
 
 Known limitation: inside the object, the value is the penetration into the
 single piece in which the point is deepest, not into the union; a point just

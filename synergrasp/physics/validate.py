@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 
 import numpy as np
 import trimesh
@@ -39,6 +40,13 @@ def check_match(result, obj, hand, tolerance):
         If the result records another hand (`PlanResult.hand`), the
         configuration does not fit the hand, the contact labels are not the
         hand's, or the contacts lie off the object's surface.
+
+    Warns
+    -----
+    UserWarning
+        If the result records another object's name (`PlanResult.object_name`)
+        while its contacts lie on this object's surface: a similar object
+        passes the test above.
     """
     if not hand.made(result.hand):
         raise ValueError(f"the result was planned with hand {result.hand!r}, not with this hand {hand.identity!r} (the "
@@ -63,6 +71,10 @@ def check_match(result, obj, hand, tolerance):
                 f"the result's contact points lie up to {gap.max():.1f} mm from the surface of {obj.name!r} (more than "
                 f"{tolerance:g} mm): it was planned for {which} (an object file in metres or centimetres is loaded "
                 "with scale=1000 or 10, as it was for the plan)")
+    if result.object_name != obj.name:
+        warnings.warn(f"the result was planned for an object named {result.object_name!r}, not {obj.name!r}: its "
+                      f"contacts lie within {tolerance:g} mm of this object's surface, so it is simulated on it; check "
+                      "that this is the object it was planned for", UserWarning, stacklevel=3)
 
 
 def _check_arguments(result_or_u, obj) -> None:

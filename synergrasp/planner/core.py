@@ -46,6 +46,8 @@ from .starts import (Start, opposed_widths, preshape, smallest_pinch, start_conf
 from .status import SLENDER, axial_radius, steering_scale
 from .stop import CRITERION
 
+#: Keywords of `synergrasp.objects.load` that a plan of a file path might be given by mistake.
+_LOADING = ("units", "scale", "center", "torque_scale", "max_parts", "max_vertices", "cache")  # (units: the CLI's)
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
 #: The planners by name, with their options' class.
@@ -154,6 +156,11 @@ def _options(method, options, values):
         if theirs:
             raise ValueError(f"options {theirs} belong to method={other!r}, not to method={method!r}; "
                              f"its options: {kind.names()}")
+    loading = [name for name in unknown if name in _LOADING]
+    if loading:
+        raise ValueError(f"{loading} {'is an option' if len(loading) == 1 else 'are options'} of loading the object, "
+                         "not of planning: load it first, e.g. sg.plan(sg.objects.load(path, scale=1000), grasp) for a "
+                         f"file in metres (scale=10: centimetres; sg.objects.load's options: {', '.join(_LOADING[1:])})")
     if unknown:
         raise ValueError(f"unknown planner options {unknown}; known for method={method!r}: {kind.names()}")
     return replace(options, **values) if values else options
@@ -316,7 +323,7 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, grasp, hand, obj, opts)
+    failure = None if result.success else _failure(attempts, grasp, hand, obj, opts, backend=solver.name)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -410,7 +417,7 @@ def _validator(validate, obj, hand, backend):
     return check
 
 
-def _failure(attempts, grasp, hand, obj, opts):
+def _failure(attempts, grasp, hand, obj, opts, backend=None):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
@@ -424,8 +431,10 @@ def _failure(attempts, grasp, hand, obj, opts):
     ended with every phalanx more than ``eps_c`` from the object, it says
     that and how far they stopped: the fingers did not close around it.
     When no wrap pose passed the screen (`wrap_seeds`), it says so, unless the
-    plan's budget ended it (its time also ends the screen). A plan whose budget
-    ended it before its first step says that alone. When no wrap seed it
+    plan's budget ended it (its time also ends the screen). A plan that its
+    time limit ended before its iterations ran out says so first (with
+    ``backend``, the LP backend's name, when not the default), and, if no
+    attempt made a step, nothing of the object. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
     the paper's power criterion needs (`wrap_seeds`' ``touching``;
     `CRITERION`: the palm and three phalanges with g_Q < -0.1, or five), it
@@ -443,6 +452,14 @@ def _failure(attempts, grasp, hand, obj, opts):
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
     reason = f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
+    total = sum(a["iterations_run"] for a in attempts)
+    timed_out = (attempts[-1]["outcome"] == Outcome.BUDGET.name.lower() and total < opts.max_iter
+                 and opts.time_limit is not None)  # (an attempt's budget ends it short of its cap only at max_iter)
+    if timed_out:
+        reason += (f"; the plan's time limit (time_limit = {opts.time_limit:g} s) ended it after {len(attempts)} "
+                   f"attempt(s) and {total} iterations, before its iterations ran out (max_iter = {opts.max_iter}): "
+                   "a longer time_limit (None for none) or a faster LP backend"
+                   + (f" than {backend}" if backend not in (None, "native") else "") + " lets it try more")
     eps_c, (thinnest, pinch, band) = opts.eps_c, _thinnest_pinch(hand, opts)
     widths = [a["width"] for a in attempts if a["kind"] == "pinch"]
     if grasp == "precision" and not widths and all(a["kind"] == "direction" for a in attempts):
@@ -462,8 +479,7 @@ def _failure(attempts, grasp, hand, obj, opts):
                    f"accepted within {eps_c:g} mm): a wall or sheet too thin for this hand's pinch")
     cut = attempts[-1]["outcome"] == Outcome.BUDGET.name.lower()  # the plan's iterations or time ended it
     if cut and not any(a["iterations"] for a in attempts):
-        return reason + ("; its iterations or time ran out before the first step (max_iter, time_limit): no "
-                         "attempt tells anything of the object")
+        return reason + "; no attempt made a step, so none tells anything of the object"  # (its time ended it)
     if grasp == "power":
         nearest = np.array([min(a["status"][-1][:-2]) for a in attempts])  # each attempt's nearest phalanx at its end
         apart = nearest > eps_c

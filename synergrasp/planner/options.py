@@ -8,7 +8,10 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from .._checks import numeric
-from ..hand import POINT_KINDS as GRASPS  # the grasp types the planner knows (re-exported by synergrasp.planner)
+from ..hand import POINT_KINDS
+
+#: The grasp types the planners know (the hand's point kinds; re-exported by synergrasp.planner).
+GRASPS = POINT_KINDS
 
 #: Farthest start of the hand from the object's centre (mm): ``start_distance``'s bound, and a given ``u0``'s.
 MAX_START_DISTANCE = 10000.0
@@ -262,6 +265,9 @@ class PlannerOptions(_Fields):
         set_(self, "mu", _number(self.mu, "mu", 0, MAX_FRICTION, open_low=True))
         set_(self, "edges", _number(self.edges, "edges", 3, 64, integer=True))
         set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, high_from="eps_c"))
+        if self.contact_target == self.eps_c:  # (a row at eps_c is not in contact)
+            raise ValueError(f"PlannerOptions.contact_target must be below eps_c ({self.eps_c:g} mm), where a row is "
+                             f"no longer in contact, got {self.contact_target!r}")
         band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})",
                        2, allow_none=False)
         if band is None or not 0 <= band[0] < band[1] <= self.eps_c:

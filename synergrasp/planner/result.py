@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -278,6 +279,8 @@ def _validated(data: dict, path) -> dict:
     out = {"success": checks.flag("success")}
     for name in ("reason", "backend", "object_name") + (("hand",) if "hand" in data else ()):
         out[name] = text(name)
+    if out.get("hand") and not re.fullmatch(r".+ sha256:[0-9a-f]{16}", out["hand"]):
+        fail("hand", "the planning hand's identity, 'NAME sha256:<16 hex digits>' (SynergyHand.identity), or empty")
     if data["grasp"] not in POINT_KINDS:
         fail("grasp", " or ".join(map(repr, POINT_KINDS)))
     out["grasp"] = data["grasp"]
