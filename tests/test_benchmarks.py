@@ -33,15 +33,30 @@ def test_time_limit_quick(capsys):
     assert "largest overrun" in capsys.readouterr().out
 
 
-def test_slender_quick(tmp_path, capsys):
-    """The slender benchmark's quick mode plans and verifies one rod-like shape, its row written."""
-    from benchmarks import slender
+def test_limits_quick(tmp_path, capsys):
+    """The limits benchmark's quick mode plans and verifies one slender shape, its row written."""
+    from benchmarks import limits
 
-    rows = slender.main(["--quick", "--out", str(tmp_path)])
+    rows = limits.main(["--quick", "--out", str(tmp_path)])
     written = [json.loads(line) for line in (tmp_path / "slender_train.jsonl").read_text().splitlines()]
     assert written == json.loads(json.dumps(rows)) and len(rows) == 1
     assert rows[0]["grasp"] == "precision" and rows[0]["torque"] < 0.05  # slender by the planner's measure
     assert rows[0]["verified"] and "precision: 1/1 verified" in capsys.readouterr().out
+
+
+def test_limits_draws_each_family_as_documented():
+    """The seeded sets: the same shapes every time, slender ones 8-28 mm across and 100-300 mm long, wide ones
+    80-160 mm across their narrowest side; the splits differ."""
+    from benchmarks import limits
+
+    slender = limits.shapes("slender", 1, 8)
+    assert [n for n, _ in slender] == [n for n, _ in limits.shapes("slender", 1, 8)]
+    assert [n for n, _ in slender] != [n for n, _ in limits.shapes("slender", 2, 8)]
+    for name, mesh in slender:
+        thin, _, long = np.sort(mesh.extents)
+        assert name.split("_")[0] in limits.FAMILIES["slender"] and 6.9 < thin < 28.1 and 99.9 < long < 300.1  # (a hexagon: 0.87 d across flats)
+    for name, mesh in limits.shapes("wide", 1, 8):
+        assert name.split("_")[0] in limits.FAMILIES["wide"] and 79.0 < np.sort(mesh.extents)[0] < 160.1
 
 
 def test_small_objects_quick(tmp_path, capsys):
