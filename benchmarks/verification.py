@@ -71,5 +71,5 @@ def verify(result, obj, hand=None):
 
 
 if __name__ == "__main__":
-    raise SystemExit(f"{__file__} is a helper module, not a script: compare_planners.py, generalise.py, "
-                     "household.py, physics_study.py and single_attempts.py import it")
+    raise SystemExit(f"{__file__} is a helper module, not a script: the benchmarks (generalise.py, limits.py, ...) and "
+                     "examples/paper_experiments.py import it to verify their plans")

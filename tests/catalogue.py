@@ -321,6 +321,9 @@ API = [
     Case("sg.plan", "a loading option (a file's scale)", lambda tmp: sg.plan("ellipsoid", scale=1000), ValueError,
          "['scale'] is an option of loading the object, not of planning: load it first, e.g. "
          "sg.plan(sg.objects.load(path, scale=1000), grasp)"),
+    Case("sg.plan", "units= (the command line's)", lambda tmp: sg.plan("ellipsoid", units="m"), ValueError,
+         "'units' is the command line's --units, not a planner option: in Python a file's units are the scale it is "
+         "loaded with: sg.plan(sg.objects.load(path, scale=1000), grasp)"),
     Case("sg.plan", "max_iter = 0", lambda tmp: sg.plan("ellipsoid", max_iter=0), ValueError, "PlannerOptions.max_iter must be in [1, inf), got 0"),
     Case("PlanResult.save", "a path that is a number", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(3), TypeError, "an output path must be a str or os.PathLike"),
     Case("PlanResult.save", "a path that is a folder", lambda tmp: sg.plan("ellipsoid", max_iter=1).save(tmp), IsADirectoryError, "it is a folder; give a file name"),
@@ -712,7 +715,7 @@ PLANNER_OPTIONS: list[Case] = [
     _option("edges", 2, "PlannerOptions.edges must be in"),
     _option("edges", 8.5, "PlannerOptions.edges must be an integer"),
     _option("contact_target", 7.0, "PlannerOptions.contact_target must be in"),
-    _option("contact_target", 5.0, "PlannerOptions.contact_target must be below eps_c (5 mm)"),
+    _option("contact_target", 5.0, "PlannerOptions.contact_target must be in [0, PlannerOptions.eps_c = 5.0), got 5.0"),
     _option("contact_band", (4.0, 2.0), "PlannerOptions.contact_band must be"),
     _option("contact_band", (1.0, np.inf), "PlannerOptions.contact_band must be"),
     _option("contact_band", None, "PlannerOptions.contact_band must be (low, high) mm with 0 <= low < high <= eps_c (5), got None"),

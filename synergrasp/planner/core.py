@@ -43,11 +43,11 @@ from .reach import executable_reach, widest_opening
 from .result import PlanResult
 from .starts import (Start, opposed_widths, preshape, smallest_pinch, start_configuration, starts,
                      widest_pinch)
-from .status import SLENDER, axial_radius, steering_scale
+from .status import SLENDER, axial_radius, slender, steering_scale
 from .stop import CRITERION
 
 #: Keywords of `synergrasp.objects.load` that a plan of a file path might be given by mistake.
-_LOADING = ("units", "scale", "center", "torque_scale", "max_parts", "max_vertices", "cache")  # (units: the CLI's)
+_LOADING = ("scale", "name", "max_parts", "max_vertices", "cache", "center", "torque_scale")
 #: Objects thinner than this (mm) are refused: a mesh in metres when it is also small overall, else a sheet or a wire.
 MIN_WIDTH = 2.0
 #: The planners by name, with their options' class.
@@ -156,11 +156,15 @@ def _options(method, options, values):
         if theirs:
             raise ValueError(f"options {theirs} belong to method={other!r}, not to method={method!r}; "
                              f"its options: {kind.names()}")
+    how = ("sg.plan(sg.objects.load(path, scale=1000), grasp) for a file in metres (scale=10: centimetres; "
+           f"sg.objects.load's options: {', '.join(_LOADING)})")
+    if "units" in unknown:
+        raise ValueError(f"'units' is the command line's --units, not a planner option: in Python a file's units are "
+                         f"the scale it is loaded with: {how}")
     loading = [name for name in unknown if name in _LOADING]
     if loading:
-        raise ValueError(f"{loading} {'is an option' if len(loading) == 1 else 'are options'} of loading the object, "
-                         "not of planning: load it first, e.g. sg.plan(sg.objects.load(path, scale=1000), grasp) for a "
-                         f"file in metres (scale=10: centimetres; sg.objects.load's options: {', '.join(_LOADING[1:])})")
+        raise ValueError(f"{loading} {'is an option' if len(loading) == 1 else 'are options'} of loading the "
+                         f"object, not of planning: load it first, e.g. {how}")
     if unknown:
         raise ValueError(f"unknown planner options {unknown}; known for method={method!r}: {kind.names()}")
     return replace(options, **values) if values else options
@@ -323,7 +327,9 @@ def plan(obj, grasp="precision", *, method="gradient", options=None, backend="na
         raise ValueError("the plan made no attempt: every start was skipped (max_iter or time_limit too small?)")
     if fallback is not None and not (result.success and held):
         result, held = fallback  # no grasp held: the first accepted one
-    failure = None if result.success else _failure(attempts, grasp, hand, obj, opts, backend=solver.name)
+    timed_out = deadline is not None and clock() > deadline and total < opts.max_iter  # (its time, not max_iter)
+    failure = None if result.success else _failure(attempts, grasp, hand, obj, opts, backend=solver.name,
+                                                   timed_out=timed_out)
     suffix = f"; {len(attempts)} attempts, {total} iterations in all" if len(attempts) > 1 else ""
     return _result(result, attempts, held, solves, t0, hand, obj, grasp, opts, solver, validate, failure, suffix)
 
@@ -417,7 +423,7 @@ def _validator(validate, obj, hand, backend):
     return check
 
 
-def _failure(attempts, grasp, hand, obj, opts, backend=None):
+def _failure(attempts, grasp, hand, obj, opts, backend=None, timed_out=False):
     """Why a plan found no grasp, in words: its attempts' outcomes, the commonest first.
 
     When every pinch seed it tried spanned less than the hand's smallest
@@ -432,7 +438,7 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None):
     that and how far they stopped: the fingers did not close around it.
     When no wrap pose passed the screen (`wrap_seeds`), it says so, unless the
     plan's budget ended it (its time also ends the screen). A plan that its
-    time limit ended before its iterations ran out says so first (with
+    time limit ended before its iterations ran out (``timed_out``) says so first (with
     ``backend``, the LP backend's name, when not the default), and, if no
     attempt made a step, nothing of the object. When no wrap seed it
     tried had as many phalanges near the surface with the palm on it as
@@ -452,14 +458,13 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None):
     words = {o.name.lower(): o.value for o in Outcome}
     parts = ", ".join(f"{n} {words.get(k, k)}" for k, n in sorted(counts.items(), key=lambda kv: -kv[1]))
     reason = f"no stable grasp found in {len(attempts)} attempt(s) ({parts})"
-    total = sum(a["iterations_run"] for a in attempts)
-    timed_out = (attempts[-1]["outcome"] == Outcome.BUDGET.name.lower() and total < opts.max_iter
-                 and opts.time_limit is not None)  # (an attempt's budget ends it short of its cap only at max_iter)
     if timed_out:
+        total = sum(a["iterations_run"] for a in attempts)
         reason += (f"; the plan's time limit (time_limit = {opts.time_limit:g} s) ended it after {len(attempts)} "
                    f"attempt(s) and {total} iterations, before its iterations ran out (max_iter = {opts.max_iter}): "
-                   "a longer time_limit (None for none) or a faster LP backend"
-                   + (f" than {backend}" if backend not in (None, "native") else "") + " lets it try more")
+                   "a longer time_limit (None for none)"
+                   + (f" or a faster LP backend than {backend}" if backend not in (None, "native") else "")
+                   + " lets it try more")
     eps_c, (thinnest, pinch, band) = opts.eps_c, _thinnest_pinch(hand, opts)
     widths = [a["width"] for a in attempts if a["kind"] == "pinch"]
     if grasp == "precision" and not widths and all(a["kind"] == "direction" for a in attempts):
@@ -503,17 +508,18 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None):
         reason += (f"; it is at most {obj.size:.3g} mm across, thinner than a pinch of {_pinch_words(hand)} can hold "
                    f"({thinnest:.0f} mm), so a precision grasp is refused too")
     arm, torque = axial_torque(obj, opts.mu)
-    if torque < SLENDER and opts.mu * arm / obj.radius < SLENDER:  # (not a torque scale far above its size)
+    steer = steering_scale(obj, opts.mu)
+    if torque < SLENDER and slender(obj, opts.mu):  # (its Q near 0, and not for a torque scale far above its size)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
                    f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays within "
                    f"about {torque:.3f} of 0"
-                   + (f". Its attempts steered by a torque scale of its diameter ({steering_scale(obj, opts.mu):.0f} "
-                      "mm), but the criterion's margins and Q are in L; a torque scale" if grasp == "power" else
-                      "; a torque scale")
+                   + (f". Its attempts steered by a torque scale of {steer:.0f} mm (twice its axial radius), but the "
+                      "criterion's margins and Q are in L; a torque scale" if grasp == "power" and steer < obj.torque_scale
+                      else "; a torque scale")
                    + f" near its diameter (torque_scale={2.0 * arm:.0f} when loading or building it, e.g. "
                    f"sg.objects.load(..., torque_scale={2.0 * arm:.0f})) "
-                   + ("puts them in those units too" if grasp == "power" else
+                   + ("puts them in those units too" if grasp == "power" and steer < obj.torque_scale else
                       "weighs those torques as forces at its surface"))
     return reason
 

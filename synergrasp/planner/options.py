@@ -26,9 +26,9 @@ MAX_LEGAL_TRIES = 1000
 MIN_CLOSE_STEP = 1e-3
 
 
-def _number(value, name, low=None, high=None, *, integer=False, open_low=False, allow_none=False, owner="PlannerOptions",
-            low_from=None, high_from=None):
-    """``value`` as a float (or int) within ``[low, high]`` (``(low, high]`` with ``open_low``), else a ValueError naming it.
+def _number(value, name, low=None, high=None, *, integer=False, open_low=False, open_high=False, allow_none=False,
+            owner="PlannerOptions", low_from=None, high_from=None):
+    """``value`` as a float (or int) within ``[low, high]`` (open at ``open_low`` / ``open_high``), else a ValueError.
 
     A bound of None: no bound on that side but finiteness; the message's range is open there (``[1, inf)``).
     ``low_from`` / ``high_from``: the names of the options the bounds are (the message names them).
@@ -38,12 +38,13 @@ def _number(value, name, low=None, high=None, *, integer=False, open_low=False, 
     kind = "an integer" if integer else "a number"
     lo = "-inf" if low is None else f"{owner}.{low_from} = {low}" if low_from else low
     hi = "inf" if high is None else f"{owner}.{high_from} = {high}" if high_from else high
-    span = f"{'(' if open_low or low is None else '['}{lo}, {hi}{')' if high is None else ']'}"
+    span = f"{'(' if open_low or low is None else '['}{lo}, {hi}{')' if open_high or high is None else ']'}"
     ok_type = isinstance(value, (int, np.integer)) if integer else isinstance(value, (int, float, np.integer, np.floating))
     if isinstance(value, (bool, np.bool_)) or not ok_type or not _finite(value):
         none = " or None" if allow_none else ""
         raise ValueError(f"{owner}.{name} must be {kind} in {span}{none}, got {value!r}")
-    if (low is not None and (value < low or (open_low and value == low))) or (high is not None and value > high):
+    if ((low is not None and (value < low or (open_low and value == low)))
+            or (high is not None and (value > high or (open_high and value == high)))):
         raise ValueError(f"{owner}.{name} must be in {span}, got {value!r}")
     return int(value) if integer else float(value)
 
@@ -198,7 +199,8 @@ class PlannerOptions(_Fields):
     power_sq_hold : float or None
         Power grasps: once g_sQ is below this, the sQ row asks only to keep
         its value, and the palm and contact rows get the step. None: the
-        moving target all the way.
+        moving target all the way. (g_sQ in `steering_scale`: the object's
+        torque scale but on a slender object.)
     executable_reach : bool
         Make the found grasp's executable reach
         (`synergrasp.planner.executable_reach`, with ``max_penetration`` as
@@ -264,10 +266,8 @@ class PlannerOptions(_Fields):
         set_(self, "eps_c", _number(self.eps_c, "eps_c", 0, 50.0, open_low=True))
         set_(self, "mu", _number(self.mu, "mu", 0, MAX_FRICTION, open_low=True))
         set_(self, "edges", _number(self.edges, "edges", 3, 64, integer=True))
-        set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, high_from="eps_c"))
-        if self.contact_target == self.eps_c:  # (a row at eps_c is not in contact)
-            raise ValueError(f"PlannerOptions.contact_target must be below eps_c ({self.eps_c:g} mm), where a row is "
-                             f"no longer in contact, got {self.contact_target!r}")
+        set_(self, "contact_target", _number(self.contact_target, "contact_target", 0, self.eps_c, open_high=True,
+                                             high_from="eps_c"))  # (a row at eps_c is not in contact)
         band = _values(self.contact_band, "contact_band", f"(low, high) mm with 0 <= low < high <= eps_c ({self.eps_c:g})",
                        2, allow_none=False)
         if band is None or not 0 <= band[0] < band[1] <= self.eps_c:

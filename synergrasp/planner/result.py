@@ -193,7 +193,7 @@ class PlanResult:
 
     @property
     def final_sq(self) -> float:
-        """g_sQ of the final configuration (its torques weighed by `steering_scale`: the object's L but on a slender object)."""
+        """g_sQ of the final configuration (torques by `steering_scale`: L, but in a power plan of a slender object)."""
         return float(self.status[-1, -1])
 
     def save(self, path) -> Path:

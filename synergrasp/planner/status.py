@@ -427,6 +427,33 @@ def axial_radius(obj):
     return float(np.linalg.norm(points - np.outer(points @ axis, axis), axis=1).max())
 
 
+def slender(obj, mu):
+    """Whether an object is slender: friction at its surface resists little torque about its long axis.
+
+    Parameters
+    ----------
+    obj : GraspObject
+    mu : float
+        Friction coefficient.
+
+    Returns
+    -------
+    bool
+        ``mu * axial_radius(obj) < SLENDER * obj.radius``: the torque about
+        the long axis per unit of grip force is less than `SLENDER` of its
+        bounding radius.
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> from synergrasp import objects
+    >>> rod = objects.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False)
+    >>> slender(rod, 0.3), slender(objects.ellipsoid(), 0.3)
+    (True, False)
+    """
+    return mu * axial_radius(obj) < SLENDER * obj.radius
+
+
 def steering_scale(obj, mu):
     """The torque scale of the rows that steer a power attempt: the object's, or its diameter if it is slender.
 
@@ -435,7 +462,8 @@ def steering_scale(obj, mu):
     object's: on slender shapes chosen to measure it, the diameter gave as
     many precision grasps in more iterations); the paper's criterion and the
     acceptance on the true surface use the object's ``torque_scale``, as
-    every Q the library reports does. Friction at a surface at most ``r``
+    a plan's Q values do (its status trace's g_sQ row, ``final_sq``, is in
+    this scale). Friction at a surface at most ``r``
     mm from an object's long axis (`axial_radius`) resists a torque about
     that axis of at most ``mu * r`` per unit of grip force. When that is
     less than `SLENDER` of the object's bounding radius (a rod, a pen, a
@@ -453,9 +481,8 @@ def steering_scale(obj, mu):
     Returns
     -------
     float
-        ``min(obj.torque_scale, 2 * axial_radius(obj))`` if ``mu *
-        axial_radius(obj) < SLENDER * obj.radius``, else
-        ``obj.torque_scale`` (mm).
+        ``min(obj.torque_scale, 2 * axial_radius(obj))`` if the object is
+        `slender`, else ``obj.torque_scale`` (mm).
 
     Examples
     --------
@@ -467,9 +494,8 @@ def steering_scale(obj, mu):
     >>> steering_scale(objects.ellipsoid(), 0.3) == objects.ellipsoid().torque_scale
     True
     """
-    arm = axial_radius(obj)
     scale = float(obj.torque_scale)
-    return min(scale, 2.0 * arm) if mu * arm < SLENDER * obj.radius else scale
+    return min(scale, 2.0 * axial_radius(obj)) if slender(obj, mu) else scale
 
 
 def _require(hand, obj):
