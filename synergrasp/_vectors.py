@@ -4,6 +4,28 @@ from __future__ import annotations
 
 import numpy as np
 
+def sphere_directions(n):
+    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice).
+
+    Parameters
+    ----------
+    n : int
+
+    Returns
+    -------
+    (n, 3) float
+
+    Examples
+    --------
+    >>> d = sphere_directions(64)
+    >>> d.shape, bool(np.allclose(np.linalg.norm(d, axis=1), 1.0)), bool(np.abs(d.mean(axis=0)).max() < 0.02)
+    ((64, 3), True, True)
+    """
+    z = np.linspace(1.0 - 1.0 / n, -1.0 + 1.0 / n, n)
+    angle = np.arange(n) * np.pi * (3.0 - np.sqrt(5.0))
+    return np.stack([np.sqrt(1.0 - z**2) * np.cos(angle), np.sqrt(1.0 - z**2) * np.sin(angle), z], axis=1)
+
+
 #: The Levi-Civita symbol: ``(a x b)_i = eps_ijk a_j b_k``.
 _LEVI_CIVITA = np.zeros((3, 3, 3))
 _LEVI_CIVITA[[0, 1, 2], [1, 2, 0], [2, 0, 1]] = 1.0

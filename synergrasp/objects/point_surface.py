@@ -18,6 +18,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from .._checks import as_points
+from .._vectors import sphere_directions
 
 __all__ = ["NEIGHBOURS", "NET_NORMAL_POINTS", "VIEW_POINTS", "VIEW_DIRECTIONS", "TIE", "FACING", "PointSurface"]
 
@@ -33,14 +34,6 @@ VIEW_DIRECTIONS = 128
 TIE = 0.01
 #: A line of sight fewer than this share of the cloud's points face is not judged (`hidden_share`).
 FACING = 0.3
-
-
-def _sphere(n: int) -> np.ndarray:
-    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
-    i = np.arange(n) + 0.5
-    z = 1.0 - 2.0 * i / n
-    r, turn = np.sqrt(1.0 - z * z), np.pi * (1.0 + np.sqrt(5.0)) * i
-    return np.c_[r * np.cos(turn), r * np.sin(turn), z]
 
 
 class PointSurface:
@@ -305,9 +298,9 @@ class PointSurface:
         spacing = self._spacing(rows)
         normals = self._planes(self.points[rows])[1]
         best = None
-        for lines in (_sphere(VIEW_DIRECTIONS), None):
+        for lines in (sphere_directions(VIEW_DIRECTIONS), None):
             if lines is None:  # refined about the best
-                lines = np.vstack([best, best + 0.25 * _sphere(32)])
+                lines = np.vstack([best, best + 0.25 * sphere_directions(32)])
                 lines /= np.linalg.norm(lines, axis=1, keepdims=True)
             shares = np.array([self.hidden_share(line, rows, spacing, normals) for line in lines])
             ties = lines[shares <= shares.min() + TIE]  # lines that all see the cloud about as well

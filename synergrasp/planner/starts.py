@@ -31,6 +31,7 @@ from scipy.spatial.transform import Rotation
 
 from .._checks import as_points, as_vector, finite_scalar, integer, positive_scalar
 from .._jit import clock, kernel
+from .._vectors import sphere_directions
 from ..hand import rotation_xyz
 from ..objects.mesh_queries import MeshQueries
 from .clearance import hand_and_object
@@ -43,17 +44,10 @@ PAIR_ANGLE = 30.0
 RECESS_CONE = 60.0
 
 
-def _sphere_directions(n):
-    """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice)."""
-    z = np.linspace(1.0 - 1.0 / n, -1.0 + 1.0 / n, n)
-    angle = np.arange(n) * np.pi * (3.0 - np.sqrt(5.0))
-    return np.stack([np.sqrt(1.0 - z**2) * np.cos(angle), np.sqrt(1.0 - z**2) * np.sin(angle), z], axis=1)
-
-
 #: Rolls (rad) of the hand about the approach of `direction_starts`, each over all the directions in turn.
 DIRECTION_ROLLS = (0.0, np.pi / 2)
 #: Directions of `recess`.
-_DIRECTIONS = _sphere_directions(64)
+_DIRECTIONS = sphere_directions(64)
 #: Surface points sampled per plan for the pairs.
 PAIR_SAMPLES = 200
 #: Rolls of the hand about a pair's axis tried for each seed.
