@@ -115,9 +115,9 @@ UNITS = {"m": 1000.0, "cm": 10.0, "mm": 1.0}
 EXIT_CODES = {0: "success (plan: a stable grasp was found; validate: the grasp held)",
               1: "plan: no stable grasp was found, validate: the grasp did not hold (the outputs are written); "
                  "batch: no task gave a plan (every one a load error, timeout or failure; the records are written)",
-              2: "bad input: an argument, the object file or the output folder, or an object the hand cannot hold "
-                 "(plan refuses one too large, too thin or too small before any attempt: ObjectRefused); the error is "
-                 "printed to stderr",
+              2: "bad input: an argument, the object file or the output folder, an object the hand cannot hold "
+                 "(plan refuses one too large, too thin or too small before any attempt: ObjectRefused), or for batch "
+                 "a Dask scheduler that does not answer; the error is printed to stderr",
               130: "interrupted (Ctrl-C; for batch also SIGTERM): batch after writing the results that had arrived "
                    "(rerun the same command to plan the rest); plan, validate and report write nothing more",
               141: "the standard output was closed before the command had printed everything (a pipe into head): "
