@@ -43,15 +43,16 @@ def _vector(text):
 
 
 def _attach_vectors(argv):
-    """``argv`` with a vector value that starts with a minus sign joined to its option (``--approach=-1,0,0``).
+    """``argv`` with a vector value that starts with a minus sign joined to its option: ``--approach=-1,0,0``.
 
     argparse takes a separate value that starts with ``-`` and is not a
     single number for an option of its own ("expected one argument").
     """
     argv = list(sys.argv[1:] if argv is None else argv)
     for i in range(len(argv) - 2, -1, -1):
-        if argv[i] == "--approach" and argv[i + 1].startswith("-") and "," in argv[i + 1]:
-            argv[i:i + 2] = [f"--approach={argv[i + 1]}"]
+        option = argv[i]
+        if len(option) > 3 and "--approach".startswith(option) and argv[i + 1].startswith("-") and "," in argv[i + 1]:
+            argv[i:i + 2] = [f"{option}={argv[i + 1]}"]  # (an abbreviation too, as argparse takes it)
     return argv
 
 
