@@ -74,7 +74,7 @@ class Outcome(enum.Enum):
     CAP = "iteration cap of the attempt reached"
     BUDGET = "the plan's iterations or time ran out"
     PENETRATION = "grasp rejected: the hand penetrates the object"
-    SURFACE = "grasp rejected: not force-closed on the object's true surface"
+    SURFACE = "grasp rejected: on the object's true surface, its Q not below q_accept or its contacts off it"
 
 
 @dataclass(frozen=True)

@@ -512,8 +512,8 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None, timed_out=False):
     if torque < SLENDER and slender(obj, opts.mu):  # (its Q near 0, and not for a torque scale far above its size)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
-                   f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays within "
-                   f"about {torque:.3f} of 0"
+                   f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays near 0 "
+                   f"(of the order of {torque:.3f}), near or above the acceptance's q_accept = {opts.q_accept:g}"
                    + (f". Its attempts steered by a torque scale of {steer:.0f} mm (twice its axial radius), but the "
                       "criterion's margins and Q are in L; a torque scale" if grasp == "power" and steer < obj.torque_scale
                       else "; a torque scale")
