@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/limits.py [--family slender|wide] [--split train|test] [--count 16]
+    python benchmarks/limits.py [--family slender|thin|wide] [--split train|test] [--count 16]
                                 [--grasp precision power] [--jobs N] [--out DIR] [--quick]
 
 The generalisation benchmark (``benchmarks/objectset.py``) holds few objects at the hand's limits:
@@ -13,14 +13,18 @@ options and verifies it independently on its mesh (``verification.py``):
 
 * ``slender``: rods, bars, capsules and hexagonal rods in turn, 8-28 mm thick (a bar up to twice as
   wide), 100-300 mm long;
+* ``thin``: flat plates (blades, rulers: 2-7 mm thick, 12-40 mm wide), wires, tapered rods
+  (chopsticks, drumsticks) and L-shaped hex keys in turn, 3-8 mm thick, 120-300 mm long;
 * ``wide``: balls, cubes, cylinders (one to two diameters long) and boxes in turn, 80-160 mm across
   their narrowest side, from what the hand wraps to what it cannot (the hand opens about 160 mm
   between thumb and fingertips).
 
 Prints each plan (verified, time, attempts, iterations, the Q distance on the true surface in the
-object's own torque scale, friction's axial torque against it), then the verified count, the
-iterations, the median Q and the median and largest plan time per grasp type. Rows go to
-``DIR/<family>_<split>.jsonl`` (default ``bench-out/limits``). ``--quick`` plans the first train
+object's default torque scale, friction's axial torque against it), then the verified count, the
+iterations, the median Q and the median and largest plan time per grasp type. ``--slender-scale
+diameter`` loads each slender object (``sg.planner.status.slender``) with a torque scale of its
+diameter about its long axis instead of its bounding radius. Rows go to
+``DIR/<family>_<split>[_diameter].jsonl`` (default ``bench-out/limits``). ``--quick`` plans the first train
 slender object's precision grasp only (the test suite runs it).
 
 To compare with another version of the package, run this script with ``PYTHONPATH`` pointing at a
@@ -51,7 +55,8 @@ from verification import verify  # noqa: E402
 #: The generator's seed of each split.
 SEEDS = {"train": 1, "test": 2}
 #: The kinds of each family, drawn in turn.
-FAMILIES = {"slender": ("rod", "bar", "capsule", "hexrod"), "wide": ("ball", "cube", "cylinder", "box")}
+FAMILIES = {"slender": ("rod", "bar", "capsule", "hexrod"), "thin": ("plate", "wire", "taper", "key"),
+            "wide": ("ball", "cube", "cylinder", "box")}
 
 
 def shapes(family, seed, count):
@@ -59,14 +64,14 @@ def shapes(family, seed, count):
 
     Parameters
     ----------
-    family : {"slender", "wide"}
+    family : {"slender", "thin", "wide"}
     seed : int
     count : int
 
     Returns
     -------
     list of (str, trimesh.Trimesh)
-        Names ``<kind>_<diameter>x<length>`` (slender) or ``<kind>_<narrowest side>`` (wide), mm.
+        Names ``<kind>_<thickness>x<length>`` (slender, thin) or ``<kind>_<narrowest side>`` (wide), mm.
     """
     rng = np.random.default_rng(seed)
     kinds = FAMILIES[family]
@@ -75,6 +80,9 @@ def shapes(family, seed, count):
         kind = kinds[i % len(kinds)]
         if family == "slender":
             length, d = rng.uniform(100.0, 300.0), rng.uniform(8.0, 28.0)
+            name = f"{kind}_{d:.0f}x{length:.0f}"
+        elif family == "thin":
+            length, d = rng.uniform(120.0, 300.0), rng.uniform(3.0, 8.0)
             name = f"{kind}_{d:.0f}x{length:.0f}"
         else:
             d = rng.uniform(80.0, 160.0)
@@ -85,6 +93,21 @@ def shapes(family, seed, count):
             mesh = trimesh.creation.box((d, rng.uniform(d, 2.0 * d), length))
         elif kind == "capsule":
             mesh = trimesh.creation.capsule(height=length - d, radius=d / 2.0, count=[16, 16])
+        elif kind == "plate":  # a blade, a ruler: 2-7 mm thick, 12-40 mm wide
+            mesh = trimesh.creation.box((d - 1.0, rng.uniform(12.0, 40.0), length))
+        elif kind == "wire":
+            mesh = trimesh.creation.cylinder(radius=d / 2.0, height=length, sections=16)
+        elif kind == "taper":  # a chopstick, a drumstick: 2 d at the base, 0.8-1.6 d at the tip
+            mesh = trimesh.creation.cylinder(radius=d, height=length, sections=24)
+            tip = mesh.vertices[:, 2] > 0.0
+            mesh.vertices[tip, :2] *= rng.uniform(0.4, 0.8)
+        elif kind == "key":  # a hex key: a long and a short leg at a right angle
+            short = rng.uniform(0.15, 0.3) * length
+            long_leg = trimesh.creation.cylinder(radius=d / 2.0, height=length, sections=6)
+            short_leg = trimesh.creation.cylinder(radius=d / 2.0, height=short + d, sections=6)
+            short_leg.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2.0, [0.0, 1.0, 0.0]))
+            short_leg.apply_translation([(short + d) / 2.0 - d / 2.0, 0.0, length / 2.0 - d / 2.0])
+            mesh = trimesh.util.concatenate([long_leg, short_leg])
         elif kind == "ball":
             mesh = trimesh.creation.icosphere(subdivisions=3, radius=d / 2.0)
         elif kind == "cube":
@@ -98,17 +121,24 @@ def shapes(family, seed, count):
 
 
 def run(task):
-    """Plan and verify one (name, vertices, faces, grasp) task: a JSON-able row."""
-    name, vertices, faces, grasp = task
+    """Plan and verify one (name, vertices, faces, grasp, diameter) task: a JSON-able row.
+
+    ``diameter``: a slender object (`synergrasp.planner.status.slender`) is loaded with a torque scale of
+    twice its axial radius (every Q, the criterion's margins and the acceptance in those units).
+    """
+    name, vertices, faces, grasp, diameter = task
     warnings.simplefilter("ignore")
-    obj = sg.objects.from_mesh(trimesh.Trimesh(vertices, faces), name=name, cache=False)
+    mesh = trimesh.Trimesh(vertices, faces)
+    obj = truth = sg.objects.from_mesh(mesh, name=name, cache=False)
     torque = float(sg.planner.core.axial_torque(obj, 0.3)[1])
+    if diameter and sg.planner.status.slender(obj, 0.3):
+        obj = sg.objects.from_mesh(mesh, name=name, cache=False, torque_scale=2.0 * sg.planner.status.axial_radius(obj))
     start = time.perf_counter()
     result = sg.plan(obj, grasp)
     row = dict(name=name, grasp=grasp, success=result.success, time=time.perf_counter() - start,
                attempts=len(result.attempts), kinds=[a["kind"] for a in result.attempts],
-               iterations=result.total_iterations, reason=result.reason, torque=torque)
-    row.update(verify(result, obj))
+               iterations=result.total_iterations, reason=result.reason, torque=torque, torque_scale=obj.torque_scale)
+    row.update(verify(result, truth))  # (q_true in the default torque scale)
     return row
 
 
@@ -120,13 +150,15 @@ def main(argv=None):
     parser.add_argument("--grasp", nargs="+", choices=["precision", "power"], default=["precision", "power"],
                         help="grasp types to plan")
     parser.add_argument("--jobs", type=positive(int), default=1, help="processes planning at once")
+    parser.add_argument("--slender-scale", choices=["default", "diameter"], default="default",
+                        help="a slender object's torque scale: its bounding radius, or its diameter about its axis")
     parser.add_argument("--out", type=output_folder, default="bench-out/limits",
                         help="folder of <family>_<split>.jsonl")
     parser.add_argument("--quick", action="store_true", help="the first train slender object's precision grasp only")
     args = parser.parse_args(argv)
     if args.quick:
         args.family, args.split, args.count, args.grasp, args.jobs = "slender", "train", 1, ["precision"], 1
-    tasks = [(name, mesh.vertices, mesh.faces, grasp)
+    tasks = [(name, mesh.vertices, mesh.faces, grasp, args.slender_scale == "diameter")
              for name, mesh in shapes(args.family, SEEDS[args.split], args.count) for grasp in args.grasp]
     rows = []
     with ProcessPoolExecutor(args.jobs) as pool:
@@ -135,7 +167,7 @@ def main(argv=None):
             print(f"{row['name']:16s} {row['grasp']:9s} {'verified' if row['verified'] else 'no':8s} "
                   f"{row['time']:6.2f} s {row['attempts']:3d} attempts {row['iterations']:5d} iterations "
                   f"Q {row['q_true']:+.3f} axial torque {row['torque']:.3f}", flush=True)
-    path = args.out / f"{args.family}_{args.split}.jsonl"
+    path = args.out / f"{args.family}_{args.split}{'_diameter' if args.slender_scale == 'diameter' else ''}.jsonl"
     path.write_text("".join(json.dumps(row) + "\n" for row in rows))
     for grasp in args.grasp:
         mine = [r for r in rows if r["grasp"] == grasp]

@@ -45,8 +45,8 @@ def test_limits_quick(tmp_path, capsys):
 
 
 def test_limits_draws_each_family_as_documented():
-    """The seeded sets: the same shapes every time, slender ones 8-28 mm across and 100-300 mm long, wide ones
-    80-160 mm across their narrowest side; the splits differ."""
+    """The seeded sets: the same shapes every time, slender ones 8-28 mm across and 100-300 mm long, thin ones 2-16 mm
+    thick (a taper's base) and 120-300 mm long, wide ones 80-160 mm across their narrowest side; the splits differ."""
     from benchmarks import limits
 
     slender = limits.shapes("slender", 1, 8)
@@ -55,6 +55,9 @@ def test_limits_draws_each_family_as_documented():
     for name, mesh in slender:
         thin, _, long = np.sort(mesh.extents)
         assert name.split("_")[0] in limits.FAMILIES["slender"] and 6.9 < thin < 28.1 and 99.9 < long < 300.1  # (a hexagon: 0.87 d across flats)
+    for name, mesh in limits.shapes("thin", 1, 8):
+        thin, _, long = np.sort(mesh.extents)
+        assert name.split("_")[0] in limits.FAMILIES["thin"] and 1.9 < thin < 16.1 and 119.9 < long < 300.1
     for name, mesh in limits.shapes("wide", 1, 8):
         assert name.split("_")[0] in limits.FAMILIES["wide"] and 79.0 < np.sort(mesh.extents)[0] < 160.1
 
