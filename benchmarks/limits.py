@@ -3,7 +3,8 @@
 Usage::
 
     python benchmarks/limits.py [--family slender|thin|wide] [--split train|test] [--count 16]
-                                [--grasp precision power] [--jobs N] [--out DIR] [--quick]
+                                [--grasp precision power] [--jobs N] [--slender-scale default|diameter]
+                                [--out DIR] [--quick]
 
 The generalisation benchmark (``benchmarks/objectset.py``) holds few objects at the hand's limits:
 one slender object on its train split and three on its test split (``sg.planner.core.axial_torque``
@@ -13,8 +14,9 @@ options and verifies it independently on its mesh (``verification.py``):
 
 * ``slender``: rods, bars, capsules and hexagonal rods in turn, 8-28 mm thick (a bar up to twice as
   wide), 100-300 mm long;
-* ``thin``: flat plates (blades, rulers: 2-7 mm thick, 12-40 mm wide), wires, tapered rods
-  (chopsticks, drumsticks) and L-shaped hex keys in turn, 3-8 mm thick, 120-300 mm long;
+* ``thin``: flat plates (blades, rulers: 2-7 mm thick, 12-40 mm wide), wires (3-8 mm), tapered
+  rods (chopsticks, drumsticks: 6-16 mm at the base, 0.4-0.8 of that at the tip) and L-shaped
+  hex keys (3-8 mm) in turn, 120-300 mm long;
 * ``wide``: balls, cubes, cylinders (one to two diameters long) and boxes in turn, 80-160 mm across
   their narrowest side, from what the hand wraps to what it cannot (the hand opens about 160 mm
   between thumb and fingertips).
@@ -81,9 +83,9 @@ def shapes(family, seed, count):
         if family == "slender":
             length, d = rng.uniform(100.0, 300.0), rng.uniform(8.0, 28.0)
             name = f"{kind}_{d:.0f}x{length:.0f}"
-        elif family == "thin":
+        elif family == "thin":  # (named by the real thickness: a plate's d - 1, a taper's base 2 d)
             length, d = rng.uniform(120.0, 300.0), rng.uniform(3.0, 8.0)
-            name = f"{kind}_{d:.0f}x{length:.0f}"
+            name = f"{kind}_{d - 1.0 if kind == 'plate' else 2.0 * d if kind == 'taper' else d:.0f}x{length:.0f}"
         else:
             d = rng.uniform(80.0, 160.0)
             name = f"{kind}_{d:.0f}"
@@ -153,7 +155,7 @@ def main(argv=None):
     parser.add_argument("--slender-scale", choices=["default", "diameter"], default="default",
                         help="a slender object's torque scale: its bounding radius, or its diameter about its axis")
     parser.add_argument("--out", type=output_folder, default="bench-out/limits",
-                        help="folder of <family>_<split>.jsonl")
+                        help="folder of <family>_<split>[_diameter].jsonl")
     parser.add_argument("--quick", action="store_true", help="the first train slender object's precision grasp only")
     args = parser.parse_args(argv)
     if args.quick:

@@ -51,7 +51,7 @@ def _attach_vectors(argv):
     argv = list(sys.argv[1:] if argv is None else argv)
     for i in range(len(argv) - 2, -1, -1):
         option = argv[i]
-        if len(option) > 3 and "--approach".startswith(option) and argv[i + 1].startswith("-") and "," in argv[i + 1]:
+        if len(option) > 2 and "--approach".startswith(option) and argv[i + 1].startswith("-") and "," in argv[i + 1]:
             argv[i:i + 2] = [f"{option}={argv[i + 1]}"]  # (an abbreviation too, as argparse takes it)
     return argv
 

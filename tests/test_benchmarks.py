@@ -62,6 +62,22 @@ def test_limits_draws_each_family_as_documented():
         assert name.split("_")[0] in limits.FAMILIES["wide"] and 79.0 < np.sort(mesh.extents)[0] < 160.1
 
 
+def test_limits_loads_a_slender_object_at_its_diameter_when_asked():
+    """``--slender-scale diameter``: a slender object's plan is made with a torque scale of twice its axial radius; a
+    thick one keeps its bounding radius; verified on the same mesh either way."""
+    from benchmarks import limits
+
+    from synergrasp.planner.status import axial_radius
+
+    rod = trimesh.creation.cylinder(radius=6.0, height=200.0, sections=16)
+    row = limits.run(("rod", rod.vertices, rod.faces, "precision", True))
+    assert row["torque_scale"] == pytest.approx(2.0 * axial_radius(sg.objects.from_mesh(rod, cache=False)))
+    assert row["torque_scale"] == pytest.approx(12.0, abs=0.1) and row["verified"]
+    ball = trimesh.creation.icosphere(subdivisions=2, radius=30.0)
+    assert limits.run(("ball", ball.vertices, ball.faces, "precision", True))["torque_scale"] == pytest.approx(
+        sg.objects.from_mesh(ball, cache=False).radius)
+
+
 def test_small_objects_quick(tmp_path, capsys):
     """The 50 mm sphere (about the benchmark's smallest object) is grasped, and its row is written under --out."""
     from benchmarks import small_objects

@@ -125,7 +125,7 @@ def test_bad_approach_is_rejected_by_the_parser(capsys):
 def test_an_approach_that_starts_with_a_minus_sign_is_taken_as_given(tmp_path, capsys):
     """``--approach -1,0,0`` (a value argparse took for an option: "expected one argument") and ``--approach=-1,0,0``
     start the plan from that direction; a plain negative number stays an argument error."""
-    for given in (["--approach", "-1,0,0"], ["--approach=-1,0,0"], ["--appr", "-1,0,0"]):
+    for given in (["--approach", "-1,0,0"], ["--approach=-1,0,0"], ["--appr", "-1,0,0"], ["--a", "-1,0,0"]):
         out = tmp_path / given[0].replace("=", "_")
         assert main(["plan", "--object", "cup", *given, "--max-iter", "2", "--out", str(out), "--no-animation",
                      "--quiet"]) == 1

@@ -424,18 +424,23 @@ def test_one_camera_view_is_swept_away_from_the_camera_with_a_warning(direction)
     assert PointSurface(whole).view_direction()[1] > 1.5 * so.loading.ONE_VIEW  # (0.26)
 
 
-def test_a_views_points_may_span_half_its_swept_pieces_but_not_a_tenth():
+def test_a_views_points_may_span_a_quarter_of_its_swept_pieces_but_not_a_tenth():
     """A camera view of a Lego brick (64 mm of points) swept into pieces of 131 mm was refused with "give the points in
-    the pieces' units": a sweep spans up to 1 + sqrt(3) times its points. Points a tenth of the pieces' span (in cm
-    beside pieces in mm) are still refused."""
+    the pieces' units": a sweep spans up to 1 + sqrt(3) times its points. Points of a swept view down to a quarter of
+    the pieces' span are taken; other points need half; a tenth (in cm beside pieces in mm) is refused."""
     box = trimesh.creation.box((60.0, 60.0, 60.0))
     pieces = [np.vstack([box.vertices, box.vertices + [75.0, 0.0, 0.0]])]  # the box swept 75 mm along +x: 135 mm
     face = trimesh.sample.sample_surface(box, 2000, seed=0)[0]
     face = face[face[:, 0] < -29.9]  # the side the camera saw
-    obj = so.GraspObject(pieces, points=np.vstack([face, [[-30.0, y, z] for y in (-30.0, 30.0) for z in (-30.0, 30.0)]]))
-    assert obj.size == pytest.approx(135.0) and np.ptp(obj.points, axis=0).max() == pytest.approx(60.0)
+    face = np.vstack([face, [[-30.0, y, z] for y in (-30.0, 30.0) for z in (-30.0, 30.0)]])
+    obj = so.GraspObject(pieces, points=face, info={"swept": 75.0})
+    assert obj.size == pytest.approx(135.0) and np.ptp(obj.points, axis=0).max() == pytest.approx(60.0)  # 0.44
+    far = [np.vstack([box.vertices, box.vertices + [140.0, 0.0, 0.0]])]  # swept 140 mm: 200 mm, 0.3
+    assert so.GraspObject(far, points=face, info={"swept": 140.0}).size == pytest.approx(200.0)
     with pytest.raises(ValueError, match="give the points in the pieces' units"):
-        so.GraspObject([np.vstack([box.vertices * 10.0])], points=face)  # a tenth of the span
+        so.GraspObject(pieces, points=face)  # not a swept view: half at least
+    with pytest.raises(ValueError, match="give the points in the pieces' units"):
+        so.GraspObject([box.vertices * 10.0], points=face, info={"swept": 0.0})  # a tenth of the span
 
 
 def test_open_box_cloud_is_the_whole_box():

@@ -1210,7 +1210,7 @@ def test_a_failed_plan_on_a_slender_object_says_its_q_distance_stays_near_0():
     assert arm == pytest.approx(10.0) and torque == pytest.approx(0.3 * 10.0 / np.hypot(150.0, 10.0))
     r = plan(rod, "power", restarts=1, executable_reach=False)
     assert not r.success and "it is slender: its surface lies at most 10 mm from its long axis" in r.reason
-    assert "stays near 0 (of the order of 0.020), near or above the acceptance's q_accept = -0.01" in r.reason and "Its attempts steered by a torque scale of 20 mm (twice its axial radius)" in r.reason
+    assert "stays near 0 (of the order of 0.020, near or above the acceptance's q_accept = -0.01)" in r.reason and "Its attempts steered by a torque scale of 20 mm (twice its axial radius)" in r.reason
     assert "torque_scale=20" in r.reason
     assert axial_torque(so.from_mesh(trimesh.creation.cylinder(radius=10.0, height=300.0, sections=32), cache=False,
                                      torque_scale=20.0), 0.3)[1] == pytest.approx(0.15)

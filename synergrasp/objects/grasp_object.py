@@ -285,13 +285,14 @@ class GraspObject:
     def _check_surface(self, points, what):
         """Refuse a true surface (``what``: its points or a sample of its mesh's vertices) off the pieces' outline.
 
-        The points may span down to a quarter of the pieces: a camera view's pieces are swept away from
-        the camera as far again as the view is deep, up to 1 + sqrt(3) times the points' span (units
-        wrong by 10, 25.4 or 1000 stay refused).
+        The points span at least half the pieces, or a quarter for a camera view's (``info["swept"]``:
+        its pieces swept away from the camera as far again as the view is deep, up to 1 + sqrt(3)
+        times the points' span); units wrong by 10, 25.4 or 1000 stay refused.
         """
         spread = float(np.ptp(points, axis=0).max())
         outside = float(self.index.min_plane_bound(points).max())
-        if not 0.25 * self.size <= spread <= 2.0 * self.size or outside > 0.1 * self.size:
+        low = 0.25 if "swept" in self.info else 0.5
+        if not low * self.size <= spread <= 2.0 * self.size or outside > 0.1 * self.size:
             raise ValueError(
                 f"the {what} of {self.name} span {spread:.3g} mm and lie up to {max(outside, 0.0):.3g} mm "
                 f"outside its pieces, which span {self.size:.3g} mm: give the {what} in the pieces' units (mm) and "

@@ -509,18 +509,19 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None, timed_out=False):
                    f"({thinnest:.0f} mm), so a precision grasp is refused too")
     arm, torque = axial_torque(obj, opts.mu)
     steer = steering_scale(obj, opts.mu)
+    steered = grasp == "power" and steer < obj.torque_scale
     if torque < SLENDER and slender(obj, opts.mu):  # (its Q near 0, and not for a torque scale far above its size)
+        near = torque <= 2.0 * abs(opts.q_accept)  # (then near or above the acceptance's threshold)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "
                    f"(L = {obj.torque_scale:.0f} mm) per unit of grip force, and any grasp's Q distance stays near 0 "
-                   f"(of the order of {torque:.3f}), near or above the acceptance's q_accept = {opts.q_accept:g}"
+                   f"(of the order of {torque:.3f}"
+                   + (f", near or above the acceptance's q_accept = {opts.q_accept:g})" if near else ")")
                    + (f". Its attempts steered by a torque scale of {steer:.0f} mm (twice its axial radius), but the "
-                      "criterion's margins and Q are in L; a torque scale" if grasp == "power" and steer < obj.torque_scale
-                      else "; a torque scale")
+                      "criterion's margins and Q are in L; a torque scale" if steered else "; a torque scale")
                    + f" near its diameter (torque_scale={2.0 * arm:.0f} when loading or building it, e.g. "
                    f"sg.objects.load(..., torque_scale={2.0 * arm:.0f})) "
-                   + ("puts them in those units too" if grasp == "power" and steer < obj.torque_scale else
-                      "weighs those torques as forces at its surface"))
+                   + ("puts them in those units too" if steered else "weighs those torques as forces at its surface"))
     return reason
 
 
