@@ -133,8 +133,9 @@ def run(task):
     mesh = trimesh.Trimesh(vertices, faces)
     obj = truth = sg.objects.from_mesh(mesh, name=name, cache=False)
     torque = float(sg.planner.core.axial_torque(obj, 0.3)[1])
-    if diameter and sg.planner.status.slender(obj, 0.3):
-        obj = sg.objects.from_mesh(mesh, name=name, cache=False, torque_scale=2.0 * sg.planner.status.axial_radius(obj))
+    if diameter and sg.planner.status.slender(obj, 0.3):  # the same pieces, another torque scale
+        obj = sg.objects.GraspObject(obj.pieces, center=obj.center, name=name, mesh=obj.mesh, info=obj.info,
+                                     torque_scale=2.0 * sg.planner.status.axial_radius(obj))
     start = time.perf_counter()
     result = sg.plan(obj, grasp)
     row = dict(name=name, grasp=grasp, success=result.success, time=time.perf_counter() - start,

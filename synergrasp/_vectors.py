@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+
 def sphere_directions(n):
     """(n, 3) unit vectors spread evenly over the sphere (a Fibonacci lattice).
 

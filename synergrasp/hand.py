@@ -31,6 +31,7 @@ import hashlib
 import itertools
 import json
 import math
+import re
 import warnings
 from dataclasses import dataclass
 from functools import cache
@@ -41,7 +42,7 @@ import numpy as np
 from ._checks import as_path, as_points, as_vector, integer, numeric
 from ._jit import kernel
 
-__all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS", "grasp_kind"]
+__all__ = ["SynergyHand", "HandGeometry", "rotation_xyz", "POINT_KINDS", "IDENTITY", "grasp_kind"]
 
 #: The grasp types: each has its hand points, status rows, stop criterion and planner starts.
 POINT_KINDS = ("precision", "power")
@@ -263,8 +264,12 @@ class _Spec:
         return value
 
 
+#: The form of a hand's identity (`SynergyHand.identity`, `_digest`): its name and 16 hex digits of a digest.
+IDENTITY = re.compile(r".+ sha256:[0-9a-f]{16}")
+
+
 def _digest(name, data):
-    """``"name sha256:<16 hex digits>"`` of a hand definition."""
+    """``"name sha256:<16 hex digits>"`` of a hand definition (`IDENTITY`)."""
     text = json.dumps(data, sort_keys=True, separators=(",", ":"))
     return f"{name} sha256:{hashlib.sha256(text.encode()).hexdigest()[:16]}"
 

@@ -508,9 +508,9 @@ def _failure(attempts, grasp, hand, obj, opts, backend=None, timed_out=False):
         reason += (f"; it is at most {obj.size:.3g} mm across, thinner than a pinch of {_pinch_words(hand)} can hold "
                    f"({thinnest:.0f} mm), so a precision grasp is refused too")
     arm, torque = axial_torque(obj, opts.mu)
-    steer = steering_scale(obj, opts.mu)
-    steered = grasp == "power" and steer < obj.torque_scale
     if torque < SLENDER and slender(obj, opts.mu):  # (its Q near 0, and not for a torque scale far above its size)
+        steer = steering_scale(obj, opts.mu)
+        steered = grasp == "power" and steer < obj.torque_scale
         near = torque <= 2.0 * abs(opts.q_accept)  # (then near or above the acceptance's threshold)
         reason += (f"; it is slender: its surface lies at most {arm:.0f} mm from its long axis, so friction (mu = "
                    f"{opts.mu:g}) resists a torque about that axis of at most {torque:.3f} of its torque scale "

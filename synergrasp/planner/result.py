@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from .._records import FieldChecks, holds_bool, load_record, save_record
-from ..hand import POINT_KINDS
+from ..hand import IDENTITY, POINT_KINDS
 from .reach import SOURCES as REACH_SOURCES
 
 _FORMAT = "synergrasp.PlanResult/1"
@@ -279,7 +278,7 @@ def _validated(data: dict, path) -> dict:
     out = {"success": checks.flag("success")}
     for name in ("reason", "backend", "object_name") + (("hand",) if "hand" in data else ()):
         out[name] = text(name)
-    if out.get("hand") and not re.fullmatch(r".+ sha256:[0-9a-f]{16}", out["hand"]):
+    if out.get("hand") and not IDENTITY.fullmatch(out["hand"]):
         fail("hand", "the planning hand's identity, 'NAME sha256:<16 hex digits>' (SynergyHand.identity), or empty")
     if data["grasp"] not in POINT_KINDS:
         fail("grasp", " or ".join(map(repr, POINT_KINDS)))

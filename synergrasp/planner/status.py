@@ -498,6 +498,11 @@ def steering_scale(obj, mu):
     return min(scale, 2.0 * axial_radius(obj)) if slender(obj, mu) else scale
 
 
+def _torque_scale(obj, torque_scale):
+    """A row's torque scale: ``torque_scale`` (mm, checked) if given, else the object's."""
+    return obj.torque_scale if torque_scale is None else positive_scalar(torque_scale, "torque_scale (mm)")
+
+
 def _require(hand, obj):
     """TypeError unless ``hand`` is a SynergyHand and ``obj`` a GraspObject."""
     if not isinstance(hand, SynergyHand):
@@ -688,9 +693,8 @@ def grasp_status(hand, obj, u, kind, *, mu=0.3, edges=8, backend="native", smoot
         jac_normal = jac_n @ sc.jac_contact
     else:
         normals, jac_normal = sc.normal, sc.jac_normal
-    scale = obj.torque_scale if torque_scale is None else positive_scalar(torque_scale, "torque_scale (mm)")
-    sq = q_distance(sc.contact, normals, mu=mu, edges=edges, center=obj.center, torque_scale=scale, backend=backend,
-                    checked=True)
+    sq = q_distance(sc.contact, normals, mu=mu, edges=edges, center=obj.center,
+                    torque_scale=_torque_scale(obj, torque_scale), backend=backend, checked=True)
     # d g_sQ / d p_i through the contact carried back to the object and its normal
     grad_sq = np.einsum("ia,iab->ib", sq.grad_points, sc.jac_contact) + np.einsum("ia,iab->ib", sq.grad_normals, jac_normal)
     return Status(
@@ -747,8 +751,8 @@ def contact_quality(obj, status, contact, *, mu=0.3, edges=8, backend="native", 
         normals, jac_n = smoothed_normals(obj, x, pieces, smoothing)
     else:
         normals, jac_n = n, np.zeros((len(x), 3, 3))
-    scale = obj.torque_scale if torque_scale is None else positive_scalar(torque_scale, "torque_scale (mm)")
-    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=scale, backend=backend, checked=True)
+    q = q_distance(x, normals, mu=mu, edges=edges, center=obj.center, torque_scale=_torque_scale(obj, torque_scale),
+                   backend=backend, checked=True)
     slide = (np.eye(3) - n[:, :, None] * n[:, None, :]) @ status.point_jac[contact]  # (c, 3, nu)
     grad_x = q.grad_points + np.einsum("ia,iab->ib", q.grad_normals, jac_n)
     return q.value, np.einsum("ia,iab->b", grad_x, slide)
