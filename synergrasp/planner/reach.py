@@ -43,9 +43,11 @@ __all__ = ["OPENINGS", "SOURCES", "Reach", "executable_reach", "open_synergies",
 OPENINGS = (0.5, 1.0)
 #: How far (mm) below its floors the first failing candidate is checked: no path goes that deep, so it is checked whole.
 _WHOLE = 1e9
-#: How a reach is made (`Reach.source`): the open hand's approach then the close, the hand closing while it
-#: approaches, or the planner's iteration as it is.
-SOURCES = ("approach", "closing approach", "trajectory")
+#: How a reach is made (`Reach.source`), each with what a collision-free one's reason says stays clear: the open
+#: hand's approach then the close, the hand closing while it approaches, or the planner's iteration as it is.
+_STAYS = {"approach": "approach and close stay", "closing approach": "the approach, closing the hand on the way, stays",
+          "trajectory": "the iteration stays"}
+SOURCES = tuple(_STAYS)
 
 
 @dataclass(frozen=True)
@@ -401,9 +403,7 @@ def executable_reach(hand, obj, u_grasp, trajectory=None, *, margin=10.0, tolera
         free = bool(check.clearance.min() >= -tolerance) and not unplaced
         paths = f"{tried} candidate path{'s' if tried != 1 else ''}"
         if free:
-            what = {"trajectory": "the iteration stays", "approach": "approach and close stay",
-                    "closing approach": "the approach, closing the hand on the way, stays"}[source]
-            reason = (f"collision-free: {what} within {tolerance:g} mm of the object"
+            reason = (f"collision-free: {_STAYS[source]} within {tolerance:g} mm of the object"
                       + (f"; deepest: {where}" if depth > 0 else ""))
         elif grasp_value < -tolerance:
             reason = (f"not collision-free: the grasp itself penetrates the object, {grasp['grasp_shape']} "
